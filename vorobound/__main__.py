@@ -1,0 +1,5 @@
+"""``python -m vorobound``."""
+
+from .cli import entry
+
+entry()

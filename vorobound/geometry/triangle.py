@@ -1,0 +1,412 @@
+"""Weighted-triangle geometry in batches: centers, radii and Theorem 1's R − R̂.
+
+Every function takes a leading batch axis (any shape ``...``), works through it in chunks so
+memory stays bounded, and marks rows it cannot compute (non-finite input, collinear or
+coincident points, edges that violate the triangle inequality) with NaN and ``valid=False``
+instead of failing the batch.
+
+Accuracy: rows are first evaluated in float64. Rows whose rational stage is ill-conditioned
+(thin triangles, near-cancelling weight terms; see
+:func:`vorobound.geometry.invariants.condition_estimate`) are recomputed in extended precision
+and, if still ill-conditioned, with exact rational arithmetic, so the relative error of
+``delta`` stays near the float64 rounding level.
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import VoroboundError
+from .invariants import (
+    Invariants,
+    Radicals,
+    condition_estimate,
+    finish,
+    invariants_from_edges,
+    invariants_from_points,
+)
+
+CHUNK_ROWS = 1 << 16
+"""Rows per chunk: about 40 temporaries of 512 kB each, per worker thread."""
+
+REFINE_TOLERANCE = 1e-13
+"""A row is recomputed in higher precision when its estimated relative error exceeds this."""
+
+_ERROR_GROWTH = 4.0  # roundings along the longest chain of dependent operations
+_EPS64 = float(np.finfo(np.float64).epsneg)
+_EPS_LONG = float(np.finfo(np.longdouble).epsneg)
+_HAS_LONGDOUBLE = _EPS_LONG < _EPS64 / 16
+
+
+@dataclass(frozen=True)
+class WeightedTriangles:
+    """Circum- and ortho-geometry of a batch of weighted triangles.
+
+    Every array has the batch shape ``...`` of the input (vectors add a trailing axis).
+    Vertices are relabelled as in Section 3: A is the vertex of minimum weight, B and C
+    follow it cyclically in the input order.
+    """
+
+    circumradius: np.ndarray
+    """R, eq. (3) and (15)."""
+    orthoradius_sq: np.ndarray
+    """Signed squared orthoradius |p − ẑ|² − w for the given weights, eq. (2)."""
+    shifted_orthoradius: np.ndarray
+    """R̂ of the triangle with the minimum weight subtracted (eq. (5)–(6)); always ≥ 0."""
+    delta: np.ndarray
+    """Theorem 1: R − R̂ for the shifted triangle, (a − â)/(2 sin θ), eq. (29)."""
+    delta_unshifted: np.ndarray
+    """R − sqrt(orthoradius_sq) for the given weights (NaN where orthoradius_sq < 0)."""
+    paper_literal: np.ndarray
+    """Eq. (32) exactly as printed, ``delta + s''_i`` (dimensionally inconsistent)."""
+    k: np.ndarray
+    """k = a² − â², eq. (31)."""
+    edges: np.ndarray
+    """(a, b, c) = (|BC|, |CA|, |AB|) after relabelling, eq. (7)–(9)."""
+    sin_theta: np.ndarray
+    """sin θ, θ the angle at A, eq. (10)."""
+    cos_theta: np.ndarray
+    """cos θ."""
+    min_weight_vertex: np.ndarray
+    """Index (0, 1, 2) of A in the input order."""
+    assumption1_holds: np.ndarray
+    """|w_i − w_j| ≤ |p_i − p_j|² for all three pairs, eq. (1)."""
+    valid: np.ndarray
+    """False where the row could not be computed (its numbers are NaN)."""
+    circumcenter: np.ndarray | None = None
+    """z, eq. (3); None when only edge lengths were given."""
+    orthocenter: np.ndarray | None = None
+    """ẑ, eq. (2), in the plane of the triangle; None when only edge lengths were given."""
+    delta_direct: np.ndarray | None = None
+    """R − R̂ the textbook way: |z − p| − sqrt(|ẑ − p|² − w) from the two explicit centers.
+    An independent check on ``delta`` that loses digits to cancellation when R̂ ≈ R.
+    None when only edge lengths were given."""
+
+
+def _to_fractions(x: np.ndarray) -> np.ndarray:
+    flat = [Fraction(float(v)) for v in x.ravel()]
+    return np.array(flat, dtype=object).reshape(x.shape)
+
+
+def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
+    """Float64 fields (batch on the last axis) from invariants of any precision.
+
+    Rational combinations are formed in the invariants' own arithmetic (exact for
+    ``Fraction``) before anything is rounded to float64. Also returns the radicals in the
+    working precision, for the condition estimate.
+    """
+    orthoradius_sq = inv.rt_sq - inv.w_min
+    if inv.k_num.dtype == object:
+        inv = Invariants(*(None if f is None else np.asarray(f, dtype=np.float64) for f in inv))
+    rad = finish(inv)
+    fields = {
+        "edges": rad.edges, "area2": rad.area2, "circumradius": rad.circumradius,
+        "shifted_orthoradius": rad.shifted_orthoradius, "delta": rad.delta,
+        "k_num": inv.k_num, "dots": inv.dots, "w_min": inv.w_min, "omega0": inv.omega[0],
+        "orthoradius_sq": orthoradius_sq,
+    }
+    if inv.circ_offset is not None:
+        fields["circ_offset"] = inv.circ_offset
+        fields["ortho_shift"] = inv.ortho_shift
+    return {key: np.asarray(value, dtype=np.float64) for key, value in fields.items()}, rad
+
+
+def _exact_rows(builder, arrays: tuple[np.ndarray, ...]) -> tuple[dict, np.ndarray]:
+    """Exact rational evaluation, one row at a time so that a degenerate row fails alone."""
+    n = arrays[0].shape[-1]
+    rows, ok = [], np.zeros(n, dtype=bool)
+    for i in range(n):
+        try:
+            inv = builder(*(_to_fractions(x[..., i : i + 1]) for x in arrays))
+            if inv.area2_sq[0] <= 0:
+                continue
+            rows.append((i, _finished_rows(inv)[0]))
+        except ZeroDivisionError:
+            continue
+        ok[i] = True
+    merged = {}
+    if rows:
+        index = np.array([i for i, _ in rows])
+        for key, first in rows[0][1].items():
+            merged[key] = np.full(first.shape[:-1] + (n,), np.nan)
+            merged[key][..., index] = np.concatenate([r[key] for _, r in rows], axis=-1)
+    return merged, ok
+
+
+def _tiered(
+    builder, arrays: tuple[np.ndarray, ...], finite: np.ndarray, from_edges: bool
+) -> tuple[dict, np.ndarray]:
+    """Evaluate ``builder`` in float64, refining ill-conditioned rows; return fields and validity.
+
+    ``arrays`` hold the batch on their last axis.
+    """
+    with np.errstate(all="ignore"):
+        inv = builder(*arrays)
+        out, rad = _finished_rows(inv)
+        cond = condition_estimate(inv, rad, from_edges)
+    pending = finite & ~(_ERROR_GROWTH * _EPS64 * cond <= REFINE_TOLERANCE)
+    if _HAS_LONGDOUBLE and pending.any():
+        idx = np.flatnonzero(pending)
+        with np.errstate(all="ignore"):
+            inv_ld = builder(*(x[..., idx].astype(np.longdouble) for x in arrays))
+            refined, rad_ld = _finished_rows(inv_ld)
+            cond_ld = condition_estimate(inv_ld, rad_ld, from_edges).astype(np.float64)
+        for key, value in refined.items():
+            out[key][..., idx] = value
+        pending[:] = False
+        pending[idx[~(_ERROR_GROWTH * _EPS_LONG * cond_ld <= REFINE_TOLERANCE)]] = True
+    valid = finite.copy()
+    if pending.any():
+        idx = np.flatnonzero(pending)
+        exact, ok = _exact_rows(builder, tuple(x[..., idx] for x in arrays))
+        for key in out:
+            out[key][..., idx] = exact[key] if key in exact else np.nan
+        valid[idx] = ok
+    # Also rejects results that overflow float64 (extended precision may not).
+    valid &= np.isfinite(out["delta"]) & (out["area2"] > 0) & np.isfinite(out["circumradius"])
+    valid &= np.isfinite(out["edges"]).all(axis=0) & np.isfinite(out["orthoradius_sq"])
+    return out, valid
+
+
+def _min_weight_vertex(weights: np.ndarray) -> np.ndarray:
+    """Index of the minimum-weight vertex (the first one on ties); ``weights`` is (3, n)."""
+    w0, w1, w2 = weights
+    return np.where(w0 <= w1, np.where(w0 <= w2, 0, 2), np.where(w1 <= w2, 1, 2))
+
+
+def _apex_first(per_vertex: np.ndarray, onehot: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """Reorder a (3, n) per-vertex array cyclically so that row 0 is the minimum-weight vertex.
+
+    ``onehot[j]`` is 1.0 where vertex j is that vertex. The selection is a multiply-add, exact
+    because x·1 = x and x·0 + y = y, and much faster than a data-dependent gather.
+    """
+    r0, r1, r2 = per_vertex
+    h0, h1, h2 = onehot
+    return (
+        r0 * h0 + r1 * h1 + r2 * h2,
+        r1 * h0 + r2 * h1 + r0 * h2,
+        r2 * h0 + r0 * h1 + r1 * h2,
+    )
+
+
+_LENGTH_FIELDS = (
+    "circumradius", "shifted_orthoradius", "delta", "delta_unshifted", "delta_direct",
+    "edges", "circumcenter", "orthocenter",
+)
+_AREA_FIELDS = ("orthoradius_sq", "k")
+
+
+def _row_scale(lengths: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """A power of two per row near max(|lengths|, sqrt|weights|).
+
+    Dividing lengths by it (and weights by its square) is exact and keeps every intermediate
+    of the kernel far from overflow and underflow; all outputs scale back exactly.
+    """
+    axes = tuple(range(lengths.ndim - 1))
+    size = np.maximum(np.abs(lengths).max(axis=axes), np.sqrt(np.abs(weights).max(axis=0)))
+    _, exponent = np.frexp(np.where(np.isfinite(size) & (size > 0), size, 1.0))
+    return np.ldexp(1.0, exponent)
+
+
+def _complete(
+    out: dict, valid: np.ndarray, weights: np.ndarray, scale: np.ndarray
+) -> dict[str, np.ndarray]:
+    """Apex-dependent fields (Section 3 labels), eq. (1), eq. (32) and the validity mask.
+
+    ``out`` was computed on the scaled problem; ``weights`` are the given (unscaled) ones.
+    """
+    with np.errstate(all="ignore"):
+        return _complete_rows(out, valid, weights, scale)
+
+
+def _complete_rows(out, valid, weights, scale):
+    first = _min_weight_vertex(weights)
+    onehot = tuple((first == j).astype(np.float64) for j in range(3))
+    a, b, c = _apex_first(out.pop("edges"), onehot)
+    dots = out.pop("dots")
+    dot_a = dots[0] * onehot[0] + dots[1] * onehot[1] + dots[2] * onehot[2]
+    w_min = out.pop("w_min")
+    area2 = out.pop("area2")
+    k_num = out.pop("k_num")
+    out.pop("omega0")
+    rs_sq = out["orthoradius_sq"]
+    rt = out["shifted_orthoradius"]
+    bc = b * c
+    out["k"] = k_num / (bc * bc)
+    out["sin_theta"] = area2 / bc
+    out["cos_theta"] = dot_a / bc
+    rs = np.sqrt(np.where(rs_sq >= 0, rs_sq, np.nan))
+    # R − R̂_s = (R − R̂_t) + (R̂_t − R̂_s) and R̂_t² − R̂_s² = w_min (eq. (5)).
+    gap = np.where(rt + rs > 0, w_min / (rt + rs), 0.0)
+    out["delta_unshifted"] = out["delta"] + gap
+    out["edges"] = np.stack([a, b, c])
+    for key in _LENGTH_FIELDS:
+        if key in out:
+            out[key] = out[key] * scale
+    for key in _AREA_FIELDS:
+        out[key] = out[key] * scale * scale
+    w0, w1, w2 = weights
+    out["paper_literal"] = out["delta"] + np.minimum(np.minimum(w0, w1), w2)
+    valid = valid & np.isfinite(out["circumradius"]) & np.isfinite(out["orthoradius_sq"])
+    for value in out.values():
+        if value.dtype.kind == "f":
+            value[..., ~valid] = np.nan
+    out["valid"] = valid
+    out["min_weight_vertex"] = first
+    return out
+
+
+def _points_chunk(points: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
+    """One chunk: ``points`` (3, d, n), ``weights`` (3, n), both batch-last."""
+    finite = np.isfinite(points).all(axis=(0, 1)) & np.isfinite(weights).all(axis=0)
+    scale = _row_scale(points, weights)
+    p = points / scale
+    w = weights / scale / scale
+    out, valid = _tiered(invariants_from_points, (p, w), finite, from_edges=False)
+    x = out.pop("circ_offset")
+    y = out.pop("ortho_shift")
+    out["circumcenter"] = p[0] + x
+    out["orthocenter"] = p[0] + (x - y)
+    with np.errstate(all="ignore"):
+        xy = x - y
+        # The textbook route: two radii from two explicit centers, then their difference.
+        radius = np.sqrt((x * x).sum(axis=0))
+        shifted = np.sqrt((xy * xy).sum(axis=0) - out["omega0"])
+        out["delta_direct"] = radius - shifted
+    pair_sq = np.stack([_dist_sq(points[1], points[2]), _dist_sq(points[0], points[2]),
+                        _dist_sq(points[0], points[1])])
+    out = _complete(out, valid, weights, scale)
+    out["assumption1_holds"] = _assumption1(weights, pair_sq) & out["valid"]
+    return out
+
+
+def _dist_sq(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    with np.errstate(all="ignore"):
+        d = x - y
+        return (d * d).sum(axis=0)
+
+
+def _assumption1(weights: np.ndarray, pair_sq: np.ndarray) -> np.ndarray:
+    """Eq. (1): |w_i − w_j| ≤ |p_i − p_j|²; ``pair_sq[i]`` is the squared edge opposite i."""
+    w0, w1, w2 = weights
+    with np.errstate(all="ignore"):
+        return (
+            (np.abs(w1 - w2) <= pair_sq[0])
+            & (np.abs(w0 - w2) <= pair_sq[1])
+            & (np.abs(w0 - w1) <= pair_sq[2])
+        )
+
+
+def _edges_chunk(edges: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
+    """One chunk: ``edges`` (3, n), edge i opposite vertex i; ``weights`` (3, n)."""
+    finite = np.isfinite(edges).all(axis=0) & np.isfinite(weights).all(axis=0)
+    finite &= (edges > 0).all(axis=0)
+    scale = _row_scale(edges, weights)
+    out, valid = _tiered(
+        invariants_from_edges, (edges / scale, weights / scale / scale), finite, from_edges=True
+    )
+    with np.errstate(all="ignore"):
+        pair_sq = edges * edges
+    out = _complete(out, valid, weights, scale)
+    out["assumption1_holds"] = _assumption1(weights, pair_sq) & out["valid"]
+    return out
+
+
+def _run_chunked(chunk_fn, first: np.ndarray, second: np.ndarray) -> dict[str, np.ndarray]:
+    """Run ``chunk_fn`` on batch-last slices of ``first``/``second``; outputs batch-first."""
+    n = first.shape[-1]
+    bounds = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)] or [(0, 0)]
+
+    def one(b):
+        part = chunk_fn(
+            np.ascontiguousarray(first[..., b[0] : b[1]]),
+            np.ascontiguousarray(second[..., b[0] : b[1]]),
+        )
+        return {key: np.moveaxis(value, -1, 0) for key, value in part.items()}
+
+    if len(bounds) == 1:
+        return one(bounds[0])
+    workers = min(len(bounds), os.cpu_count() or 1)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        parts = list(pool.map(one, bounds))
+    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+
+
+def _batch_shapes(lead_a: tuple, lead_b: tuple) -> tuple[int, ...]:
+    try:
+        return np.broadcast_shapes(lead_a, lead_b)
+    except ValueError as exc:
+        raise VoroboundError(f"batch shapes {lead_a} and {lead_b} do not broadcast") from exc
+
+
+def _pack(out: dict[str, np.ndarray], lead: tuple[int, ...]) -> WeightedTriangles:
+    shaped = {key: value.reshape(lead + value.shape[1:]) for key, value in out.items()}
+    return WeightedTriangles(**shaped)
+
+
+def weighted_triangles(points, weights) -> WeightedTriangles:
+    """Circumcenters, orthocenters, radii and Theorem 1's R − R̂ for weighted triangles.
+
+    Parameters
+    ----------
+    points : array_like, shape (..., 3, d), d in {2, 3}
+        Vertex coordinates.
+    weights : array_like, shape (..., 3)
+        Vertex weights (squared ball radii; may be negative). Broadcasts against the batch.
+
+    Returns
+    -------
+    WeightedTriangles
+        Rows that cannot be computed carry NaN and ``valid == False``.
+
+    References
+    ----------
+    Eq. (1)–(3), (5)–(6), (15), (29), (31), (32).
+    """
+    p = np.asarray(points, dtype=np.float64)
+    w = np.asarray(weights, dtype=np.float64)
+    if p.ndim < 2 or p.shape[-2] != 3 or p.shape[-1] not in (2, 3):
+        raise VoroboundError(f"points must have shape (..., 3, 2) or (..., 3, 3), got {p.shape}")
+    if w.ndim < 1 or w.shape[-1] != 3:
+        raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
+    lead = _batch_shapes(p.shape[:-2], w.shape[:-1])
+    p = np.broadcast_to(p, lead + p.shape[-2:]).reshape(-1, 3, p.shape[-1]).transpose(1, 2, 0)
+    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3).T
+    return _pack(_run_chunked(_points_chunk, p, w), lead)
+
+
+def theorem1_from_edges(edges, weights) -> WeightedTriangles:
+    """Theorem 1 from edge lengths and weights alone, without coordinates.
+
+    Parameters
+    ----------
+    edges : array_like, shape (..., 3)
+        (a, b, c) with a = |BC|, b = |CA|, c = |AB| for vertices (A, B, C) in input order.
+    weights : array_like, shape (..., 3)
+        Weights of A, B, C. The minimum-weight vertex is found and the triangle relabelled.
+
+    Returns
+    -------
+    WeightedTriangles
+        Centers and ``delta_direct`` are None. Rows violating the triangle inequality or with a
+        non-positive edge are invalid (NaN).
+
+    References
+    ----------
+    Eq. (7)–(9), (28)–(32).
+    """
+    e = np.asarray(edges, dtype=np.float64)
+    w = np.asarray(weights, dtype=np.float64)
+    if e.ndim < 1 or e.shape[-1] != 3:
+        raise VoroboundError(f"edges must have shape (..., 3), got {e.shape}")
+    if w.ndim < 1 or w.shape[-1] != 3:
+        raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
+    lead = _batch_shapes(e.shape[:-1], w.shape[:-1])
+    e = np.broadcast_to(e, lead + (3,)).reshape(-1, 3).T
+    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3).T
+    return _pack(_run_chunked(_edges_chunk, e, w), lead)
