@@ -31,7 +31,9 @@ def reference(points, weights) -> dict[str, mp.mpf]:
             return [al * vecs[0][t] + be * vecs[1][t] for t in range(len(a))]
 
         x = center([g[0][0] / 2, g[1][1] / 2])
-        xhat = center([(g[0][0] - (w[others[0]] - w_min)) / 2, (g[1][1] - (w[others[1]] - w_min)) / 2])
+        xhat = center(
+            [(g[0][0] - (w[others[0]] - w_min)) / 2, (g[1][1] - (w[others[1]] - w_min)) / 2]
+        )
         radius = mp.sqrt(dot(x, x))
         shifted = mp.sqrt(dot(xhat, xhat))
         return {

@@ -22,21 +22,26 @@ def triangle(
     point: Annotated[
         list[str] | None,
         typer.Option(
-            "--point", "-p", metavar="X,Y[,Z]",
+            "--point",
+            "-p",
+            metavar="X,Y[,Z]",
             help="A vertex as x,y or x,y,z; give it three times (A, B, C).",
         ),
     ] = None,
     edges: Annotated[
         str | None,
         typer.Option(
-            "--edges", metavar="A,B,C",
+            "--edges",
+            metavar="A,B,C",
             help="Edge lengths a,b,c with a = |BC|, b = |CA|, c = |AB| (instead of points).",
         ),
     ] = None,
     weights: Annotated[
         str,
         typer.Option(
-            "--weights", "-w", metavar="WA,WB,WC",
+            "--weights",
+            "-w",
+            metavar="WA,WB,WC",
             help="Weights wA,wB,wC: squared ball radii, may be negative.",
         ),
     ] = "0,0,0",

@@ -118,8 +118,16 @@ def invariants_from_points(points: np.ndarray, weights: np.ndarray) -> Invariant
     xhat_sq = _dot(xhat, xhat)
     rt_sq = xhat_sq - omega[0]
     return Invariants(
-        edge_sq, dots, area2_sq, omega, w_min, k_num, rt_sq, xhat_sq + omega[0],
-        circ_offset, ortho_shift,
+        edge_sq,
+        dots,
+        area2_sq,
+        omega,
+        w_min,
+        k_num,
+        rt_sq,
+        xhat_sq + omega[0],
+        circ_offset,
+        ortho_shift,
     )
 
 

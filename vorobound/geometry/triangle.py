@@ -105,9 +105,15 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
         inv = Invariants(*(None if f is None else np.asarray(f, dtype=np.float64) for f in inv))
     rad = finish(inv)
     fields = {
-        "edges": rad.edges, "area2": rad.area2, "circumradius": rad.circumradius,
-        "shifted_orthoradius": rad.shifted_orthoradius, "delta": rad.delta,
-        "k_num": inv.k_num, "dots": inv.dots, "w_min": inv.w_min, "omega0": inv.omega[0],
+        "edges": rad.edges,
+        "area2": rad.area2,
+        "circumradius": rad.circumradius,
+        "shifted_orthoradius": rad.shifted_orthoradius,
+        "delta": rad.delta,
+        "k_num": inv.k_num,
+        "dots": inv.dots,
+        "w_min": inv.w_min,
+        "omega0": inv.omega[0],
         "orthoradius_sq": orthoradius_sq,
     }
     if inv.circ_offset is not None:
@@ -195,8 +201,14 @@ def _apex_first(per_vertex: np.ndarray, onehot: tuple[np.ndarray, ...]) -> tuple
 
 
 _LENGTH_FIELDS = (
-    "circumradius", "shifted_orthoradius", "delta", "delta_unshifted", "delta_direct",
-    "edges", "circumcenter", "orthocenter",
+    "circumradius",
+    "shifted_orthoradius",
+    "delta",
+    "delta_unshifted",
+    "delta_direct",
+    "edges",
+    "circumcenter",
+    "orthocenter",
 )
 _AREA_FIELDS = ("orthoradius_sq", "k")
 
@@ -278,8 +290,13 @@ def _points_chunk(points: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarr
         radius = np.sqrt((x * x).sum(axis=0))
         shifted = np.sqrt((xy * xy).sum(axis=0) - out["omega0"])
         out["delta_direct"] = radius - shifted
-    pair_sq = np.stack([_dist_sq(points[1], points[2]), _dist_sq(points[0], points[2]),
-                        _dist_sq(points[0], points[1])])
+    pair_sq = np.stack(
+        [
+            _dist_sq(points[1], points[2]),
+            _dist_sq(points[0], points[2]),
+            _dist_sq(points[0], points[1]),
+        ]
+    )
     out = _complete(out, valid, weights, scale)
     out["assumption1_holds"] = _assumption1(weights, pair_sq) & out["valid"]
     return out
@@ -318,23 +335,35 @@ def _edges_chunk(edges: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray
 
 
 def _run_chunked(chunk_fn, first: np.ndarray, second: np.ndarray) -> dict[str, np.ndarray]:
-    """Run ``chunk_fn`` on batch-last slices of ``first``/``second``; outputs batch-first."""
+    """Run ``chunk_fn`` on batch-last slices of ``first``/``second``; outputs batch-first.
+
+    Outputs are allocated once and each chunk writes its rows into them, so the memory beyond
+    inputs and outputs is a few chunks' worth of temporaries whatever the batch size.
+    """
     n = first.shape[-1]
     bounds = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)] or [(0, 0)]
 
-    def one(b):
+    def compute(b):
         part = chunk_fn(
             np.ascontiguousarray(first[..., b[0] : b[1]]),
             np.ascontiguousarray(second[..., b[0] : b[1]]),
         )
         return {key: np.moveaxis(value, -1, 0) for key, value in part.items()}
 
+    head = compute(bounds[0])
     if len(bounds) == 1:
-        return one(bounds[0])
-    workers = min(len(bounds), os.cpu_count() or 1)
+        return head
+    out = {key: np.empty((n,) + v.shape[1:], dtype=v.dtype) for key, v in head.items()}
+
+    def store(b, part):
+        for key, value in part.items():
+            out[key][b[0] : b[1]] = value
+
+    store(bounds[0], head)
+    workers = min(len(bounds) - 1, os.cpu_count() or 1)
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        parts = list(pool.map(one, bounds))
-    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+        list(pool.map(lambda b: store(b, compute(b)), bounds[1:]))
+    return out
 
 
 def _batch_shapes(lead_a: tuple, lead_b: tuple) -> tuple[int, ...]:
