@@ -8,8 +8,24 @@ from hypothesis import strategies as st
 
 from vorobound.cli import main
 
-COMMANDS = ["triangle"]
-OPTIONS = ["-p", "--edges", "-w", "--weights", "--json", "--help", "--bogus"]
+COMMANDS = ["triangle", "bounds", "solve"]
+OPTIONS = [
+    "-p",
+    "--edges",
+    "-w",
+    "--weights",
+    "--json",
+    "--help",
+    "--bogus",
+    "--eps",
+    "--sigma",
+    "--rho-f",
+    "--delta-ratio",
+    "--lfs",
+    "--mode",
+    "paper",
+    "rigorous",
+]
 VALUES = st.one_of(
     st.sampled_from(
         [

@@ -11,6 +11,7 @@ import sys
 import typer
 
 from ..errors import VoroboundError
+from .bounds_cmd import bounds, solve
 from .triangle_cmd import triangle
 
 app = typer.Typer(
@@ -33,6 +34,8 @@ def _root() -> None:
 
 
 app.command("triangle")(triangle)
+app.command("bounds")(bounds)
+app.command("solve")(solve)
 
 
 def main(argv: list[str] | None = None) -> int:

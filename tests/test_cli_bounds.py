@@ -1,0 +1,63 @@
+"""``vorobound bounds`` and ``vorobound solve``."""
+
+import json
+
+import pytest
+
+
+def test_bounds_json_lists_every_equation(run_cli):
+    code, out, _ = run_cli("bounds", "--eps", "0.0047", "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert {"bound", "target", "quantities", "mode"} <= data.keys()
+    equations = {q["equation"] for q in data["quantities"].values()}
+    for label in (
+        "(33)",
+        "(34)",
+        "(35)",
+        "(36)",
+        "(44)",
+        "(45)",
+        "(46)",
+        "(48)",
+        "(49)",
+        "(51)",
+        "(52)",
+    ):
+        assert label in equations
+    assert data["target"] == pytest.approx(0.76 * 0.0047)
+
+
+def test_solve_json_paper_and_rigorous(run_cli):
+    values = {}
+    for mode in ("paper", "rigorous"):
+        code, out, _ = run_cli("solve", "--mode", mode, "--json")
+        assert code == 0
+        values[mode] = json.loads(out)["eps_star"]
+    assert round(values["paper"], 4) == 0.0047
+    assert values["rigorous"] > values["paper"]
+
+
+def test_solve_table(run_cli):
+    code, out, _ = run_cli("solve")
+    assert code == 0 and "eps_star" in out
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["bounds", "--eps", "2"],
+        ["bounds", "--eps", "nan"],
+        ["bounds", "--eps", "x"],
+        ["bounds"],
+        ["bounds", "--eps", "0.01", "--mode", "nope"],
+        ["bounds", "--eps", "0.01", "--lipschitz", "1"],
+        ["solve", "--rho-f", "1"],
+        ["solve", "--sigma", "-0.5"],
+        ["solve", "--rho-f", "1.000000000001"],
+    ],
+)
+def test_bad_parameters_one_line_exit_2(run_cli, args):
+    code, out, err = run_cli(*args)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err

@@ -1,0 +1,155 @@
+"""Checking each inequality of the chain (33)–(53) against exact quantities, and counterexamples."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .chain import ChainBounds, chain_bounds
+from .feasible import GuideTriangles
+from .params import Mode, SamplingParams
+
+AUDIT_RTOL = 1e-9
+"""Relative excess over a bound that counts as a violation (rounding is far below this)."""
+
+
+@dataclass(frozen=True)
+class InequalityAudit:
+    """How one printed inequality fared on a batch of feasible configurations."""
+
+    label: str
+    """Equation label, e.g. ``"(49)"``."""
+    statement: str
+    checked: int
+    violations: int
+    worst_ratio: float
+    """Largest value/bound in the violating direction, 1 + (excess / |bound|); > 1 violates."""
+
+
+def exact_quantities(tri: GuideTriangles, params: SamplingParams) -> dict[str, np.ndarray]:
+    """The chain's quantities for actual configurations: edges, weights, k1, k2, k, θ, R − R̂."""
+    w_b, w_c = tri.weights(params)
+    b, c, cos_t = tri.b, tri.c, np.cos(tri.theta)
+    k1 = 2 * (w_b + w_c) - (w_b / c) ** 2 - (w_c / b) ** 2
+    k2 = -2 * (c * w_c / b + b * w_b / c - w_b * w_c / (b * c))
+    return {
+        "a": tri.a,
+        "b": b,
+        "c": c,
+        "w_b": w_b,
+        "w_c": w_c,
+        "k1": k1,
+        "k2": k2,
+        "k": k1 + k2 * cos_t,
+        "sin": np.sin(tri.theta),
+        "cos": cos_t,
+        "acute": tri.theta <= np.pi / 2,
+        "lfs_j": tri.lfs_j,
+        "lfs_k": tri.lfs_k,
+        "delta": tri.delta(params),
+    }
+
+
+def _checks(q: dict, ch: ChainBounds):
+    """(label, statement, value, bound, 'upper'|'lower', mask) for every inequality."""
+    acute, obtuse = q["acute"], ~q["acute"]
+    everywhere = np.ones_like(acute)
+    return [
+        ("(33)", "L_j ≤ (1+ε)/(1−ε) L_i", q["lfs_j"], ch.lfs_j_max, "upper", everywhere),
+        ("(33)", "L_k ≤ (1+ε)/(1−ε) L_i", q["lfs_k"], ch.lfs_j_max, "upper", everywhere),
+        ("(34)", "c ≥ σεL_i", q["c"], ch.c_min, "lower", everywhere),
+        ("(34)", "c ≤ 2ε/(1−ε) L_i", q["c"], ch.c_max, "upper", everywhere),
+        ("(35)", "b ≥ σεL_i", q["b"], ch.b_min, "lower", everywhere),
+        ("(35)", "b ≤ 2ε/(1−ε) L_i", q["b"], ch.b_max, "upper", everywhere),
+        ("(36)", "a ≥ σεL_i", q["a"], ch.a_min, "lower", everywhere),
+        ("(36)", "a ≤ 2ε(1+ε)/(1−ε)² L_i", q["a"], ch.a_max, "upper", everywhere),
+        ("(39)", "w_B ≤ 16ε³/(1−ε)² L_i² (δ = 2ε)", q["w_b"], ch.weight_max, "upper", everywhere),
+        ("(40)", "w_C ≤ 16ε³/(1−ε)² L_i² (δ = 2ε)", q["w_c"], ch.weight_max, "upper", everywhere),
+        ("(44)", "k1 ≤ UB(k1)", q["k1"], ch.k1_max, "upper", everywhere),
+        ("(45)", "k2 ≥ LB(k2)", q["k2"], ch.k2_min, "lower", everywhere),
+        ("(45)", "k2 ≤ UB(k2)", q["k2"], ch.k2_max, "upper", everywhere),
+        ("(46)", "θ ≤ π/2: k ≤ UB", q["k"], ch.k_max_acute, "upper", acute),
+        ("(46)", "θ > π/2: k ≤ UB", q["k"], ch.k_max_obtuse, "upper", obtuse),
+        ("(48)", "sin θ ≥ k_sin", q["sin"], ch.k_sin, "lower", everywhere),
+        ("(49)", "cos θ ≥ k_cos", q["cos"], ch.k_cos, "lower", everywhere),
+        ("(51)", "θ ≤ π/2: cos θ ≤ sqrt(1 − k_sin²)", q["cos"], ch.cos_max_acute, "upper", acute),
+        ("(52)", "θ > π/2: sin θ ≥ sqrt(1 − k_cos²)", q["sin"], ch.sin_min_obtuse, "lower", obtuse),
+        ("(53)", "θ > π/2: cos θ ≥ k_cos", q["cos"], ch.k_cos, "lower", obtuse),
+        ("bound", "R − R̂ ≤ final bound", q["delta"], ch.bound, "upper", everywhere),
+    ]
+
+
+def audit_chain(
+    tri: GuideTriangles, params: SamplingParams, mode: Mode | str = Mode.paper
+) -> list[InequalityAudit]:
+    """Evaluate every inequality of the chain on the configurations ``tri``.
+
+    Parameters
+    ----------
+    tri : GuideTriangles
+        Feasible configurations (see :func:`vorobound.bounds.feasible.sample_feasible`).
+    params : SamplingParams
+        The parameters they were sampled for.
+    mode : {"paper", "rigorous"}
+        Which chain's bounds to audit.
+    """
+    q = exact_quantities(tri, params)
+    ch = chain_bounds(params, mode)
+    audits = []
+    for label, statement, value, bound, kind, mask in _checks(q, ch):
+        value = np.asarray(value)[mask]
+        bound = float(bound)
+        excess = (value - bound) if kind == "upper" else (bound - value)
+        scale = abs(bound) if bound != 0 else 1.0
+        ratio = 1 + excess / scale
+        worst = float(ratio.max()) if ratio.size else float("nan")
+        audits.append(
+            InequalityAudit(
+                label, statement, int(value.size), int((ratio > 1 + AUDIT_RTOL).sum()), worst
+            )
+        )
+    return audits
+
+
+@dataclass(frozen=True)
+class Counterexample:
+    """A feasible guide triangle for which one printed step fails."""
+
+    label: str
+    statement: str
+    triangle: GuideTriangles
+    value: float
+    bound: float
+
+
+def printed_step_counterexamples(params: SamplingParams) -> list[Counterexample]:
+    """Feasible configurations violating the invalid printed steps (49) and (52).
+
+    The triangle: b = c = σεL_i (the shortest edges sparsity allows) and the largest angle at
+    A that keeps R ≤ ε/(1−ε)·L_i, θ = 2·arccos(σ(1−ε)/2) (shrunk by 1e-9 to stay inside).
+    Then cos θ = 2k_sin² − 1 < k_cos as printed, and sin θ < sqrt(1 − k_cos²).
+    """
+    eps, lfs, sigma = params.eps, params.lfs, params.sigma
+    edge = sigma * eps * lfs
+    k_sin = sigma * (1 - eps) / 2
+    if k_sin >= 1:
+        return []
+    theta = 2 * np.arccos(k_sin) * (1 - 1e-9)
+    tri = GuideTriangles.of(edge, edge, theta, lfs, lfs)
+    printed = chain_bounds(params, Mode.paper)
+    found = []
+    cos_t, sin_t = float(np.cos(theta)), float(np.sin(theta))
+    if cos_t < float(printed.k_cos):
+        found.append(Counterexample("(49)", "cos θ ≥ k_cos", tri, cos_t, float(printed.k_cos)))
+    if sin_t < float(printed.sin_min_obtuse):
+        found.append(
+            Counterexample(
+                "(52)",
+                "θ > π/2: sin θ ≥ sqrt(1 − k_cos²)",
+                tri,
+                sin_t,
+                float(printed.sin_min_obtuse),
+            )
+        )
+    return found
