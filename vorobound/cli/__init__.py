@@ -12,6 +12,7 @@ import typer
 
 from ..errors import VoroboundError
 from .bounds_cmd import bounds, solve
+from .figures_cmd import figure, reproduce
 from .triangle_cmd import triangle
 
 app = typer.Typer(
@@ -33,6 +34,8 @@ def _root() -> None:
     """
 
 
+app.command("reproduce")(reproduce)
+app.command("figure")(figure)
 app.command("triangle")(triangle)
 app.command("bounds")(bounds)
 app.command("solve")(solve)

@@ -1,0 +1,108 @@
+"""Figures. The only module that imports matplotlib (object-oriented API, no display needed)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .reports.figure_data import ComparisonData, Figure3Data
+
+COLUMN_WIDTH_IN = 3.5
+"""One column of a two-column paper, in inches."""
+_STYLE = {"font.size": 8, "axes.labelsize": 8, "legend.fontsize": 7, "lines.linewidth": 1.2}
+
+
+def _axes(ax):
+    from matplotlib.figure import Figure
+
+    if ax is not None:
+        return ax.figure, ax
+    fig = Figure(figsize=(COLUMN_WIDTH_IN, 2.6), layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def plot_figure3(data: Figure3Data, ax=None):
+    """Figure 3: the bound on |R − R̂| against ε (L_i = 1), both θ cases, target and markers.
+
+    Returns the matplotlib Figure.
+
+    References
+    ----------
+    Eq. (46)–(55); Figure 3.
+    """
+    import matplotlib
+
+    with matplotlib.rc_context(_STYLE):
+        fig, ax = _axes(ax)
+        ax.plot(data.eps, data.bound_acute, label=r"bound, $\theta \leq \pi/2$", color="C0")
+        ax.plot(
+            data.eps,
+            data.bound_obtuse,
+            label=r"bound, $\theta > \pi/2$",
+            color="C1",
+            linestyle="--",
+        )
+        ax.plot(
+            data.eps,
+            data.target,
+            label=r"target $(\rho_f-1)\,\delta L_i$",
+            color="k",
+            linestyle=":",
+        )
+        for eps_mark, label, color in (
+            (data.eps_baseline, r"$\epsilon = 1/500$", "C2"),
+            (data.eps_star, rf"$\epsilon^* = {data.eps_star:.4f}$", "C3"),
+        ):
+            ax.axvline(eps_mark, color=color, linewidth=0.8, label=label)
+        ax.set_xlabel(r"sampling density $\epsilon$")
+        ax.set_ylabel(r"bound on $|R - \hat R|$  [units of $L_i$]")
+        ax.set_title(f"Figure 3 ({data.mode} chain)")
+        ax.set_xlim(0, data.eps[-1])
+        ax.set_ylim(0, None)
+        ax.legend(loc="upper left")
+        ax.grid(alpha=0.3)
+    return fig
+
+
+def plot_comparison(data: ComparisonData, ax=None):
+    """bound(ε)/ε for every mode, the target (ρ_f − 1)·δ/ε·L_i, and each mode's ε*.
+
+    Returns the matplotlib Figure.
+    """
+    import matplotlib
+
+    with matplotlib.rc_context(_STYLE):
+        fig, ax = _axes(ax)
+        for index, curve in enumerate(data.curves):
+            color = f"C{index}"
+            ax.plot(
+                curve.eps,
+                curve.bound_over_eps,
+                color=color,
+                label=rf"{curve.mode}: $\epsilon^* = {curve.eps_star:.4g}$",
+                marker="o" if curve.mode.startswith("tight") else None,
+                markersize=2.5,
+            )
+            ax.axvline(curve.eps_star, color=color, linewidth=0.6, linestyle="--")
+        ax.axhline(
+            data.target_over_eps,
+            color="k",
+            linestyle=":",
+            label=rf"target $(\rho_f-1)\,\delta/\epsilon = {data.target_over_eps:.2f}$",
+        )
+        ax.set_xscale("log")
+        ax.set_xlabel(r"sampling density $\epsilon$")
+        ax.set_ylabel(r"bound on $(R - \hat R)\,/\,(\epsilon L_i)$")
+        ax.set_title("Bounds on R − R̂ by mode")
+        ax.set_ylim(0, 2.5 * data.target_over_eps)
+        ax.legend(loc="upper left")
+        ax.grid(alpha=0.3, which="both")
+    return fig
+
+
+def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = 200) -> Path:
+    """Write ``fig`` to ``out_dir/stem.fmt`` (creating the folder); return the path."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"{stem}.{fmt}"
+    fig.savefig(path, format=fmt, dpi=dpi)
+    return path
