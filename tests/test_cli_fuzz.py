@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from vorobound.cli import main
 
-COMMANDS = ["triangle", "bounds", "solve"]
+COMMANDS = ["triangle", "bounds", "solve", "sweep", "advise"]
 OPTIONS = [
     "-p",
     "--edges",

@@ -81,13 +81,23 @@ def chain_bounds(params: SamplingParams, mode: Mode | str = Mode.paper, eps=None
     ----------
     Eq. (29), (33)–(53), (55).
     """
-    mode = Mode(mode)
-    if mode is Mode.tight:
-        raise VoroboundError("the tight bound is an optimization: use vorobound.bounds.tight")
     e = np.asarray(params.eps if eps is None else eps, dtype=float)
     if np.any(~np.isfinite(e)) or np.any((e <= 0) | (e >= 1)):
         raise VoroboundError("eps must lie in (0, 1)")
-    lfs, sigma, ratio = params.lfs, params.sigma, params.delta_ratio
+    return chain_arrays(e, params.sigma, params.delta_ratio, params.lfs, params.rho_f, mode)
+
+
+def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> ChainBounds:
+    """The chain with every parameter an array (broadcast together); no validation.
+
+    Used by sweeps over σ, δ/ε and ρ_f; :func:`chain_bounds` is the validated entry point.
+    """
+    mode = Mode(mode)
+    if mode is Mode.tight:
+        raise VoroboundError("the tight bound is an optimization: use vorobound.bounds.tight")
+    e, sigma, ratio, lfs, rho_f = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (eps, sigma, delta_ratio, lfs, rho_f))
+    )
     one_m = 1 - e
     edge_max = 2 * e / one_m * lfs
     edge_min = sigma * e * lfs
@@ -109,14 +119,15 @@ def chain_bounds(params: SamplingParams, mode: Mode | str = Mode.paper, eps=None
         sin_min_obtuse = np.sqrt(1 - k_cos**2)
     k_max_acute = k1_max + k2_max * cos_max_acute
     k_max_obtuse = k1_max + k2_min * k_cos
-    if mode is Mode.paper:
-        bound_acute = np.sqrt(k_max_acute) / (2 * k_sin)
-        bound_obtuse = np.sqrt(k_max_obtuse) / (2 * sin_min_obtuse)
-    else:
-        # (48) holds for every θ, so the obtuse case may use the better of (48) and (52).
-        sin_obtuse = np.maximum(k_sin, sin_min_obtuse)
-        bound_acute = _gap_bound(k_max_acute, edge_min) / (2 * k_sin)
-        bound_obtuse = _gap_bound(k_max_obtuse, edge_min) / (2 * sin_obtuse)
+    with np.errstate(invalid="ignore"):
+        if mode is Mode.paper:
+            bound_acute = np.sqrt(k_max_acute) / (2 * k_sin)
+            bound_obtuse = np.sqrt(k_max_obtuse) / (2 * sin_min_obtuse)
+        else:
+            # (48) holds for every θ, so the obtuse case may use the better of (48) and (52).
+            sin_obtuse = np.fmax(k_sin, sin_min_obtuse)
+            bound_acute = _gap_bound(k_max_acute, edge_min) / (2 * k_sin)
+            bound_obtuse = _gap_bound(k_max_obtuse, edge_min) / (2 * sin_obtuse)
     bound = np.fmax(bound_acute, bound_obtuse)
     bound = np.where(np.isnan(bound_acute) | np.isnan(bound_obtuse), np.nan, bound)
     return ChainBounds(
@@ -142,7 +153,7 @@ def chain_bounds(params: SamplingParams, mode: Mode | str = Mode.paper, eps=None
         bound_acute=bound_acute,
         bound_obtuse=bound_obtuse,
         bound=bound,
-        target=(params.rho_f - 1) * ratio * e * lfs,
+        target=(rho_f - 1) * ratio * e * lfs,
     )
 
 
@@ -152,5 +163,5 @@ def _gap_bound(k_max, a_min):
     a − sqrt(a² − k) = k/(a + sqrt(a² − k)) ≤ k/a ≤ sqrt(k) when 0 ≤ k ≤ a² (and ≤ 0 when
     k < 0), so min(sqrt(k_max), k_max/a_min) bounds it.
     """
-    k = np.maximum(k_max, 0)
-    return np.minimum(np.sqrt(k), k / a_min)
+    k = np.fmax(k_max, 0)
+    return np.fmin(np.sqrt(k), k / a_min)

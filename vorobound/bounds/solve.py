@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import VoroboundError
-from .chain import chain_bounds
+from .chain import chain_arrays, chain_bounds
 from .params import Mode, SamplingParams
 
 SCAN_GRID = np.geomspace(1e-7, 0.999, 600)
@@ -95,3 +95,50 @@ def solve_eps_star(params: SamplingParams, mode: Mode | str = Mode.paper) -> Eps
 
         return solve_tight(params)
     return find_eps_star(relative_gap_function(params, mode), mode.value, params)
+
+
+BISECTION_STEPS = 64
+"""Halvings of the bracket in the batched solver (the bracket shrinks to one float spacing)."""
+BATCH_SCAN_GRID = np.geomspace(1e-7, 0.999, 120)
+"""Coarser scan for the batched solver; bound/target rises monotonically in ε for the chains,
+so the first crossing is the same (checked against :func:`solve_eps_star` in the tests)."""
+
+
+def solve_eps_star_batch(
+    sigma, delta_ratio, rho_f, mode: Mode | str, grid=BATCH_SCAN_GRID
+) -> np.ndarray:
+    """ε* for many parameter sets at once (closed-form chains), NaN where there is none.
+
+    Same definition as :func:`solve_eps_star` (first crossing above the scan start), found by a
+    vectorized scan of ``grid`` and bisection of each row's bracket to full precision. ε* does
+    not depend on L_i.
+
+    Parameters
+    ----------
+    sigma, delta_ratio, rho_f : array_like
+        Broadcast together; one ε* per element.
+    mode : {"paper", "rigorous"}
+    """
+    sigma, ratio, rho_f = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (sigma, delta_ratio, rho_f))
+    )
+    shape = sigma.shape
+    s, r, q = (x.reshape(-1, 1) for x in (sigma, ratio, rho_f))
+
+    def gap(eps):
+        chain = chain_arrays(eps, s, r, 1.0, q, mode)
+        ratio_ = chain.bound / chain.target - 1
+        return np.where(np.isnan(ratio_), np.inf, ratio_)
+
+    values = gap(grid[None, :])
+    positive = values > 0
+    first = np.argmax(positive, axis=1)
+    ok = positive.any(axis=1) & (first > 0)
+    lo = grid[np.maximum(first - 1, 0)][:, None].copy()
+    hi = grid[first][:, None].copy()
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        above = gap(mid) > 0
+        hi = np.where(above, mid, hi)
+        lo = np.where(above, lo, mid)
+    return np.where(ok, lo[:, 0], np.nan).reshape(shape)

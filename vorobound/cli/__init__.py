@@ -11,9 +11,12 @@ import sys
 import typer
 
 from ..errors import VoroboundError
+from .advise_cmd import advise
 from .bounds_cmd import bounds, solve
 from .figures_cmd import figure, reproduce
+from .sweep_cmd import sweep
 from .triangle_cmd import triangle
+from .validate_cmd import validate
 
 app = typer.Typer(
     name="vorobound",
@@ -39,6 +42,9 @@ app.command("figure")(figure)
 app.command("triangle")(triangle)
 app.command("bounds")(bounds)
 app.command("solve")(solve)
+app.command("validate")(validate)
+app.command("sweep")(sweep)
+app.command("advise")(advise)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,0 +1,98 @@
+"""``vorobound sweep`` and ``vorobound advise`` from the command line."""
+
+import csv
+import io
+import json
+
+import pytest
+
+from vorobound.bounds.params import SamplingParams
+from vorobound.bounds.solve import solve_eps_star
+
+
+def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):
+    code, out, _ = run_cli("sweep", "--rho-f", "1.2:1.5:4", "--mode", "paper", "--format", "json")
+    assert code == 0
+    rows = json.loads(out)
+    assert [r["rho_f"] for r in rows] == pytest.approx([1.2, 1.3, 1.4, 1.5])
+    for row in rows:
+        expected = solve_eps_star(SamplingParams(0.01, rho_f=row["rho_f"]), "paper").eps_star
+        assert row["eps_star"] == pytest.approx(expected, rel=1e-10)
+
+
+def test_sweep_csv_and_json_round_trip(run_cli, tmp_path):
+    args = ["sweep", "--sigma", "0.5,0.75", "--rho-f", "1.3,1.38"]
+    _, as_json, _ = run_cli(*args, "--format", "json")
+    target = tmp_path / "out.csv"
+    code, _, _ = run_cli(*args, "--format", "csv", "-o", str(target))
+    assert code == 0
+    from_csv = list(csv.DictReader(io.StringIO(target.read_text())))
+    from_json = json.loads(as_json)
+    assert len(from_csv) == len(from_json) == 8
+    for c, j in zip(from_csv, from_json, strict=True):
+        assert c["mode"] == j["mode"] and float(c["eps_star"]) == j["eps_star"]
+        assert float(c["sigma"]) == j["sigma"] and c["lipschitz"] == ""
+
+
+def test_sweep_over_eps_gives_bound_curves(run_cli):
+    code, out, _ = run_cli(
+        "sweep", "--eps", "0.001:0.01:5", "--mode", "rigorous", "--format", "json"
+    )
+    assert code == 0
+    rows = json.loads(out)
+    assert len(rows) == 5 and {"eps", "bound", "target"} <= rows[0].keys()
+    assert all(a["bound"] < b["bound"] for a, b in zip(rows, rows[1:], strict=False))
+
+
+def test_advise_sphere_json(run_cli):
+    code, out, _ = run_cli("advise", "--sphere", "2", "--mode", "paper,rigorous", "--json")
+    assert code == 0
+    data = json.loads(out)
+    keys = {
+        "mode",
+        "eps_star",
+        "ball_radius",
+        "min_spacing",
+        "samples_low",
+        "samples_high",
+        "reduction_vs_1_500",
+    }
+    for entry in data["modes"]:
+        assert keys <= entry.keys()
+        assert entry["samples_low"] == pytest.approx(4 * 2**2 / (entry["eps_star"] * 2) ** 2)
+        assert entry["ball_radius"] == pytest.approx(2 * entry["eps_star"] * 2)
+        assert entry["reduction_vs_1_500"] == pytest.approx((entry["eps_star"] * 500) ** 2)
+    assert "Not covered" in data["guarantee"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["sweep", "--rho-f", "1:2"],
+        ["sweep", "--rho-f", "1.2:1.5:0"],
+        ["sweep", "--rho-f", "a,b"],
+        ["sweep", "--rho-f", "0.5"],
+        ["sweep", "--eps", "0:2:3"],
+        ["sweep", "--mode", "fast"],
+        ["sweep", "--jobs", "0"],
+        ["sweep", "-o", "/nonexistent/dir/out.csv"],
+        ["advise", "--area", "10"],
+        ["advise", "--sphere", "-1"],
+        ["advise", "--torus", "1,2"],
+        ["advise", "--torus", "1"],
+        ["advise", "--mesh", "/no/such/mesh.stl", "--lfs", "1"],
+        ["advise", "--sphere", "1", "--torus", "3,1"],
+        ["advise", "--mode", "tight,nope"],
+    ],
+)
+def test_bad_input_one_line_exit_2(run_cli, args):
+    code, out, err = run_cli(*args)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_unreadable_mesh_file_is_one_line(run_cli, tmp_path):
+    junk = tmp_path / "junk.stl"
+    junk.write_bytes(b"\x00\x01 not a mesh")
+    code, _, err = run_cli("advise", "--mesh", str(junk), "--lfs", "1", "--mode", "paper")
+    assert code == 2 and len(err.strip().splitlines()) == 1

@@ -1,0 +1,95 @@
+"""Monte Carlo validation: sampled feasible guide triangles against every bound."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bounds.audit import audit_chain, exact_quantities
+from ..bounds.chain import chain_bounds
+from ..bounds.feasible import sample_feasible
+from ..bounds.params import SamplingParams
+from ..errors import VoroboundError
+
+
+@dataclass(frozen=True)
+class LabelAudit:
+    """All checks of one printed equation, merged."""
+
+    violations: int
+    worst_ratio: float
+    """Largest value/bound in the violating direction; above 1 means the step fails."""
+    checked: int
+
+
+@dataclass(frozen=True)
+class ValidationReport:
+    params: SamplingParams
+    samples: int
+    seed: int
+    lipschitz: float | None
+    inequalities: dict[str, LabelAudit]
+    """Equation label, e.g. "(49)" → how the printed step fared."""
+    modes: dict[str, float]
+    """Mode → largest observed (R − R̂)/bound; above 1 means that bound was exceeded."""
+    max_delta: float
+    """Largest observed R − R̂."""
+
+
+def validate(
+    params: SamplingParams,
+    samples: int = 20_000,
+    seed: int = 0,
+    lipschitz: float | None = None,
+    tight: bool = True,
+) -> ValidationReport:
+    """Sample feasible configurations (uniform and boundary-biased) and audit every bound.
+
+    Parameters
+    ----------
+    params : SamplingParams
+        ε, σ, δ/ε, L_i, ρ_f.
+    samples : int
+        Number of feasible configurations.
+    seed : int
+        Seed of the random generator (the run is deterministic).
+    lipschitz : float, optional
+        Restrict to configurations whose L is λ-Lipschitz between the three vertices.
+    tight : bool
+        Also compare against the tight supremum (one optimization).
+
+    References
+    ----------
+    Eq. (33)–(53).
+    """
+    if samples < 1:
+        raise VoroboundError(f"samples must be at least 1, got {samples}")
+    if lipschitz is not None and not lipschitz >= 0:
+        raise VoroboundError(f"lipschitz must be non-negative, got {lipschitz}")
+    tri = sample_feasible(params, samples, np.random.default_rng(seed), lipschitz=lipschitz)
+    if len(tri) < samples:
+        raise VoroboundError(
+            f"found only {len(tri)} feasible configurations of {samples}; the constraints "
+            "leave (almost) no room at these parameters"
+        )
+    merged: dict[str, LabelAudit] = {}
+    for audit in audit_chain(tri, params, "paper"):
+        seen = merged.get(audit.label)
+        if seen is None:
+            merged[audit.label] = LabelAudit(audit.violations, audit.worst_ratio, audit.checked)
+        else:
+            worst = np.nanmax([seen.worst_ratio, audit.worst_ratio])
+            merged[audit.label] = LabelAudit(
+                seen.violations + audit.violations, float(worst), seen.checked + audit.checked
+            )
+    delta = exact_quantities(tri, params)["delta"]
+    max_delta = float(delta.max())
+    modes = {
+        mode: max_delta / float(chain_bounds(params, mode).bound) for mode in ("paper", "rigorous")
+    }
+    if tight:
+        from ..bounds.tight import tight_supremum
+
+        modes["tight"] = max_delta / tight_supremum(params, lipschitz=lipschitz).supremum
+    return ValidationReport(params, samples, seed, lipschitz, merged, modes, max_delta)
