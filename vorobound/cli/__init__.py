@@ -13,6 +13,7 @@ import typer
 from ..errors import VoroboundError
 from .advise_cmd import advise
 from .bounds_cmd import bounds, solve
+from .cheng_cmd import cheng
 from .figures_cmd import figure, reproduce
 from .sweep_cmd import sweep
 from .triangle_cmd import triangle
@@ -45,6 +46,7 @@ app.command("solve")(solve)
 app.command("validate")(validate)
 app.command("sweep")(sweep)
 app.command("advise")(advise)
+app.command("cheng")(cheng)
 
 
 def main(argv: list[str] | None = None) -> int:

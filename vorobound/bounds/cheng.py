@@ -1,0 +1,401 @@
+"""Numerical supremum of R/R̂ under Cheng, Dey and Shewchuk's weight condition (Section 1).
+
+A simplex's vertices s carry weights w_s ∈ [0, α² N(s)²], α ∈ [0, 1/2), N(s) the distance from
+s to its nearest other vertex of the simplex. Cheng et al. show R ≤ c_rad R̂ for triangles with
+c_rad = 1/sqrt(1 − 4α²) and conjecture c_rad = 1/sqrt(1 − 3α²). This module maximizes R/R̂ over
+triangles (dim 2) and tetrahedra (dim 3) with a seeded global search and local polishing.
+
+Search space. Scale and rigid motions are fixed by putting vertex 0 at the origin and vertex 1
+at e₁, so that edge 01 may be taken as the longest edge: vertex 2 = (x, y[, 0]) with
+x ∈ [0, 1], y ∈ [h, 1], and in 3-D vertex 3 = (x, y, z) with x ∈ [0, 1], y ∈ [−1, 1],
+z ∈ [h, 1]. The flatness floor h keeps the simplex non-degenerate; weights are fractions
+f ∈ [0, 1] of their upper bounds. The search is repeated while h shrinks: a maximum that keeps
+growing like 1/h means the supremum is infinite (the 3-D case, see ``docs/cheng.md``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import VoroboundError
+
+ALPHA_LIMIT = 0.5
+"""Cheng et al.'s condition requires α < 1/2: balls of radius α·N(s) are then disjoint."""
+
+FLATNESS_FLOORS = (1e-3, 1e-4, 1e-5, 1e-6)
+"""Successive lower bounds on the heights y (vertex 2) and z (vertex 3) of the search box."""
+
+UNBOUNDED_GROWTH = 100.0
+"""The supremum is reported infinite when the maximum grows by this factor while the floor
+shrinks by 1000 (a bounded supremum gives a factor near 1, a 1/h divergence a factor near 1000)."""
+
+SAMPLE_SIZE = {2: 40_000, 3: 80_000}
+"""Uniform random configurations per dimension (evidence, and starts for the local polish)."""
+
+LOCAL_STARTS = 8
+"""Best random-sample configurations polished locally, besides the global-search result."""
+
+DE_OPTIONS = {2: {"popsize": 30, "maxiter": 400}, 3: {"popsize": 15, "maxiter": 150}}
+"""Differential-evolution effort per dimension (population size multiplier, generations)."""
+
+DE_TOLERANCE = 1e-12
+"""Relative convergence tolerance of the global search."""
+
+FD_RELATIVE_STEP = 1e-7
+"""Finite-difference step of the local polish, relative to the coordinate's size."""
+
+POLISH_METHOD = "TNC"
+"""Local optimizer (bounded truncated Newton). L-BFGS-B converges similarly but calls threaded
+BLAS on every iteration, which stalls for seconds when other processes share the cores."""
+
+POLISH_OPTIONS = {"maxfun": 600, "ftol": 1e-15, "xtol": 0.0, "gtol": 0.0}
+"""Stop after 600 evaluations or when R/R̂ changes by less than 1e-15 (relative): 2-D polishes
+converge well within the cap; on a nearly flat tetrahedron R/R̂ is only accurate to about
+ε/height and the cap ends the polish."""
+
+HEIGHT_INDEX = {2: [1], 3: [1, 4]}
+"""Positions of the heights (y of vertex 2, z of vertex 3) in the search vector."""
+
+FLOOR_RTOL = 1e-9
+"""A height within this relative distance of the floor counts as resting on it."""
+
+SAME_OPTIMUM_RTOL = 1e-9
+"""Local optima within this relative distance of the best count as reaching it."""
+
+
+@dataclass(frozen=True)
+class SimplexRadii:
+    """Circumradius and signed squared orthoradius of a batch of full-dimensional simplices."""
+
+    circumradius: np.ndarray
+    """R: |p_i − z| for the center z equidistant from all vertices, eq. (3)."""
+    orthoradius_sq: np.ndarray
+    """R̂² = |p_i − ẑ|² − w_i for the center ẑ with equal power to all vertices, eq. (2)."""
+
+
+@dataclass(frozen=True)
+class ChengResult:
+    """Numerical supremum of R/R̂ under the weight condition w_s ∈ [0, α² N(s)²]."""
+
+    alpha: float
+    """α of the weight condition, in [0, 1/2)."""
+    dim: int
+    """2 for triangles, 3 for tetrahedra."""
+    c_rad: float = field(metadata={"equation": "Section 1, Cheng et al.'s bound"})
+    """1/sqrt(1 − 4α²): Cheng et al.'s proven constant (for triangles)."""
+    c_conjectured: float = field(metadata={"equation": "Section 1, Cheng et al.'s conjecture"})
+    """1/sqrt(1 − 3α²): the constant Cheng et al. conjecture."""
+    numeric_sup: float
+    """Largest R/R̂ found; ``math.inf`` when the search shows a 1/h divergence."""
+    maximizer: dict
+    """Best configuration found at the smallest flatness floor: points, weights,
+    weight_fractions, nearest_distances, circumradius, orthoradius, ratio."""
+    evidence: dict
+    """How the number was obtained: global-search value, local optima and their spread,
+    random-sample maximum, regular-simplex ratio, maximum against the flatness floor."""
+
+
+def simplex_radii(points, weights) -> SimplexRadii:
+    """Circumradius and signed squared orthoradius of weighted d-simplices in R^d, d ∈ {2, 3}.
+
+    Subtracting vertex 0's center equation from vertex i's gives the linear system
+    2 (p_i − p_0)·(c − p_0) = |p_i − p_0|² − (w_i − w_0), solved by Cramer's rule (cross
+    products in 3-D). This avoids LAPACK, whose threads stall on many tiny systems when the
+    machine is busy, and is as accurate as LU for 2×2 and 3×3 systems.
+
+    Parameters
+    ----------
+    points : array_like, shape (..., d + 1, d)
+        Vertex coordinates of full-dimensional simplices.
+    weights : array_like, shape (..., d + 1)
+        Vertex weights (squared ball radii).
+
+    Returns
+    -------
+    SimplexRadii
+        Degenerate simplices give non-finite values.
+
+    References
+    ----------
+    Eq. (2)–(3).
+    """
+    p = np.asarray(points, dtype=np.float64)
+    w = np.asarray(weights, dtype=np.float64)
+    if p.ndim < 2 or p.shape[-1] not in (2, 3) or p.shape[-2] != p.shape[-1] + 1:
+        raise VoroboundError(f"points must have shape (..., 3, 2) or (..., 4, 3), got {p.shape}")
+    if w.shape[-1:] != p.shape[-2:-1]:
+        raise VoroboundError(f"weights must have shape (..., {p.shape[-2]}), got {w.shape}")
+    w = np.broadcast_to(w, p.shape[:-1])
+    edges = p[..., 1:, :] - p[..., :1, :]
+    half_sq = 0.5 * (edges * edges).sum(axis=-1)
+    with np.errstate(all="ignore"):
+        circ = _solve_small(edges, half_sq)
+        ortho = _solve_small(edges, half_sq - 0.5 * (w[..., 1:] - w[..., :1]))
+        return SimplexRadii(
+            circumradius=np.sqrt((circ * circ).sum(axis=-1)),
+            orthoradius_sq=(ortho * ortho).sum(axis=-1) - w[..., 0],
+        )
+
+
+def _solve_small(rows: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """x with rows·x = rhs for batches of 2×2 or 3×3 systems (Cramer's rule)."""
+    if rows.shape[-1] == 2:
+        (a, b), (c, d) = np.moveaxis(rows, (-2, -1), (0, 1))
+        r0, r1 = np.moveaxis(rhs, -1, 0)
+        return np.stack([d * r0 - b * r1, a * r1 - c * r0], axis=-1) / (a * d - b * c)[..., None]
+    a0, a1, a2 = np.moveaxis(rows, -2, 0)
+    c12, c20, c01 = np.cross(a1, a2), np.cross(a2, a0), np.cross(a0, a1)
+    det = (a0 * c12).sum(axis=-1)
+    r0, r1, r2 = np.moveaxis(rhs[..., None], -2, 0)
+    return (r0 * c12 + r1 * c20 + r2 * c01) / det[..., None]
+
+
+def nearest_vertex_distances(points) -> np.ndarray:
+    """N(s): distance from each vertex to its nearest other vertex of the same simplex.
+
+    Parameters
+    ----------
+    points : array_like, shape (..., n, d)
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., n)
+
+    References
+    ----------
+    Section 1 (Cheng et al.'s weight condition).
+    """
+    p = np.asarray(points, dtype=np.float64)
+    diff = p[..., :, None, :] - p[..., None, :, :]
+    dist = np.sqrt((diff * diff).sum(axis=-1))
+    n = p.shape[-2]
+    dist[..., np.arange(n), np.arange(n)] = np.inf
+    return dist.min(axis=-1)
+
+
+def _checked_alpha(alpha, dim) -> float:
+    if dim not in (2, 3):
+        raise VoroboundError(f"dim must be 2 (triangle) or 3 (tetrahedron), got {dim!r}")
+    try:
+        value = float(alpha)
+    except (TypeError, ValueError):
+        raise VoroboundError(f"alpha must be a number, got {alpha!r}") from None
+    if not 0 <= value < ALPHA_LIMIT:  # also rejects NaN
+        raise VoroboundError(f"alpha must lie in [0, 1/2), got {alpha!r}")
+    return value
+
+
+def _box(dim: int, floor: float) -> list[tuple[float, float]]:
+    """Bounds of the search vector: coordinates of vertices 2.. then weight fractions."""
+    coords = [(0.0, 1.0), (floor, 1.0)]
+    if dim == 3:
+        coords += [(0.0, 1.0), (-1.0, 1.0), (floor, 1.0)]
+    return coords + [(0.0, 1.0)] * (dim + 1)
+
+
+def _configurations(x: np.ndarray, dim: int, alpha: float):
+    """Points (m, d+1, d), weights and weight fractions (m, d+1) from search vectors (m, k)."""
+    m = x.shape[0]
+    points = np.zeros((m, dim + 1, dim))
+    points[:, 1, 0] = 1.0
+    points[:, 2, :2] = x[:, :2]
+    if dim == 3:
+        points[:, 3, :] = x[:, 2:5]
+    fractions = x[:, -(dim + 1) :]
+    weights = fractions * alpha**2 * nearest_vertex_distances(points) ** 2
+    return points, weights, fractions
+
+
+def _ratio(x: np.ndarray, dim: int, alpha: float) -> np.ndarray:
+    """R/R̂ for search vectors (m, k); 0 where it is undefined (never for admissible input)."""
+    points, weights, _ = _configurations(x, dim, alpha)
+    radii = simplex_radii(points, weights)
+    with np.errstate(all="ignore"):
+        ratio = radii.circumradius / np.sqrt(radii.orthoradius_sq)
+    return np.where(np.isfinite(ratio), ratio, 0.0)
+
+
+def _regular_simplex(dim: int) -> np.ndarray:
+    """Search vector of the regular simplex with unit edge and every weight at its bound."""
+    if dim == 2:
+        coords = [0.5, math.sqrt(3) / 2]
+    else:
+        coords = [0.5, math.sqrt(3) / 2, 0.5, math.sqrt(3) / 6, math.sqrt(2 / 3)]
+    return np.array(coords + [1.0] * (dim + 1))
+
+
+def _ratio_and_gradient(x: np.ndarray, dim: int, alpha: float, bounds) -> tuple:
+    """−R/R̂ and its central-difference gradient, all 2k + 1 evaluations in one batch.
+
+    Steps scale with |x_i| plus the coordinate's lower bound, so a height resting on a small
+    flatness floor is perturbed by a fraction of itself rather than by more than its size.
+    """
+    low, high = np.array(bounds).T
+    step = FD_RELATIVE_STEP * (np.abs(x) + low.clip(min=FD_RELATIVE_STEP))
+    eye = np.diag(step)
+    plus = np.clip(x + eye, low, high)
+    minus = np.clip(x - eye, low, high)
+    ratio = _ratio(np.vstack([x[None], plus, minus]), dim, alpha)
+    k = x.size
+    gradient = (ratio[1 : k + 1] - ratio[k + 1 :]) / (plus.diagonal() - minus.diagonal())
+    return -ratio[0], -gradient
+
+
+def _polish(start: np.ndarray, dim: int, alpha: float, bounds) -> tuple[float, np.ndarray]:
+    """Local maximization of R/R̂ from ``start`` within ``bounds``; returns (value, x)."""
+    from scipy.optimize import minimize
+
+    start = np.clip(start, *np.array(bounds).T)
+    result = minimize(
+        _ratio_and_gradient,
+        start,
+        args=(dim, alpha, bounds),
+        jac=True,
+        method=POLISH_METHOD,
+        bounds=bounds,
+        options=POLISH_OPTIONS,
+    )
+    candidates = np.vstack([result.x, start])
+    values = _ratio(candidates, dim, alpha)
+    best = int(np.argmax(values))
+    return float(values[best]), candidates[best]
+
+
+def _search(alpha: float, dim: int, seed: int):
+    """Global search, local polish from several starts, and continuation in the floor."""
+    from scipy.optimize import differential_evolution
+
+    rng = np.random.default_rng(seed)
+    floor = FLATNESS_FLOORS[0]
+    bounds = _box(dim, floor)
+    low, high = np.array(bounds).T
+    sample = low + (high - low) * rng.random((SAMPLE_SIZE[dim], len(bounds)))
+    sample_ratio = _ratio(sample, dim, alpha)
+
+    global_run = differential_evolution(
+        lambda xs: -_ratio(xs.T, dim, alpha),
+        bounds,
+        seed=seed,
+        vectorized=True,
+        updating="deferred",
+        polish=False,
+        tol=DE_TOLERANCE,
+        **DE_OPTIONS[dim],
+    )
+    starts = [global_run.x] + list(sample[np.argsort(sample_ratio)[::-1][:LOCAL_STARTS]])
+    optima = [_polish(s, dim, alpha, bounds) for s in starts]
+    best_value, best_x = max(optima, key=lambda vx: vx[0])
+
+    # Follow the best configuration while the flatness floor shrinks: a height resting on the
+    # old floor moves to the new one before polishing.
+    by_floor = {floor: best_value}
+    for new_floor in FLATNESS_FLOORS[1:]:
+        start = best_x.copy()
+        heights = HEIGHT_INDEX[dim]
+        start[heights] = np.where(
+            start[heights] <= floor * (1 + FLOOR_RTOL), new_floor, start[heights]
+        )
+        floor = new_floor
+        best_value, best_x = _polish(start, dim, alpha, _box(dim, floor))
+        by_floor[floor] = best_value
+
+    values = np.array([v for v, _ in optima])
+    evidence = {
+        "global_search": {
+            "method": "scipy.optimize.differential_evolution",
+            "seed": seed,
+            "value": -float(global_run.fun),
+            "evaluations": int(global_run.nfev),
+        },
+        "local_polish": {
+            "method": f"scipy.optimize.minimize({POLISH_METHOD})",
+            "starts": len(starts),
+            "optima": sorted((float(v) for v in values), reverse=True),
+            "spread": float(values.max() - values.min()),
+            "reaching_best": int(np.sum(values >= values.max() * (1 - SAME_OPTIMUM_RTOL))),
+        },
+        "random_sample": {
+            "size": int(sample.shape[0]),
+            "seed": seed,
+            "max": float(sample_ratio.max()),
+        },
+        "regular_simplex_max_weights": float(_ratio(_regular_simplex(dim)[None], dim, alpha)[0]),
+        "max_by_flatness_floor": {f"{f:.0e}": float(v) for f, v in by_floor.items()},
+    }
+    return best_x, by_floor, evidence
+
+
+def _maximizer_dict(x: np.ndarray, dim: int, alpha: float) -> dict:
+    points, weights, fractions = _configurations(x[None], dim, alpha)
+    radii = simplex_radii(points, weights)
+    circumradius = float(radii.circumradius[0])
+    orthoradius = math.sqrt(float(radii.orthoradius_sq[0]))
+    return {
+        "points": points[0].tolist(),
+        "weights": weights[0].tolist(),
+        "weight_fractions": fractions[0].tolist(),
+        "nearest_distances": nearest_vertex_distances(points[0]).tolist(),
+        "circumradius": circumradius,
+        "orthoradius": orthoradius,
+        "ratio": circumradius / orthoradius,
+    }
+
+
+def cheng_constants(alpha: float, dim: int = 2, seed: int = 0) -> ChengResult:
+    """Numerically maximize R/R̂ over weighted triangles or tetrahedra with w_s ≤ α² N(s)².
+
+    Parameters
+    ----------
+    alpha : float
+        α ∈ [0, 1/2) of the weight condition w_s ∈ [0, α² N(s)²].
+    dim : {2, 3}
+        2 maximizes over triangles, 3 over tetrahedra.
+    seed : int
+        Seed of the global search and of the random sample.
+
+    Returns
+    -------
+    ChengResult
+        ``numeric_sup`` is ``math.inf`` when the maximum grows by at least
+        ``UNBOUNDED_GROWTH`` across ``FLATNESS_FLOORS``.
+
+    References
+    ----------
+    Section 1 (Cheng, Dey and Shewchuk's bound and conjecture); eq. (2)–(3).
+    """
+    alpha = _checked_alpha(alpha, dim)
+    c_rad = 1 / math.sqrt(1 - 4 * alpha**2)
+    c_conjectured = 1 / math.sqrt(1 - 3 * alpha**2)
+    if alpha <= 0:
+        # α = 0: every weight is 0, so ẑ = z and R̂ = R for every simplex.
+        regular = _regular_simplex(dim)
+        return ChengResult(
+            alpha=alpha,
+            dim=dim,
+            c_rad=c_rad,
+            c_conjectured=c_conjectured,
+            numeric_sup=1.0,
+            maximizer=_maximizer_dict(regular, dim, alpha),
+            evidence={
+                "reason": "alpha = 0 forces all weights to 0, hence R = R̂",
+                "unbounded": False,
+            },
+        )
+    best_x, by_floor, evidence = _search(alpha, dim, seed)
+    growth = by_floor[FLATNESS_FLOORS[-1]] / by_floor[FLATNESS_FLOORS[0]]
+    unbounded = growth >= UNBOUNDED_GROWTH
+    evidence["growth_over_floors"] = float(growth)
+    evidence["unbounded"] = bool(unbounded)
+    numeric_sup = math.inf if unbounded else max(by_floor.values())
+    return ChengResult(
+        alpha=alpha,
+        dim=dim,
+        c_rad=c_rad,
+        c_conjectured=c_conjectured,
+        numeric_sup=numeric_sup,
+        maximizer=_maximizer_dict(best_x, dim, alpha),
+        evidence=evidence,
+    )
