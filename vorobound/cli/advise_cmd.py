@@ -77,7 +77,11 @@ def advise(
         raise VoroboundError(f"--lipschitz must be non-negative, got {lipschitz}")
     surface = _surface(area, lfs, sphere, torus, mesh, sizing)
     params = make_params(0.5, sigma, delta_ratio, 1.0, rho_f)
-    advice = run_advice(params, surface or _UNIT, modes, lipschitz, progress=not as_json)
+    from ..reports.surfaces import planar_area
+
+    # Without a surface, lengths are reported per unit L (counts are dropped below).
+    basis = surface or planar_area(1.0, 1.0)
+    advice = run_advice(params, basis, modes, lipschitz, progress=not as_json)
     entries = []
     for a in advice:
         entry = {
@@ -134,16 +138,3 @@ def advise(
         ],
     )
     print(GUARANTEE)
-
-
-class _UnitSurface:
-    """Stands in when no surface is given: lengths are reported per unit L."""
-
-    name = "unit"
-    area = 1.0
-    inv_lfs_sq_integral = 1.0
-    lfs_min = 1.0
-    exact = False
-
-
-_UNIT = _UnitSurface()

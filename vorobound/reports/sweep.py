@@ -69,7 +69,7 @@ class SweepSpec:
                 yield mode, lam, sigma, rho_f, ratio
 
 
-def _validate(spec: SweepSpec) -> int:
+def _validate(spec: SweepSpec) -> None:
     combos = list(spec.combos())
     for _, lam, sigma, rho_f, ratio in combos:
         SamplingParams(0.5, sigma, ratio, spec.lfs, rho_f)  # raises on a bad value
@@ -81,7 +81,6 @@ def _validate(spec: SweepSpec) -> int:
     size = len(combos) * (len(spec.eps) if spec.eps else 1)
     if size > MAX_GRID_POINTS:
         raise VoroboundError(f"the grid has {size} points; at most {MAX_GRID_POINTS} allowed")
-    return size
 
 
 def _tight_value(args) -> float:
