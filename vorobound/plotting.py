@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .errors import VoroboundError
 from .reports.figure_data import ComparisonData, Figure3Data
 
 COLUMN_WIDTH_IN = 3.5
@@ -102,7 +103,10 @@ def plot_comparison(data: ComparisonData, ax=None):
 def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = 200) -> Path:
     """Write ``fig`` to ``out_dir/stem.fmt`` (creating the folder); return the path."""
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     path = out / f"{stem}.{fmt}"
-    fig.savefig(path, format=fmt, dpi=dpi)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, format=fmt, dpi=dpi)
+    except OSError as exc:
+        raise VoroboundError(f"cannot write {path}: {exc.strerror or exc}") from None
     return path
