@@ -2,7 +2,9 @@
 
 Run: ``python benchmarks/bench_triangle.py [--n 2000000]``. Prints triangles per second for
 
-* ``vorobound``: :func:`vorobound.weighted_triangles` (both centers, radii, Theorem 1, ...);
+* ``vorobound``: :func:`vorobound.weighted_triangles` (both centers, radii, Theorem 1, ...),
+  which runs the compiled kernel when numba is installed (``pip install '.[fast]'``);
+* ``numpy``: the same function forced onto its pure-numpy path (``VOROBOUND_PURE_NUMPY=1``);
 * ``loop``: per-triangle ``numpy.linalg.solve`` of the two 2×2 center systems in a Python
   loop (timed on a subsample and scaled);
 * ``batched``: the same 2×2 solves as one batched ``numpy.linalg.solve`` call, then the radii
@@ -24,6 +26,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from vorobound import weighted_triangles  # noqa: E402
+from vorobound.geometry.triangle import COMPILED_MIN_ROWS, compiled_available  # noqa: E402
 
 
 def straightforward_batched(points: np.ndarray, weights: np.ndarray) -> np.ndarray:
@@ -89,7 +92,11 @@ def main() -> None:
     points = rng.standard_normal((args.n, 3, 3))
     weights = rng.random((args.n, 3)) * 0.1
 
+    weighted_triangles(points[:COMPILED_MIN_ROWS], weights[:COMPILED_MIN_ROWS])  # compile
     t_ours = best_time(lambda: weighted_triangles(points, weights))
+    os.environ["VOROBOUND_PURE_NUMPY"] = "1"
+    t_numpy = best_time(lambda: weighted_triangles(points, weights))
+    del os.environ["VOROBOUND_PURE_NUMPY"]
     t_batched = best_time(lambda: straightforward_batched(points, weights))
     sub = slice(0, args.loop_n)
     t_loop = best_time(lambda: straightforward_loop(points[sub], weights[sub]), 1) * (
@@ -97,13 +104,20 @@ def main() -> None:
     )
     rate = {
         name: args.n / t
-        for name, t in (("vorobound", t_ours), ("batched", t_batched), ("loop", t_loop))
+        for name, t in (
+            ("vorobound", t_ours),
+            ("numpy", t_numpy),
+            ("batched", t_batched),
+            ("loop", t_loop),
+        )
     }
-    print(f"triangles: {args.n:,} random 3-D, {os.cpu_count()} cores")
+    kernel = "compiled (numba)" if compiled_available() else "numpy (numba not installed)"
+    print(f"triangles: {args.n:,} random 3-D, {os.cpu_count()} cores, kernel: {kernel}")
     for name, r in rate.items():
         print(f"  {name:10s} {r / 1e6:9.3f} M triangles/s")
     print(f"  ratio vorobound / loop    : {rate['vorobound'] / rate['loop']:8.1f}x")
     print(f"  ratio vorobound / batched : {rate['vorobound'] / rate['batched']:8.2f}x")
+    print(f"  ratio numpy path / batched: {rate['numpy'] / rate['batched']:8.2f}x")
     for n in (args.n // 4, args.n):
         peak, outputs = peak_memory_mb(n, rng)
         print(

@@ -68,3 +68,13 @@ def test_wrong_shapes_raise_vorobound_error(points, weights):
     with pytest.raises(VoroboundError):
         weighted_triangles(points, weights)
     assert issubclass(VoroboundError, ValueError)
+
+
+def test_delta_unshifted_is_nan_when_the_orthoradius_is_imaginary():
+    # Equal weights larger than R²: the orthocenter (= circumcenter) is inside all three balls.
+    result = weighted_triangles([[0, 0], [1, 0], [0, 1]], [1.0, 1.0, 1.0])
+    assert result.orthoradius_sq == pytest.approx(0.5 - 1.0, rel=1e-15)
+    assert result.delta == 0.0
+    assert np.isnan(result.delta_unshifted)
+    real = weighted_triangles([[0, 0], [1, 0], [0, 1]], [0.25, 0.25, 0.25])
+    assert real.delta_unshifted == pytest.approx(np.sqrt(0.5) - np.sqrt(0.25), rel=1e-14)

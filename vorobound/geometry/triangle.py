@@ -14,7 +14,10 @@ and, if still ill-conditioned, with exact rational arithmetic, so the relative e
 
 from __future__ import annotations
 
+import functools
+import importlib.util
 import os
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from fractions import Fraction
@@ -33,6 +36,8 @@ from .invariants import (
 
 CHUNK_ROWS = 1 << 16
 """Rows per chunk: about 40 temporaries of 512 kB each, per worker thread."""
+
+_MIN_SPREAD_ROWS = 1 << 10  # below this, splitting a batch across threads costs more than it saves
 
 REFINE_TOLERANCE = 1e-13
 """A row is recomputed in higher precision when its estimated relative error exceeds this."""
@@ -253,8 +258,9 @@ def _complete_rows(out, valid, weights, scale):
     out["sin_theta"] = area2 / bc
     out["cos_theta"] = dot_a / bc
     rs = np.sqrt(np.where(rs_sq >= 0, rs_sq, np.nan))
-    # R − R̂_s = (R − R̂_t) + (R̂_t − R̂_s) and R̂_t² − R̂_s² = w_min (eq. (5)).
-    gap = np.where(rt + rs > 0, w_min / (rt + rs), 0.0)
+    # R − R̂_s = (R − R̂_t) + (R̂_t − R̂_s) and R̂_t² − R̂_s² = w_min (eq. (5)); R̂_s is not
+    # real when its square is negative, and then neither is the difference.
+    gap = np.where(rt + rs > 0, w_min / (rt + rs), np.where(rs_sq >= 0, 0.0, np.nan))
     out["delta_unshifted"] = out["delta"] + gap
     out["edges"] = np.stack([a, b, c])
     for key in _LENGTH_FIELDS:
@@ -334,14 +340,21 @@ def _edges_chunk(edges: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray
     return out
 
 
-def _run_chunked(chunk_fn, first: np.ndarray, second: np.ndarray) -> dict[str, np.ndarray]:
+def _run_chunked(
+    chunk_fn, first: np.ndarray, second: np.ndarray, spread: bool = False
+) -> dict[str, np.ndarray]:
     """Run ``chunk_fn`` on batch-last slices of ``first``/``second``; outputs batch-first.
 
     Outputs are allocated once and each chunk writes its rows into them, so the memory beyond
-    inputs and outputs is a few chunks' worth of temporaries whatever the batch size.
+    inputs and outputs is a few chunks' worth of temporaries whatever the batch size. With
+    ``spread``, a batch smaller than ``CHUNK_ROWS`` is still split across the worker threads
+    (worth it for rows that are slow, such as those refined in extended precision).
     """
     n = first.shape[-1]
-    bounds = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)] or [(0, 0)]
+    rows = CHUNK_ROWS
+    if spread:
+        rows = min(rows, max(_MIN_SPREAD_ROWS, -(-n // (os.cpu_count() or 1))))
+    bounds = [(s, min(s + rows, n)) for s in range(0, n, rows)] or [(0, 0)]
 
     def compute(b):
         part = chunk_fn(
@@ -404,9 +417,58 @@ def weighted_triangles(points, weights) -> WeightedTriangles:
     if w.ndim < 1 or w.shape[-1] != 3:
         raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
     lead = _batch_shapes(p.shape[:-2], w.shape[:-1])
-    p = np.broadcast_to(p, lead + p.shape[-2:]).reshape(-1, 3, p.shape[-1]).transpose(1, 2, 0)
-    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3).T
-    return _pack(_run_chunked(_points_chunk, p, w), lead)
+    p = np.broadcast_to(p, lead + p.shape[-2:]).reshape(-1, 3, p.shape[-1])
+    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3)
+    compiled = _compiled_kernel(p.shape[0])
+    if compiled is None:
+        return _pack(_run_chunked(_points_chunk, p.transpose(1, 2, 0), w.T), lead)
+    out, rest = compiled(p, w, _ERROR_GROWTH * _EPS64, REFINE_TOLERANCE)
+    if rest.size:
+        # Ill-conditioned, degenerate or non-finite rows: the numpy path refines or rejects.
+        fixed = _run_chunked(_points_chunk, p[rest].transpose(1, 2, 0), w[rest].T, spread=True)
+        for key, value in fixed.items():
+            out[key][rest] = value
+    return _pack(out, lead)
+
+
+COMPILED_MIN_ROWS = 1 << 12
+"""Batches at least this large use the compiled kernel when numba is installed."""
+
+
+def _compiled_kernel(n_rows: int):
+    """The compiled batch kernel, or None for small batches or when it cannot run.
+
+    Small batches stay on the numpy path: they gain nothing, and a single triangle from the
+    CLI should not pay for loading numba.
+    """
+    if n_rows < COMPILED_MIN_ROWS or not compiled_available():
+        return None
+    return _load_compiled()
+
+
+def compiled_available() -> bool:
+    """True when the compiled kernel can run: numba is installed and not switched off.
+
+    Setting the environment variable ``VOROBOUND_PURE_NUMPY`` to a non-empty value forces
+    the numpy path.
+    """
+    if os.environ.get("VOROBOUND_PURE_NUMPY"):
+        return False
+    return importlib.util.find_spec("numba") is not None and _load_compiled() is not None
+
+
+@functools.cache
+def _load_compiled():
+    try:
+        from .compiled import run_compiled
+    except (ImportError, RuntimeError, OSError) as exc:  # e.g. a numba that cannot cache
+        warnings.warn(
+            f"the compiled kernel could not be loaded ({exc}); using the numpy path",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+        return None
+    return run_compiled
 
 
 def theorem1_from_edges(edges, weights) -> WeightedTriangles:

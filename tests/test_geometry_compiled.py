@@ -1,0 +1,92 @@
+"""The compiled kernel (numba) against the numpy path and the mpmath reference."""
+
+import numpy as np
+import pytest
+from hard_triangles import families
+from mp_reference import reference, relative_error
+
+from vorobound import weighted_triangles
+from vorobound.geometry import triangle as triangle_module
+
+pytest.importorskip("numba")
+from vorobound.geometry import compiled  # noqa: E402
+
+DELTA_RTOL = 1e-12
+
+
+def _stress_batch(dim: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Ordinary, hard and bad rows mixed: every branch of the kernel and of the fallback."""
+    parts = [(p, w) for p, w in families(seed=dim).values() if p.shape[-1] == dim]
+    n = 5000
+    scales = 10.0 ** rng.integers(-150, 150, (n, 1, 1))
+    points = rng.standard_normal((n, 3, dim)) * scales
+    weights = rng.uniform(-0.3, 0.3, (n, 3)) * scales[:, :, 0] ** 2
+    weights[::5] = rng.random((n // 5, 3)) * 1e-14 * scales[::5, :, 0] ** 2
+    weights[1::7] = 4.0 * scales[1::7, :, 0] ** 2  # equal and large: orthoradius_sq < 0
+    points[2::11, 2] = points[2::11, 1]  # coincident vertices
+    points[3::13, 2] = 2 * points[3::13, 1] - points[3::13, 0]  # collinear
+    points[4::17, 0, 0] = np.nan
+    weights[5::19, 1] = np.inf
+    huge, tiny = slice(6, None, 23), slice(7, None, 29)
+    points[huge] = rng.standard_normal(points[huge].shape) * 1e200  # overflows once squared
+    weights[huge] = 0.1
+    points[tiny] = rng.standard_normal(points[tiny].shape) * 1e-200  # underflows once squared
+    weights[tiny] = 1e-401
+    parts.append((points, weights))
+    return np.concatenate([p for p, _ in parts]), np.concatenate([w for _, w in parts])
+
+
+def _fields(result):
+    return {
+        name: getattr(result, name)
+        for name in result.__dataclass_fields__
+        if getattr(result, name) is not None
+    }
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_compiled_kernel_matches_numpy_path_bit_for_bit(dim, monkeypatch):
+    points, weights = _stress_batch(dim, np.random.default_rng(dim))
+    assert len(points) >= triangle_module.COMPILED_MIN_ROWS
+    fast = _fields(weighted_triangles(points, weights))
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    slow = _fields(weighted_triangles(points, weights))
+    assert fast.keys() == slow.keys()
+    for name, value in fast.items():
+        assert value.dtype == slow[name].dtype, name
+        assert value.shape == slow[name].shape, name
+        np.testing.assert_array_equal(value, slow[name], err_msg=name)
+    # The batch really exercised both outcomes.
+    assert fast["valid"].sum() > len(points) // 2
+    assert (~fast["valid"]).sum() > 100
+
+
+def test_large_batches_use_the_compiled_kernel(monkeypatch):
+    calls = []
+    real = compiled.triangles_kernel
+
+    def spy(points, *args):
+        calls.append(points.shape)
+        return real(points, *args)
+
+    monkeypatch.setattr(compiled, "triangles_kernel", spy)
+    rng = np.random.default_rng(0)
+    n = triangle_module.COMPILED_MIN_ROWS
+    weighted_triangles(rng.standard_normal((n - 1, 3, 3)), [0.0, 0.1, 0.2])
+    assert calls == []
+    weighted_triangles(rng.standard_normal((n, 3, 3)), [0.0, 0.1, 0.2])
+    assert calls == [(n, 3, 3)]
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    weighted_triangles(rng.standard_normal((n, 3, 3)), [0.0, 0.1, 0.2])
+    assert len(calls) == 1
+
+
+@pytest.mark.parametrize("name", sorted(families()))
+def test_compiled_path_matches_mpmath_on_hard_triangles(name, monkeypatch):
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    points, weights = families()[name]
+    result = weighted_triangles(points, weights)
+    assert result.valid.all()
+    for i in range(0, len(points), 4):
+        ref = reference(points[i], weights[i])
+        assert relative_error(result.delta[i], ref["delta"]) <= DELTA_RTOL

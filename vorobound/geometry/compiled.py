@@ -1,0 +1,281 @@
+"""Compiled fast path for :func:`vorobound.weighted_triangles` (needs the optional numba).
+
+One pass per triangle computes everything the numpy path computes for a well-conditioned
+row, with the same operations in the same order (so the results agree to the last bit or
+nearly), and writes straight into the caller's output arrays. A row that the numpy path would
+refine in higher precision, or that is not finite or degenerate, is only flagged: the caller
+recomputes flagged rows with the numpy path, which stays the reference implementation.
+
+The arithmetic mirrors, step by step:
+
+* :func:`vorobound.geometry.triangle._row_scale` (power-of-two row scaling);
+* :func:`vorobound.geometry.invariants.invariants_from_points` (eq. (2), (3), (5), (6), (31));
+* :func:`vorobound.geometry.invariants.finish` (eq. (15), (29));
+* :func:`vorobound.geometry.invariants.condition_estimate` (the refinement test);
+* :func:`vorobound.geometry.triangle._complete_rows` (Section 3 labels, eq. (1), (32)).
+
+Importing this module compiles nothing; the first call compiles (a few seconds) and caches
+the machine code on disk for later processes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+_EPS64 = float(np.finfo(np.float64).epsneg)
+
+# Rows of the scalar block ``scalars[j, :]``.
+SCALAR_FIELDS = (
+    "circumradius",
+    "orthoradius_sq",
+    "shifted_orthoradius",
+    "delta",
+    "delta_unshifted",
+    "paper_literal",
+    "k",
+    "sin_theta",
+    "cos_theta",
+    "delta_direct",
+)
+
+
+@njit(inline="always")
+def _fmax(x, y):
+    """``numpy.fmax``: the larger of two numbers, ignoring a NaN."""
+    if x != x:
+        return y
+    if y != y:
+        return x
+    return x if x >= y else y
+
+
+@njit(inline="always")
+def _scaled_vertex(points, i, j, inv_scale):
+    """Vertex j of row i times the reciprocal row scale, as three components (z = 0 in 2-D).
+
+    The scale is a power of two, so multiplying by its reciprocal rounds exactly as dividing
+    by it does (the numpy path divides).
+    """
+    x = points[i, j, 0] * inv_scale
+    y = points[i, j, 1] * inv_scale
+    z = points[i, j, 2] * inv_scale if points.shape[2] == 3 else 0.0
+    return x, y, z
+
+
+@njit(inline="always")
+def _dist_sq(points, i, j, m):
+    """Squared distance between vertices j and m of row i, unscaled."""
+    total = 0.0
+    for axis in range(points.shape[2]):
+        gap = points[i, j, axis] - points[i, m, axis]
+        total += gap * gap
+    return total
+
+
+@njit(parallel=True, cache=True, error_model="numpy", nogil=True)
+def triangles_kernel(
+    points, weights, error_scale, tolerance, scalars, edges, circ, ortho, first, flags
+):
+    """Fill the outputs for rows ``points[i]`` (3, d) and ``weights[i]`` (3,).
+
+    A row needs higher precision unless ``error_scale * condition <= tolerance``.
+    ``flags[i]`` gets bit 0 for "recompute with the numpy path" and bit 1 for assumption (1).
+    """
+    n = points.shape[0]
+    dim = points.shape[2]
+    for i in prange(n):
+        # Row scale, exact power of two (``_row_scale``).
+        size_p = 0.0
+        finite = True
+        for j in range(3):
+            for m in range(dim):
+                x = points[i, j, m]
+                if not math.isfinite(x):
+                    finite = False
+                size_p = max(size_p, abs(x))
+        wa0, wa1, wa2 = weights[i, 0], weights[i, 1], weights[i, 2]
+        if not (math.isfinite(wa0) and math.isfinite(wa1) and math.isfinite(wa2)):
+            finite = False
+        if not finite:
+            flags[i] = 1
+            continue
+        size = max(size_p, math.sqrt(max(max(abs(wa0), abs(wa1)), abs(wa2))))
+        if not size > 0:
+            flags[i] = 1
+            continue
+        scale = math.ldexp(1.0, math.frexp(size)[1])
+        inv_scale = 1.0 / scale
+        if not math.isfinite(inv_scale):
+            flags[i] = 1
+            continue
+        w0 = wa0 * inv_scale * inv_scale
+        w1 = wa1 * inv_scale * inv_scale
+        w2 = wa2 * inv_scale * inv_scale
+
+        # Edge vectors u = p1 − p0, v = p2 − p0, e = p2 − p1 (a 2-D row has z = 0, which
+        # adds exact zeros to every sum below and so changes no bit).
+        q00, q01, q02 = _scaled_vertex(points, i, 0, inv_scale)
+        q10, q11, q12 = _scaled_vertex(points, i, 1, inv_scale)
+        q20, q21, q22 = _scaled_vertex(points, i, 2, inv_scale)
+        u0, u1, u2 = q10 - q00, q11 - q01, q12 - q02
+        v0, v1, v2 = q20 - q00, q21 - q01, q22 - q02
+        f0, f1, f2 = q20 - q10, q21 - q11, q22 - q12
+        sq0 = f0 * f0 + f1 * f1 + f2 * f2
+        sq1 = v0 * v0 + v1 * v1 + v2 * v2
+        sq2 = u0 * u0 + u1 * u1 + u2 * u2
+        d0 = u0 * v0 + u1 * v1 + u2 * v2
+        d1 = -(u0 * f0 + u1 * f1 + u2 * f2)
+        d2 = v0 * f0 + v1 * f1 + v2 * f2
+        n0 = u1 * v2 - u2 * v1
+        n1 = u2 * v0 - u0 * v2
+        n2 = u0 * v1 - u1 * v0
+        area2_sq = n0 * n0 + n1 * n1 + n2 * n2
+
+        # Weights shifted by their minimum, eq. (6), and the numerator of k, eq. (31).
+        w_min = min(min(w0, w1), w2)
+        om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
+        k_num = (
+            om0 * (2 * d0 - om0) * sq0
+            + om1 * (2 * d1 - om1) * sq1
+            + om2 * (2 * d2 - om2) * sq2
+            + 2 * (om1 * om2 * d0 + om0 * om2 * d1 + om0 * om1 * d2)
+        )
+
+        # Centers as offsets from p0, eq. (2)–(3).
+        two_det = 2 * area2_sq
+        g1 = om1 - om0
+        g2 = om2 - om0
+        cu = sq1 * d1 / two_det
+        cv = sq2 * d2 / two_det
+        su = (sq1 * g1 - d0 * g2) / two_det
+        sv = (sq2 * g2 - d0 * g1) / two_det
+        x0, x1, x2 = cu * u0 + cv * v0, cu * u1 + cv * v1, cu * u2 + cv * v2
+        h0 = x0 - (su * u0 + sv * v0)
+        h1 = x1 - (su * u1 + sv * v1)
+        h2 = x2 - (su * u2 + sv * v2)
+        xx = x0 * x0 + x1 * x1 + x2 * x2
+        xhat_sq = h0 * h0 + h1 * h1 + h2 * h2
+        circ[i, 0] = (q00 + x0) * scale
+        circ[i, 1] = (q01 + x1) * scale
+        ortho[i, 0] = (q00 + h0) * scale
+        ortho[i, 1] = (q01 + h1) * scale
+        if dim == 3:
+            circ[i, 2] = (q02 + x2) * scale
+            ortho[i, 2] = (q02 + h2) * scale
+        rt_sq = xhat_sq - om0
+        rt_sq_scale = xhat_sq + om0
+
+        # Square roots, eq. (15) and (29).
+        e0 = math.sqrt(sq0)
+        e1 = math.sqrt(sq1)
+        e2 = math.sqrt(sq2)
+        area2 = math.sqrt(area2_sq)
+        radius = e0 * e1 * e2 / (2 * area2)
+        rt = math.sqrt(rt_sq) if rt_sq > 0 else 0.0
+        delta = k_num / (4 * area2_sq * (radius + rt))
+        orthoradius_sq = rt_sq - w_min
+
+        # Condition estimate (``condition_estimate``, coordinates version).
+        adj0, adj1, adj2 = e1 * e2, e0 * e2, e0 * e1
+        a0, a1, a2 = abs(om0), abs(om1), abs(om2)
+        cond_area = adj0 / area2 if area2_sq > 0 else math.inf
+        size_k = a0 * (2 * adj0 + a0) * sq0 + a1 * (2 * adj1 + a1) * sq1
+        size_k += a2 * (2 * adj2 + a2) * sq2
+        size_k += 2 * (a1 * a2 * adj0 + a0 * a2 * adj1 + a0 * a1 * adj2)
+        cond_k = 1.0 if size_k == 0 else size_k / abs(k_num)
+        cond_rt = rt_sq_scale / (rt * (radius + rt))
+        cond = _fmax(_fmax(cond_area, cond_k), cond_rt)
+        if not (error_scale * cond <= tolerance) or not (area2 > 0):
+            flags[i] = 1
+            continue
+
+        # Section 3 labels: A is the minimum-weight vertex of the given weights.
+        if wa0 <= wa1:
+            apex = 0 if wa0 <= wa2 else 2
+        else:
+            apex = 1 if wa1 <= wa2 else 2
+        if apex == 0:
+            a, b, c, dot_a = e0, e1, e2, d0
+        elif apex == 1:
+            a, b, c, dot_a = e1, e2, e0, d1
+        else:
+            a, b, c, dot_a = e2, e0, e1, d2
+        bc = b * c
+        rs = math.sqrt(orthoradius_sq) if orthoradius_sq >= 0 else math.nan
+        if rt + rs > 0:
+            gap = w_min / (rt + rs)
+        elif orthoradius_sq >= 0:
+            gap = 0.0
+        else:
+            gap = math.nan
+        shifted_direct = math.sqrt(xhat_sq - om0)
+        scalars[0, i] = radius * scale
+        scalars[1, i] = orthoradius_sq * scale * scale
+        scalars[2, i] = rt * scale
+        scalars[3, i] = delta * scale
+        scalars[4, i] = (delta + gap) * scale
+        scalars[5, i] = delta * scale + min(min(wa0, wa1), wa2)
+        scalars[6, i] = k_num / (bc * bc) * scale * scale
+        scalars[7, i] = area2 / bc
+        scalars[8, i] = dot_a / bc
+        scalars[9, i] = (math.sqrt(xx) - shifted_direct) * scale
+        edges[i, 0] = a * scale
+        edges[i, 1] = b * scale
+        edges[i, 2] = c * scale
+        first[i] = apex
+
+        # Eq. (1) on the given coordinates and weights.
+        pair0 = _dist_sq(points, i, 1, 2)
+        pair1 = _dist_sq(points, i, 0, 2)
+        pair2 = _dist_sq(points, i, 0, 1)
+        holds = abs(wa1 - wa2) <= pair0 and abs(wa0 - wa2) <= pair1 and abs(wa0 - wa1) <= pair2
+        overflow = not (
+            math.isfinite(scalars[0, i])
+            and math.isfinite(scalars[1, i])
+            and math.isfinite(scalars[5, i])
+            and math.isfinite(scalars[6, i])
+            and math.isfinite(scalars[9, i])
+        )
+        flags[i] = 1 if overflow else (2 if holds else 0)
+
+
+def run_compiled(
+    points: np.ndarray, weights: np.ndarray, error_scale: float, tolerance: float
+) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Outputs (batch first) for ``points`` (n, 3, d) and ``weights`` (n, 3), both float64.
+
+    Returns the fields of :class:`vorobound.WeightedTriangles` and the indices of the rows the
+    kernel left for the numpy path (their entries in the fields are unset).
+    """
+    n, _, dim = points.shape
+    scalars = np.empty((len(SCALAR_FIELDS), n))
+    edges = np.empty((n, 3))
+    circ = np.empty((n, dim))
+    ortho = np.empty((n, dim))
+    first = np.empty(n, dtype=np.int64)
+    flags = np.empty(n, dtype=np.uint8)
+    triangles_kernel(
+        np.ascontiguousarray(points, dtype=np.float64),
+        np.ascontiguousarray(weights, dtype=np.float64),
+        error_scale,
+        tolerance,
+        scalars,
+        edges,
+        circ,
+        ortho,
+        first,
+        flags,
+    )
+    out = dict(zip(SCALAR_FIELDS, scalars, strict=True))
+    out.update(
+        edges=edges,
+        circumcenter=circ,
+        orthocenter=ortho,
+        min_weight_vertex=first,
+        valid=flags != 1,
+        assumption1_holds=flags == 2,
+    )
+    return out, np.flatnonzero(flags == 1)
