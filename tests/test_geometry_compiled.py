@@ -90,3 +90,29 @@ def test_compiled_path_matches_mpmath_on_hard_triangles(name, monkeypatch):
     for i in range(0, len(points), 4):
         ref = reference(points[i], weights[i])
         assert relative_error(result.delta[i], ref["delta"]) <= DELTA_RTOL
+
+
+def _batch_delta_sum(seed: int) -> float:
+    rng = np.random.default_rng(seed)
+    points = rng.standard_normal((triangle_module.COMPILED_MIN_ROWS, 3, 3))
+    return float(weighted_triangles(points, [0.0, 0.1, 0.2]).delta.sum())
+
+
+def test_a_process_that_used_the_kernel_can_fork_and_use_it_again():
+    # An OpenMP runtime in the parent would abort the forked child; plain threads do not.
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    expected = [_batch_delta_sum(seed) for seed in (1, 2)]
+    fork = multiprocessing.get_context("fork")
+    # A child that aborts breaks the pool (an error here), rather than hanging the test.
+    with ProcessPoolExecutor(2, mp_context=fork) as pool:
+        assert list(pool.map(_batch_delta_sum, [1, 2])) == expected
+
+
+def test_concurrent_calls_from_threads_agree():
+    from concurrent.futures import ThreadPoolExecutor
+
+    expected = [_batch_delta_sum(seed) for seed in range(4)]
+    with ThreadPoolExecutor(4) as pool:
+        assert list(pool.map(_batch_delta_sum, range(4))) == expected

@@ -21,11 +21,18 @@ the machine code on disk for later processes.
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
-_EPS64 = float(np.finfo(np.float64).epsneg)
+FLAG_ASSUMPTION1 = 1
+FLAG_NUMPY = 2  # not finite, degenerate, or overflowing: the numpy path decides
+FLAG_REFINE = 3  # too ill-conditioned for float64: the numpy path refines it
+
+CHUNK_ROWS = 1 << 15
+"""Rows per task handed to a worker thread (the kernel needs no temporaries)."""
 
 # Rows of the scalar block ``scalars[j, :]``.
 SCALAR_FIELDS = (
@@ -75,18 +82,18 @@ def _dist_sq(points, i, j, m):
     return total
 
 
-@njit(parallel=True, cache=True, error_model="numpy", nogil=True)
+@njit(cache=True, error_model="numpy", nogil=True)
 def triangles_kernel(
-    points, weights, error_scale, tolerance, scalars, edges, circ, ortho, first, flags
+    points, weights, start, stop, error_scale, tolerance, scalars, edges, circ, ortho, first, flags
 ):
-    """Fill the outputs for rows ``points[i]`` (3, d) and ``weights[i]`` (3,).
+    """Fill the outputs of rows ``start`` to ``stop`` from ``points[i]`` (3, d), ``weights[i]``.
 
     A row needs higher precision unless ``error_scale * condition <= tolerance``.
-    ``flags[i]`` gets bit 0 for "recompute with the numpy path" and bit 1 for assumption (1).
+    ``flags[i]`` is 0, ``FLAG_ASSUMPTION1`` (a computed row for which eq. (1) holds),
+    ``FLAG_NUMPY`` or ``FLAG_REFINE`` (rows left for the numpy path).
     """
-    n = points.shape[0]
     dim = points.shape[2]
-    for i in prange(n):
+    for i in range(start, stop):
         # Row scale, exact power of two (``_row_scale``).
         size_p = 0.0
         finite = True
@@ -100,16 +107,16 @@ def triangles_kernel(
         if not (math.isfinite(wa0) and math.isfinite(wa1) and math.isfinite(wa2)):
             finite = False
         if not finite:
-            flags[i] = 1
+            flags[i] = FLAG_NUMPY
             continue
         size = max(size_p, math.sqrt(max(max(abs(wa0), abs(wa1)), abs(wa2))))
         if not size > 0:
-            flags[i] = 1
+            flags[i] = FLAG_NUMPY
             continue
         scale = math.ldexp(1.0, math.frexp(size)[1])
         inv_scale = 1.0 / scale
         if not math.isfinite(inv_scale):
-            flags[i] = 1
+            flags[i] = FLAG_NUMPY
             continue
         w0 = wa0 * inv_scale * inv_scale
         w1 = wa1 * inv_scale * inv_scale
@@ -189,7 +196,7 @@ def triangles_kernel(
         cond_rt = rt_sq_scale / (rt * (radius + rt))
         cond = _fmax(_fmax(cond_area, cond_k), cond_rt)
         if not (error_scale * cond <= tolerance) or not (area2 > 0):
-            flags[i] = 1
+            flags[i] = FLAG_REFINE
             continue
 
         # Section 3 labels: A is the minimum-weight vertex of the given weights.
@@ -239,16 +246,17 @@ def triangles_kernel(
             and math.isfinite(scalars[6, i])
             and math.isfinite(scalars[9, i])
         )
-        flags[i] = 1 if overflow else (2 if holds else 0)
+        flags[i] = FLAG_NUMPY if overflow else (FLAG_ASSUMPTION1 if holds else 0)
 
 
 def run_compiled(
     points: np.ndarray, weights: np.ndarray, error_scale: float, tolerance: float
-) -> tuple[dict[str, np.ndarray], np.ndarray]:
+) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
     """Outputs (batch first) for ``points`` (n, 3, d) and ``weights`` (n, 3), both float64.
 
     Returns the fields of :class:`vorobound.WeightedTriangles` and the indices of the rows the
-    kernel left for the numpy path (their entries in the fields are unset).
+    kernel left for the numpy path (their entries in the fields are unset): those it could not
+    compute, and the ill-conditioned ones that need extended precision.
     """
     n, _, dim = points.shape
     scalars = np.empty((len(SCALAR_FIELDS), n))
@@ -257,25 +265,39 @@ def run_compiled(
     ortho = np.empty((n, dim))
     first = np.empty(n, dtype=np.int64)
     flags = np.empty(n, dtype=np.uint8)
-    triangles_kernel(
-        np.ascontiguousarray(points, dtype=np.float64),
-        np.ascontiguousarray(weights, dtype=np.float64),
-        error_scale,
-        tolerance,
-        scalars,
-        edges,
-        circ,
-        ortho,
-        first,
-        flags,
-    )
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    weights = np.ascontiguousarray(weights, dtype=np.float64)
+
+    def run(bounds: tuple[int, int]) -> None:
+        triangles_kernel(
+            points,
+            weights,
+            *bounds,
+            error_scale,
+            tolerance,
+            scalars,
+            edges,
+            circ,
+            ortho,
+            first,
+            flags,
+        )
+
+    # The kernel releases the GIL, so plain threads run chunks in parallel. (numba's own
+    # parallel loops would bring an OpenMP runtime, which aborts a process that forks.)
+    chunks = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)]
+    if len(chunks) == 1:
+        run(chunks[0])
+    else:
+        with ThreadPoolExecutor(max_workers=min(len(chunks), os.cpu_count() or 1)) as pool:
+            list(pool.map(run, chunks))
     out = dict(zip(SCALAR_FIELDS, scalars, strict=True))
     out.update(
         edges=edges,
         circumcenter=circ,
         orthocenter=ortho,
         min_weight_vertex=first,
-        valid=flags != 1,
-        assumption1_holds=flags == 2,
+        valid=(flags == 0) | (flags == FLAG_ASSUMPTION1),
+        assumption1_holds=flags == FLAG_ASSUMPTION1,
     )
-    return out, np.flatnonzero(flags == 1)
+    return out, np.flatnonzero(flags == FLAG_NUMPY), np.flatnonzero(flags == FLAG_REFINE)

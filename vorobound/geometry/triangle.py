@@ -150,12 +150,25 @@ def _exact_rows(builder, arrays: tuple[np.ndarray, ...]) -> tuple[dict, np.ndarr
 
 
 def _tiered(
-    builder, arrays: tuple[np.ndarray, ...], finite: np.ndarray, from_edges: bool
+    builder,
+    arrays: tuple[np.ndarray, ...],
+    finite: np.ndarray,
+    from_edges: bool,
+    extended: bool = False,
 ) -> tuple[dict, np.ndarray]:
     """Evaluate ``builder`` in float64, refining ill-conditioned rows; return fields and validity.
 
-    ``arrays`` hold the batch on their last axis.
+    ``arrays`` hold the batch on their last axis. With ``extended``, every row starts in
+    extended precision (for rows already known to fail the float64 test): the results are
+    the same as refining them after a float64 pass.
     """
+    if extended and _HAS_LONGDOUBLE:
+        with np.errstate(all="ignore"):
+            inv = builder(*(x.astype(np.longdouble) for x in arrays))
+            out, rad = _finished_rows(inv)
+            cond = condition_estimate(inv, rad, from_edges).astype(np.float64)
+        pending = finite & ~(_ERROR_GROWTH * _EPS_LONG * cond <= REFINE_TOLERANCE)
+        return _exact_tier(builder, arrays, finite, out, pending)
     with np.errstate(all="ignore"):
         inv = builder(*arrays)
         out, rad = _finished_rows(inv)
@@ -171,6 +184,11 @@ def _tiered(
             out[key][..., idx] = value
         pending[:] = False
         pending[idx[~(_ERROR_GROWTH * _EPS_LONG * cond_ld <= REFINE_TOLERANCE)]] = True
+    return _exact_tier(builder, arrays, finite, out, pending)
+
+
+def _exact_tier(builder, arrays, finite, out, pending) -> tuple[dict, np.ndarray]:
+    """Redo the ``pending`` rows exactly and mark what could not be computed."""
     valid = finite.copy()
     if pending.any():
         idx = np.flatnonzero(pending)
@@ -279,13 +297,18 @@ def _complete_rows(out, valid, weights, scale):
     return out
 
 
-def _points_chunk(points: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
-    """One chunk: ``points`` (3, d, n), ``weights`` (3, n), both batch-last."""
+def _points_chunk(
+    points: np.ndarray, weights: np.ndarray, extended: bool = False
+) -> dict[str, np.ndarray]:
+    """One chunk: ``points`` (3, d, n), ``weights`` (3, n), both batch-last.
+
+    ``extended`` starts every row in extended precision (see :func:`_tiered`).
+    """
     finite = np.isfinite(points).all(axis=(0, 1)) & np.isfinite(weights).all(axis=0)
     scale = _row_scale(points, weights)
     p = points / scale
     w = weights / scale / scale
-    out, valid = _tiered(invariants_from_points, (p, w), finite, from_edges=False)
+    out, valid = _tiered(invariants_from_points, (p, w), finite, False, extended)
     x = out.pop("circ_offset")
     y = out.pop("ortho_shift")
     out["circumcenter"] = p[0] + x
@@ -422,13 +445,19 @@ def weighted_triangles(points, weights) -> WeightedTriangles:
     compiled = _compiled_kernel(p.shape[0])
     if compiled is None:
         return _pack(_run_chunked(_points_chunk, p.transpose(1, 2, 0), w.T), lead)
-    out, rest = compiled(p, w, _ERROR_GROWTH * _EPS64, REFINE_TOLERANCE)
-    if rest.size:
-        # Ill-conditioned, degenerate or non-finite rows: the numpy path refines or rejects.
-        fixed = _run_chunked(_points_chunk, p[rest].transpose(1, 2, 0), w[rest].T, spread=True)
-        for key, value in fixed.items():
-            out[key][rest] = value
+    out, rest, refine = compiled(p, w, _ERROR_GROWTH * _EPS64, REFINE_TOLERANCE)
+    # The numpy path finishes what the kernel left: non-finite, overflowing or degenerate
+    # rows (``rest``) and ill-conditioned ones (``refine``, which start in extended precision).
+    for index, chunk_fn in ((rest, _points_chunk), (refine, _points_chunk_extended)):
+        if index.size:
+            fixed = _run_chunked(chunk_fn, p[index].transpose(1, 2, 0), w[index].T, spread=True)
+            for key, value in fixed.items():
+                out[key][index] = value
     return _pack(out, lead)
+
+
+def _points_chunk_extended(points: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
+    return _points_chunk(points, weights, extended=True)
 
 
 COMPILED_MIN_ROWS = 1 << 12
