@@ -46,8 +46,8 @@ def _fields(result):
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_compiled_kernel_matches_numpy_path_bit_for_bit(dim, monkeypatch):
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
     points, weights = _stress_batch(dim, np.random.default_rng(dim))
-    assert len(points) >= triangle_module.COMPILED_MIN_ROWS
     fast = _fields(weighted_triangles(points, weights))
     monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
     slow = _fields(weighted_triangles(points, weights))
@@ -65,9 +65,9 @@ def test_large_batches_use_the_compiled_kernel(monkeypatch):
     calls = []
     real = compiled.triangles_kernel
 
-    def spy(points, *args):
-        calls.append(points.shape)
-        return real(points, *args)
+    def spy(points, weights, start, stop, *args):
+        calls.append((start, stop))
+        return real(points, weights, start, stop, *args)
 
     monkeypatch.setattr(compiled, "triangles_kernel", spy)
     rng = np.random.default_rng(0)
@@ -75,10 +75,14 @@ def test_large_batches_use_the_compiled_kernel(monkeypatch):
     weighted_triangles(rng.standard_normal((n - 1, 3, 3)), [0.0, 0.1, 0.2])
     assert calls == []
     weighted_triangles(rng.standard_normal((n, 3, 3)), [0.0, 0.1, 0.2])
-    assert calls == [(n, 3, 3)]
+    # Chunks that tile the batch exactly, one kernel call each.
+    covered = sorted(calls)
+    assert covered[0][0] == 0 and covered[-1][1] == n
+    assert all(a[1] == b[0] for a, b in zip(covered, covered[1:], strict=False))
+    calls.clear()
     monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
     weighted_triangles(rng.standard_normal((n, 3, 3)), [0.0, 0.1, 0.2])
-    assert len(calls) == 1
+    assert calls == []
 
 
 @pytest.mark.parametrize("name", sorted(families()))

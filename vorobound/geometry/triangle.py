@@ -19,187 +19,18 @@ import importlib.util
 import os
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 
 from ..errors import VoroboundError
-from .invariants import (
-    Invariants,
-    Radicals,
-    condition_estimate,
-    finish,
-    invariants_from_edges,
-    invariants_from_points,
-)
+from .invariants import invariants_from_edges, invariants_from_points
+from .precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE, tiered
+from .result import WeightedTriangles
 
 CHUNK_ROWS = 1 << 16
 """Rows per chunk: about 40 temporaries of 512 kB each, per worker thread."""
 
 _MIN_SPREAD_ROWS = 1 << 10  # below this, splitting a batch across threads costs more than it saves
-
-REFINE_TOLERANCE = 1e-13
-"""A row is recomputed in higher precision when its estimated relative error exceeds this."""
-
-_ERROR_GROWTH = 4.0  # roundings along the longest chain of dependent operations
-_EPS64 = float(np.finfo(np.float64).epsneg)
-_EPS_LONG = float(np.finfo(np.longdouble).epsneg)
-_HAS_LONGDOUBLE = _EPS_LONG < _EPS64 / 16
-
-
-@dataclass(frozen=True)
-class WeightedTriangles:
-    """Circum- and ortho-geometry of a batch of weighted triangles.
-
-    Every array has the batch shape ``...`` of the input (vectors add a trailing axis).
-    Vertices are relabelled as in Section 3: A is the vertex of minimum weight, B and C
-    follow it cyclically in the input order.
-    """
-
-    circumradius: np.ndarray
-    """R, eq. (3) and (15)."""
-    orthoradius_sq: np.ndarray
-    """Signed squared orthoradius |p − ẑ|² − w for the given weights, eq. (2)."""
-    shifted_orthoradius: np.ndarray
-    """R̂ of the triangle with the minimum weight subtracted (eq. (5)–(6)); always ≥ 0."""
-    delta: np.ndarray
-    """Theorem 1: R − R̂ for the shifted triangle, (a − â)/(2 sin θ), eq. (29)."""
-    delta_unshifted: np.ndarray
-    """R − sqrt(orthoradius_sq) for the given weights (NaN where orthoradius_sq < 0)."""
-    paper_literal: np.ndarray
-    """Eq. (32) exactly as printed, ``delta + s''_i`` (dimensionally inconsistent)."""
-    k: np.ndarray
-    """k = a² − â², eq. (31)."""
-    edges: np.ndarray
-    """(a, b, c) = (|BC|, |CA|, |AB|) after relabelling, eq. (7)–(9)."""
-    sin_theta: np.ndarray
-    """sin θ, θ the angle at A, eq. (10)."""
-    cos_theta: np.ndarray
-    """cos θ."""
-    min_weight_vertex: np.ndarray
-    """Index (0, 1, 2) of A in the input order."""
-    assumption1_holds: np.ndarray
-    """|w_i − w_j| ≤ |p_i − p_j|² for all three pairs, eq. (1)."""
-    valid: np.ndarray
-    """False where the row could not be computed (its numbers are NaN)."""
-    circumcenter: np.ndarray | None = None
-    """z, eq. (3); None when only edge lengths were given."""
-    orthocenter: np.ndarray | None = None
-    """ẑ, eq. (2), in the plane of the triangle; None when only edge lengths were given."""
-    delta_direct: np.ndarray | None = None
-    """R − R̂ the textbook way: |z − p| − sqrt(|ẑ − p|² − w) from the two explicit centers.
-    An independent check on ``delta`` that loses digits to cancellation when R̂ ≈ R.
-    None when only edge lengths were given."""
-
-
-def _to_fractions(x: np.ndarray) -> np.ndarray:
-    flat = [Fraction(float(v)) for v in x.ravel()]
-    return np.array(flat, dtype=object).reshape(x.shape)
-
-
-def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
-    """Float64 fields (batch on the last axis) from invariants of any precision.
-
-    Rational combinations are formed in the invariants' own arithmetic (exact for
-    ``Fraction``) before anything is rounded to float64. Also returns the radicals in the
-    working precision, for the condition estimate.
-    """
-    orthoradius_sq = inv.rt_sq - inv.w_min
-    if inv.k_num.dtype == object:
-        inv = Invariants(*(None if f is None else np.asarray(f, dtype=np.float64) for f in inv))
-    rad = finish(inv)
-    fields = {
-        "edges": rad.edges,
-        "area2": rad.area2,
-        "circumradius": rad.circumradius,
-        "shifted_orthoradius": rad.shifted_orthoradius,
-        "delta": rad.delta,
-        "k_num": inv.k_num,
-        "dots": inv.dots,
-        "w_min": inv.w_min,
-        "omega0": inv.omega[0],
-        "orthoradius_sq": orthoradius_sq,
-    }
-    if inv.circ_offset is not None:
-        fields["circ_offset"] = inv.circ_offset
-        fields["ortho_shift"] = inv.ortho_shift
-    return {key: np.asarray(value, dtype=np.float64) for key, value in fields.items()}, rad
-
-
-def _exact_rows(builder, arrays: tuple[np.ndarray, ...]) -> tuple[dict, np.ndarray]:
-    """Exact rational evaluation, one row at a time so that a degenerate row fails alone."""
-    n = arrays[0].shape[-1]
-    rows, ok = [], np.zeros(n, dtype=bool)
-    for i in range(n):
-        try:
-            inv = builder(*(_to_fractions(x[..., i : i + 1]) for x in arrays))
-            if inv.area2_sq[0] <= 0:
-                continue
-            rows.append((i, _finished_rows(inv)[0]))
-        except ZeroDivisionError:
-            continue
-        ok[i] = True
-    merged = {}
-    if rows:
-        index = np.array([i for i, _ in rows])
-        for key, first in rows[0][1].items():
-            merged[key] = np.full(first.shape[:-1] + (n,), np.nan)
-            merged[key][..., index] = np.concatenate([r[key] for _, r in rows], axis=-1)
-    return merged, ok
-
-
-def _tiered(
-    builder,
-    arrays: tuple[np.ndarray, ...],
-    finite: np.ndarray,
-    from_edges: bool,
-    extended: bool = False,
-) -> tuple[dict, np.ndarray]:
-    """Evaluate ``builder`` in float64, refining ill-conditioned rows; return fields and validity.
-
-    ``arrays`` hold the batch on their last axis. With ``extended``, every row starts in
-    extended precision (for rows already known to fail the float64 test): the results are
-    the same as refining them after a float64 pass.
-    """
-    if extended and _HAS_LONGDOUBLE:
-        with np.errstate(all="ignore"):
-            inv = builder(*(x.astype(np.longdouble) for x in arrays))
-            out, rad = _finished_rows(inv)
-            cond = condition_estimate(inv, rad, from_edges).astype(np.float64)
-        pending = finite & ~(_ERROR_GROWTH * _EPS_LONG * cond <= REFINE_TOLERANCE)
-        return _exact_tier(builder, arrays, finite, out, pending)
-    with np.errstate(all="ignore"):
-        inv = builder(*arrays)
-        out, rad = _finished_rows(inv)
-        cond = condition_estimate(inv, rad, from_edges)
-    pending = finite & ~(_ERROR_GROWTH * _EPS64 * cond <= REFINE_TOLERANCE)
-    if _HAS_LONGDOUBLE and pending.any():
-        idx = np.flatnonzero(pending)
-        with np.errstate(all="ignore"):
-            inv_ld = builder(*(x[..., idx].astype(np.longdouble) for x in arrays))
-            refined, rad_ld = _finished_rows(inv_ld)
-            cond_ld = condition_estimate(inv_ld, rad_ld, from_edges).astype(np.float64)
-        for key, value in refined.items():
-            out[key][..., idx] = value
-        pending[:] = False
-        pending[idx[~(_ERROR_GROWTH * _EPS_LONG * cond_ld <= REFINE_TOLERANCE)]] = True
-    return _exact_tier(builder, arrays, finite, out, pending)
-
-
-def _exact_tier(builder, arrays, finite, out, pending) -> tuple[dict, np.ndarray]:
-    """Redo the ``pending`` rows exactly and mark what could not be computed."""
-    valid = finite.copy()
-    if pending.any():
-        idx = np.flatnonzero(pending)
-        exact, ok = _exact_rows(builder, tuple(x[..., idx] for x in arrays))
-        for key in out:
-            out[key][..., idx] = exact[key] if key in exact else np.nan
-        valid[idx] = ok
-    # Also rejects results that overflow float64 (extended precision may not).
-    valid &= np.isfinite(out["delta"]) & (out["area2"] > 0) & np.isfinite(out["circumradius"])
-    valid &= np.isfinite(out["edges"]).all(axis=0) & np.isfinite(out["orthoradius_sq"])
-    return out, valid
 
 
 def _min_weight_vertex(weights: np.ndarray) -> np.ndarray:
@@ -302,13 +133,14 @@ def _points_chunk(
 ) -> dict[str, np.ndarray]:
     """One chunk: ``points`` (3, d, n), ``weights`` (3, n), both batch-last.
 
-    ``extended`` starts every row in extended precision (see :func:`_tiered`).
+    ``extended`` starts every row in extended precision (see
+    :func:`vorobound.geometry.precision.tiered`).
     """
     finite = np.isfinite(points).all(axis=(0, 1)) & np.isfinite(weights).all(axis=0)
     scale = _row_scale(points, weights)
     p = points / scale
     w = weights / scale / scale
-    out, valid = _tiered(invariants_from_points, (p, w), finite, False, extended)
+    out, valid = tiered(invariants_from_points, (p, w), finite, False, extended)
     x = out.pop("circ_offset")
     y = out.pop("ortho_shift")
     out["circumcenter"] = p[0] + x
@@ -353,7 +185,7 @@ def _edges_chunk(edges: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray
     finite = np.isfinite(edges).all(axis=0) & np.isfinite(weights).all(axis=0)
     finite &= (edges > 0).all(axis=0)
     scale = _row_scale(edges, weights)
-    out, valid = _tiered(
+    out, valid = tiered(
         invariants_from_edges, (edges / scale, weights / scale / scale), finite, from_edges=True
     )
     with np.errstate(all="ignore"):
@@ -445,7 +277,7 @@ def weighted_triangles(points, weights) -> WeightedTriangles:
     compiled = _compiled_kernel(p.shape[0])
     if compiled is None:
         return _pack(_run_chunked(_points_chunk, p.transpose(1, 2, 0), w.T), lead)
-    out, rest, refine = compiled(p, w, _ERROR_GROWTH * _EPS64, REFINE_TOLERANCE)
+    out, rest, refine = compiled(p, w, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
     # The numpy path finishes what the kernel left: non-finite, overflowing or degenerate
     # rows (``rest``) and ill-conditioned ones (``refine``, which start in extended precision).
     for index, chunk_fn in ((rest, _points_chunk), (refine, _points_chunk_extended)):
@@ -460,15 +292,18 @@ def _points_chunk_extended(points: np.ndarray, weights: np.ndarray) -> dict[str,
     return _points_chunk(points, weights, extended=True)
 
 
-COMPILED_MIN_ROWS = 1 << 12
-"""Batches at least this large use the compiled kernel when numba is installed."""
+COMPILED_MIN_ROWS = 1 << 17
+"""Batches at least this large use the compiled kernel when numba is installed.
+
+Loading numba and the cached kernel costs a process 0.6–0.8 s once, which the numpy path spends
+on one to two million triangles; below this size (the bounds solvers' batches, a
+single triangle from the CLI) the numpy path is used and numba is never imported."""
 
 
 def _compiled_kernel(n_rows: int):
     """The compiled batch kernel, or None for small batches or when it cannot run.
 
-    Small batches stay on the numpy path: they gain nothing, and a single triangle from the
-    CLI should not pay for loading numba.
+    Small batches stay on the numpy path (see ``COMPILED_MIN_ROWS``).
     """
     if n_rows < COMPILED_MIN_ROWS or not compiled_available():
         return None

@@ -1,0 +1,226 @@
+"""The tight bound's problem: R − R̂ and the feasible guide triangles in normalized coordinates.
+
+The chain (33)–(53) bounds each term of (29) separately; the tight bound maximizes Theorem 1's
+R − R̂ (``GuideTriangles.delta``) over the whole constraint set of
+:mod:`vorobound.bounds.feasible`, in normalized coordinates
+
+    x = (b/(εL_i), c/(εL_i), θ, s_j, s_k),   L_j = L_i(1 + s_j·2ε/(1−ε)), s_j, s_k ∈ [0, 1],
+
+in which the feasible set barely changes with ε.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import VoroboundError
+from .feasible import GuideTriangles, feasible_mask
+from .params import SamplingParams
+
+PROJECTION_STEPS = 6
+"""Newton steps onto active constraints (quadratic convergence: three or four suffice)."""
+PLATEAU_TRIGGER = 0.05
+"""Try the Newton steps onto R̂ = 0 once R̂ < PLATEAU_TRIGGER·R."""
+FD_STEP = 1e-7
+"""Finite-difference step in normalized coordinates (all of order one)."""
+AGREE_RTOL = 1e-9
+"""Optima within this relative distance of the best count as the same optimum."""
+ACTIVE_ATOL = 1e-9
+"""A constraint whose normalized slack is below this is active (reported, projected onto)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """The constraint set of :mod:`vorobound.bounds.feasible` in normalized coordinates.
+
+    Coordinates are (5, ...) arrays with the batch last.
+    """
+
+    params: SamplingParams
+    lipschitz: float | None
+
+    @property
+    def lfs_span(self) -> float:
+        """(L_max − L_i)/L_i = 2ε/(1−ε), eq. (33)."""
+        return 2 * self.params.eps / (1 - self.params.eps)
+
+    @property
+    def unit(self) -> float:
+        """δ²L_i: R − R̂ over it is of order one at every ε (weights are O(δ²L_i·ε), eq. (37))."""
+        return self.params.delta**2 * self.params.lfs
+
+    def box(self) -> tuple[np.ndarray, np.ndarray]:
+        """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ σ(1−ε)/2 (48)."""
+        eps, sigma = self.params.eps, self.params.sigma
+        k_sin = sigma * (1 - eps) / 2
+        if k_sin >= 1:  # then also σεL_i ≥ 2ε/(1−ε)·L_i: no edge length is allowed
+            raise VoroboundError(f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g}")
+        theta_lo = np.arcsin(k_sin)
+        # An obtuse θ leaves two acute angles, each ≥ arcsin(k_sin).
+        theta_hi = max(np.pi / 2, np.pi - 2 * theta_lo)
+        lo = np.array([sigma, sigma, theta_lo, 0.0, 0.0])
+        hi = np.array([2 / (1 - eps), 2 / (1 - eps), theta_hi, 1.0, 1.0])
+        return lo, hi
+
+    def triangles(self, x) -> GuideTriangles:
+        eps, lfs, span = self.params.eps, self.params.lfs, self.lfs_span
+        u_b, u_c, theta, s_j, s_k = x
+        return GuideTriangles.of(
+            u_b * eps * lfs, u_c * eps * lfs, theta, lfs * (1 + span * s_j), lfs * (1 + span * s_k)
+        )
+
+    def coordinates(self, tri: GuideTriangles) -> np.ndarray:
+        lfs, scale = self.params.lfs, self.params.eps * self.params.lfs
+        span = lfs * self.lfs_span
+        s_j, s_k = (tri.lfs_j - lfs) / span, (tri.lfs_k - lfs) / span
+        return np.stack([tri.b / scale, tri.c / scale, tri.theta, s_j, s_k])
+
+    def slacks(self, x) -> np.ndarray:
+        """Nonlinear constraints as slacks ≥ 0 (names in :meth:`slack_names`), eq. (36), H3."""
+        eps, sigma = self.params.eps, self.params.sigma
+        u_b, u_c, _, s_j, s_k = x
+        a = _side_a(x)
+        rows = [
+            2 * (1 + eps) / (1 - eps) ** 2 - a,
+            # Not smooth where s_j = s_k, which matters only if it is active there.
+            a - sigma * (1 + self.lfs_span * np.minimum(s_j, s_k)),
+            self.radius_slack(x),
+        ]
+        if self.lipschitz is not None:
+            lam, per_unit = self.lipschitz, 2 / (1 - eps)
+            rows += [lam * u_c - per_unit * s_j, lam * u_b - per_unit * s_k]
+            rows += [lam * a - per_unit * (s_k - s_j), lam * a - per_unit * (s_j - s_k)]
+        return np.array(rows)
+
+    def slack_names(self) -> list[str]:
+        names = ["a = 2ε(1+ε)/(1−ε)²·L_i (36)", "a = σε·min(L_j, L_k) (36)"]
+        names += ["R = ε/(1−ε)·L_i (H3)"]
+        if self.lipschitz is not None:
+            names += ["L_j − L_i = λc", "L_k − L_i = λb", "L_k − L_j = λa", "L_j − L_k = λa"]
+        return names
+
+    def radius_slack(self, x) -> np.ndarray:
+        """R ≤ ε/(1−ε)·L_i as 2 sin θ/(1−ε) − a/(εL_i) ≥ 0 (times 2 sin θ > 0), property H3."""
+        return 2 * np.sin(x[2]) / (1 - self.params.eps) - _side_a(x)
+
+    def plateau_equations(self, x) -> np.ndarray:
+        """Zero where R = ε/(1−ε)·L_i and R̂ = 0 (w_B = c², w_C = b², the orthocenter is A)."""
+        u_b, u_c, _, s_j, s_k = x
+        ratio_sq, span = self.params.delta_ratio**2, self.lfs_span
+        return np.array(
+            [
+                self.radius_slack(x),
+                u_c**2 - ratio_sq * span * s_j * (2 + span * s_j),
+                u_b**2 - ratio_sq * span * s_k * (2 + span * s_k),
+            ]
+        )
+
+    def active(self, x: np.ndarray) -> list[str]:
+        """Names of the constraints holding with equality at ``x`` (θ bounds are implied)."""
+        lo, hi = self.box()
+        names_lo = ("b = σεL_i (35)", "c = σεL_i (34)", "", "L_j = L_i", "L_k = L_i")
+        names_hi = ("b = 2ε/(1−ε)·L_i (35)", "c = 2ε/(1−ε)·L_i (34)", "")
+        names_hi += ("L_j = (1+ε)/(1−ε)·L_i (33)", "L_k = (1+ε)/(1−ε)·L_i (33)")
+        pairs = list(zip(names_lo, x - lo, strict=True))
+        pairs += list(zip(names_hi, hi - x, strict=True))
+        pairs += list(zip(self.slack_names(), self.slacks(x), strict=True))
+        pairs += [("R̂ = 0 (w_B = c², w_C = b²)", np.abs(self.plateau_equations(x)[1:]).max())]
+        return [name for name, slack in pairs if name and abs(slack) <= ACTIVE_ATOL]
+
+    def scaled_delta(self, x) -> np.ndarray:
+        """(R − R̂)/(δ²L_i) at the coordinates ``x``, eq. (29)."""
+        return self.triangles(x).delta(self.params) / self.unit
+
+    def ratio(self, scaled: float) -> float:
+        """A scaled R − R̂ as a fraction of the target (ρ_f − 1)δL_i, eq. (55)."""
+        return scaled * self.unit / self.params.target
+
+    def feasible(self, x) -> np.ndarray:
+        return feasible_mask(self.triangles(x), self.params, self.lipschitz)
+
+
+def _side_a(x) -> np.ndarray:
+    """a/(εL_i) by the law of cosines in the cancellation-free form (b−c)² + 4bc sin²(θ/2)."""
+    u_b, u_c, theta = x[0], x[1], x[2]
+    half = np.sin(theta / 2)
+    return np.sqrt((u_b - u_c) ** 2 + 4 * u_b * u_c * half * half)
+
+
+def with_jacobian(fn: Callable, x: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+    """``fn(x)`` and its Jacobian by differences inside the box, from one batched call of ``fn``.
+
+    ``fn`` maps (5, S) coordinates to (..., S) values. Differences are central where the box
+    allows and one-sided at its faces (R − R̂ has a kink at L = L_i, where A stops being the
+    minimum-weight vertex).
+    """
+    steps = np.minimum(FD_STEP, (hi - lo) / 4)
+    up = np.where(x + steps <= hi, steps, 0.0)
+    down = np.where(x - steps >= lo, steps, 0.0)
+    values = fn(np.column_stack([x, x[:, None] + np.diag(up), x[:, None] - np.diag(down)]))
+    n = len(x)
+    return values[..., 0], (values[..., 1 : n + 1] - values[..., n + 1 :]) / (up + down)
+
+
+def project(problem: Problem, x: np.ndarray, extra: Callable | None = None) -> np.ndarray:
+    """Snap ``x`` to the box faces it touches, then least-norm Newton steps onto the active
+    nonlinear constraints (and the equations ``extra``, if given), with the rest fixed.
+
+    SLSQP stops with active constraints violated by up to ~1e-11; this removes that while
+    moving R − R̂ only at that level.
+    """
+    lo, hi = problem.box()
+    x = np.where(x - lo <= ACTIVE_ATOL, lo, np.where(hi - x <= ACTIVE_ATOL, hi, x))
+    free = (x > lo) & (x < hi)
+    active = problem.slacks(x) <= ACTIVE_ATOL
+
+    def equations(p):
+        rows = problem.slacks(p)[active]
+        return rows if extra is None else np.concatenate([rows, extra(p)])
+
+    if free.any() and (active.any() or extra is not None):
+        for _ in range(PROJECTION_STEPS):
+            residual, jacobian = with_jacobian(equations, x, lo, hi)
+            x[free] -= np.linalg.lstsq(jacobian[:, free], residual, rcond=None)[0]
+    return np.clip(x, lo, hi)
+
+
+def onto_plateau(problem: Problem, x: np.ndarray) -> np.ndarray | None:
+    """A feasible point with R̂ = 0 and R maximal near ``x``, or None.
+
+    R − R̂ ≤ R ≤ ε/(1−ε)·L_i for every feasible triangle, so such a point is a global maximizer.
+    """
+    tri = problem.triangles(x)
+    if not tri.delta(problem.params)[0] >= (1 - PLATEAU_TRIGGER) * tri.circumradius[0]:
+        return None
+    with np.errstate(all="ignore"):
+        y = project(problem, x, problem.plateau_equations)
+    r_max = problem.params.eps / (1 - problem.params.eps) * problem.params.lfs / problem.unit
+    reached = problem.scaled_delta(y)[0] >= r_max * (1 - AGREE_RTOL)
+    return y if reached and problem.feasible(y)[0] else None
+
+
+def describe(problem: Problem, x: np.ndarray) -> dict:
+    """The configuration at ``x`` as plain floats, in the paper's order L_j ≤ L_k.
+
+    Reflecting the triangle in the bisector of θ swaps (c, L_j) with (b, L_k) and preserves
+    R − R̂ and every constraint.
+    """
+    if x[3] > x[4]:
+        x = x[[1, 0, 2, 4, 3]]
+    tri = problem.triangles(x)
+    w_b, w_c = tri.weights(problem.params)
+    fields = {"b": tri.b, "c": tri.c, "theta": tri.theta, "lfs_j": tri.lfs_j}
+    fields |= {"lfs_k": tri.lfs_k, "a": tri.a, "circumradius": tri.circumradius}
+    fields |= {"w_b": w_b, "w_c": w_c}
+    return {key: float(value[0]) for key, value in fields.items()}
+
+
+def checked_problem(params: SamplingParams, lipschitz: float | None) -> Problem:
+    if lipschitz is not None and not (np.isfinite(lipschitz) and lipschitz >= 0):
+        raise VoroboundError(f"lipschitz must be a finite number >= 0, got {lipschitz!r}")
+    problem = Problem(params, lipschitz)
+    problem.box()
+    return problem
