@@ -5,6 +5,8 @@ Run: ``python benchmarks/bench_triangle.py [--n 2000000]``. Prints triangles per
 * ``vorobound``: :func:`vorobound.weighted_triangles` (both centers, radii, Theorem 1, ...),
   which runs the compiled kernel when numba is installed (``pip install '.[fast]'``);
 * ``numpy``: the same function forced onto its pure-numpy path (``VOROBOUND_PURE_NUMPY=1``);
+* ``edges`` and ``edges numpy``: :func:`vorobound.theorem1_from_edges` on the same triangles'
+  edge lengths, compiled and numpy;
 * ``loop``: per-triangle ``numpy.linalg.solve`` of the two 2×2 center systems in a Python
   loop (timed on a subsample and scaled);
 * ``batched``: the same 2×2 solves as one batched ``numpy.linalg.solve`` call, then the radii
@@ -25,7 +27,7 @@ import tracemalloc
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from vorobound import weighted_triangles  # noqa: E402
+from vorobound import theorem1_from_edges, weighted_triangles  # noqa: E402
 from vorobound.geometry.triangle import COMPILED_MIN_ROWS, compiled_available  # noqa: E402
 
 
@@ -92,10 +94,17 @@ def main() -> None:
     points = rng.standard_normal((args.n, 3, 3))
     weights = rng.random((args.n, 3)) * 0.1
 
+    lengths = np.stack(
+        [np.linalg.norm(points[:, (i + 2) % 3] - points[:, (i + 1) % 3], axis=1) for i in range(3)],
+        axis=1,
+    )
     weighted_triangles(points[:COMPILED_MIN_ROWS], weights[:COMPILED_MIN_ROWS])  # compile
+    theorem1_from_edges(lengths[:COMPILED_MIN_ROWS], weights[:COMPILED_MIN_ROWS])
     t_ours = best_time(lambda: weighted_triangles(points, weights))
+    t_edges = best_time(lambda: theorem1_from_edges(lengths, weights))
     os.environ["VOROBOUND_PURE_NUMPY"] = "1"
     t_numpy = best_time(lambda: weighted_triangles(points, weights))
+    t_edges_numpy = best_time(lambda: theorem1_from_edges(lengths, weights))
     del os.environ["VOROBOUND_PURE_NUMPY"]
     t_batched = best_time(lambda: straightforward_batched(points, weights))
     sub = slice(0, args.loop_n)
@@ -107,6 +116,8 @@ def main() -> None:
         for name, t in (
             ("vorobound", t_ours),
             ("numpy", t_numpy),
+            ("edges", t_edges),
+            ("edges numpy", t_edges_numpy),
             ("batched", t_batched),
             ("loop", t_loop),
         )
@@ -114,7 +125,7 @@ def main() -> None:
     kernel = "compiled (numba)" if compiled_available() else "numpy (numba not installed)"
     print(f"triangles: {args.n:,} random 3-D, {os.cpu_count()} cores, kernel: {kernel}")
     for name, r in rate.items():
-        print(f"  {name:10s} {r / 1e6:9.3f} M triangles/s")
+        print(f"  {name:12s} {r / 1e6:9.3f} M triangles/s")
     print(f"  ratio vorobound / loop    : {rate['vorobound'] / rate['loop']:8.1f}x")
     print(f"  ratio vorobound / batched : {rate['vorobound'] / rate['batched']:8.2f}x")
     print(f"  ratio numpy path / batched: {rate['numpy'] / rate['batched']:8.2f}x")

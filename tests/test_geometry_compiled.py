@@ -5,13 +5,15 @@ import pytest
 from hard_triangles import families
 from mp_reference import reference, relative_error
 
-from vorobound import weighted_triangles
+from vorobound import theorem1_from_edges, weighted_triangles
 from vorobound.geometry import triangle as triangle_module
 
 pytest.importorskip("numba")
 from vorobound.geometry import compiled  # noqa: E402
+from vorobound.geometry.precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE  # noqa: E402
 
 DELTA_RTOL = 1e-12
+REFINE_TEST = (ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
 
 
 def _stress_batch(dim: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
@@ -56,9 +58,46 @@ def test_compiled_kernel_matches_numpy_path_bit_for_bit(dim, monkeypatch):
         assert value.dtype == slow[name].dtype, name
         assert value.shape == slow[name].shape, name
         np.testing.assert_array_equal(value, slow[name], err_msg=name)
-    # The batch really exercised both outcomes.
+    # The batch really exercised both outcomes, and both paths.
     assert fast["valid"].sum() > len(points) // 2
     assert (~fast["valid"]).sum() > 100
+    _, rest, refine = compiled.run_compiled(points, weights, *REFINE_TEST)
+    assert rest.size > 0 and refine.size > 0
+    assert rest.size + refine.size < len(points) // 2  # the kernel did most rows itself
+
+
+def _edge_lengths(points: np.ndarray) -> np.ndarray:
+    """Edge i opposite vertex i, as a user would measure them."""
+    with np.errstate(all="ignore"):
+        return np.stack(
+            [
+                np.linalg.norm(points[:, (i + 2) % 3] - points[:, (i + 1) % 3], axis=1)
+                for i in range(3)
+            ],
+            axis=1,
+        )
+
+
+def test_compiled_edges_kernel_matches_numpy_path_bit_for_bit(monkeypatch):
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    rng = np.random.default_rng(5)
+    points, weights = _stress_batch(3, rng)
+    lengths = _edge_lengths(points)
+    lengths[8::31, 0] = lengths[8::31, 1] + lengths[8::31, 2] * 1.5  # triangle inequality fails
+    lengths[9::37, 2] = -lengths[9::37, 2]  # negative edge
+    lengths[10::41, 1] = 0.0
+    fast = _fields(theorem1_from_edges(lengths, weights))
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    slow = _fields(theorem1_from_edges(lengths, weights))
+    assert fast.keys() == slow.keys()
+    assert "circumcenter" not in fast and "delta_direct" not in fast
+    for name, value in fast.items():
+        assert value.dtype == slow[name].dtype, name
+        np.testing.assert_array_equal(value, slow[name], err_msg=name)
+    assert fast["valid"].sum() > len(lengths) // 2
+    assert (~fast["valid"]).sum() > 100
+    _, rest, refine = compiled.run_compiled_edges(lengths, weights, *REFINE_TEST)
+    assert 0 < rest.size + refine.size < len(lengths) // 2  # the kernel did most rows itself
 
 
 def test_large_batches_use_the_compiled_kernel(monkeypatch):

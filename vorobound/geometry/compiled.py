@@ -82,6 +82,113 @@ def _dist_sq(points, i, j, m):
     return total
 
 
+@njit(inline="always")
+def _row_scale(size_p, wa0, wa1, wa2):
+    """The power-of-two row scale of ``triangle._row_scale`` and its reciprocal; (0, 0) if unusable.
+
+    ``size_p`` is the largest |coordinate| (or edge) of the row, the weights are as given.
+    """
+    size = max(size_p, math.sqrt(max(max(abs(wa0), abs(wa1)), abs(wa2))))
+    if not size > 0:
+        return 0.0, 0.0
+    scale = math.ldexp(1.0, math.frexp(size)[1])
+    inv_scale = 1.0 / scale
+    if not math.isfinite(inv_scale):
+        return 0.0, 0.0
+    return scale, inv_scale
+
+
+@njit(inline="always")
+def _finish_row(
+    sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, from_edges, error_scale,
+    tolerance,
+):  # fmt: skip
+    """Square roots of eq. (15) and (29) and the refinement test of ``condition_estimate``.
+
+    Returns (float64 is accurate enough, the three edges, 2·area, R, R̂ of the shifted
+    triangle, R − R̂).
+    """
+    e0 = math.sqrt(sq0)
+    e1 = math.sqrt(sq1)
+    e2 = math.sqrt(sq2)
+    area2 = math.sqrt(area2_sq)
+    radius = e0 * e1 * e2 / (2 * area2)
+    rt = math.sqrt(rt_sq) if rt_sq > 0 else 0.0
+    delta = k_num / (4 * area2_sq * (radius + rt))
+    adj0, adj1, adj2 = e1 * e2, e0 * e2, e0 * e1
+    a0, a1, a2 = abs(om0), abs(om1), abs(om2)
+    inv_sin = adj0 / area2 if area2_sq > 0 else math.inf
+    cond_area = inv_sin * inv_sin if from_edges else inv_sin
+    size_k = a0 * (2 * adj0 + a0) * sq0 + a1 * (2 * adj1 + a1) * sq1
+    size_k += a2 * (2 * adj2 + a2) * sq2
+    size_k += 2 * (a1 * a2 * adj0 + a0 * a2 * adj1 + a0 * a1 * adj2)
+    cond_k = 1.0 if size_k == 0 else size_k / abs(k_num)
+    cond_rt = rt_sq_scale / (rt * (radius + rt))
+    cond = _fmax(_fmax(cond_area, cond_k), cond_rt)
+    ok = error_scale * cond <= tolerance and area2 > 0
+    return ok, e0, e1, e2, area2, radius, rt, delta
+
+
+@njit(inline="always")
+def _store_row(
+    i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min, wa0, wa1,
+    wa2, scalars, edges, first,
+):  # fmt: skip
+    """Write rows 0–8 of ``scalars``, the relabelled edges and the apex (``_complete_rows``).
+
+    Section 3 labels: A is the minimum-weight vertex of the given weights ``wa``.
+    """
+    orthoradius_sq = rt_sq - w_min
+    if wa0 <= wa1:
+        apex = 0 if wa0 <= wa2 else 2
+    else:
+        apex = 1 if wa1 <= wa2 else 2
+    if apex == 0:
+        a, b, c, dot_a = e0, e1, e2, d0
+    elif apex == 1:
+        a, b, c, dot_a = e1, e2, e0, d1
+    else:
+        a, b, c, dot_a = e2, e0, e1, d2
+    bc = b * c
+    # R − R̂_s = (R − R̂_t) + w_min/(R̂_t + R̂_s), eq. (5); not real when R̂_s² < 0.
+    rs = math.sqrt(orthoradius_sq) if orthoradius_sq >= 0 else math.nan
+    if rt + rs > 0:
+        gap = w_min / (rt + rs)
+    elif orthoradius_sq >= 0:
+        gap = 0.0
+    else:
+        gap = math.nan
+    scalars[0, i] = radius * scale
+    scalars[1, i] = orthoradius_sq * scale * scale
+    scalars[2, i] = rt * scale
+    scalars[3, i] = delta * scale
+    scalars[4, i] = (delta + gap) * scale
+    scalars[5, i] = delta * scale + min(min(wa0, wa1), wa2)
+    scalars[6, i] = k_num / (bc * bc) * scale * scale
+    scalars[7, i] = area2 / bc
+    scalars[8, i] = dot_a / bc
+    edges[i, 0] = a * scale
+    edges[i, 1] = b * scale
+    edges[i, 2] = c * scale
+    first[i] = apex
+
+
+@njit(inline="always")
+def _row_flag(i, scalars, with_direct, wa0, wa1, wa2, pair0, pair1, pair2):
+    """The row's flag: overflow after scaling back, else whether eq. (1) holds."""
+    overflow = not (
+        math.isfinite(scalars[0, i])
+        and math.isfinite(scalars[1, i])
+        and math.isfinite(scalars[5, i])
+        and math.isfinite(scalars[6, i])
+        and (not with_direct or math.isfinite(scalars[9, i]))
+    )
+    if overflow:
+        return FLAG_NUMPY
+    holds = abs(wa1 - wa2) <= pair0 and abs(wa0 - wa2) <= pair1 and abs(wa0 - wa1) <= pair2
+    return FLAG_ASSUMPTION1 if holds else 0
+
+
 @njit(cache=True, error_model="numpy", nogil=True)
 def triangles_kernel(
     points, weights, start, stop, error_scale, tolerance, scalars, edges, circ, ortho, first, flags
@@ -109,13 +216,8 @@ def triangles_kernel(
         if not finite:
             flags[i] = FLAG_NUMPY
             continue
-        size = max(size_p, math.sqrt(max(max(abs(wa0), abs(wa1)), abs(wa2))))
-        if not size > 0:
-            flags[i] = FLAG_NUMPY
-            continue
-        scale = math.ldexp(1.0, math.frexp(size)[1])
-        inv_scale = 1.0 / scale
-        if not math.isfinite(inv_scale):
+        scale, inv_scale = _row_scale(size_p, wa0, wa1, wa2)
+        if not scale > 0:
             flags[i] = FLAG_NUMPY
             continue
         w0 = wa0 * inv_scale * inv_scale
@@ -175,78 +277,85 @@ def triangles_kernel(
         rt_sq = xhat_sq - om0
         rt_sq_scale = xhat_sq + om0
 
-        # Square roots, eq. (15) and (29).
-        e0 = math.sqrt(sq0)
-        e1 = math.sqrt(sq1)
-        e2 = math.sqrt(sq2)
-        area2 = math.sqrt(area2_sq)
-        radius = e0 * e1 * e2 / (2 * area2)
-        rt = math.sqrt(rt_sq) if rt_sq > 0 else 0.0
-        delta = k_num / (4 * area2_sq * (radius + rt))
-        orthoradius_sq = rt_sq - w_min
-
-        # Condition estimate (``condition_estimate``, coordinates version).
-        adj0, adj1, adj2 = e1 * e2, e0 * e2, e0 * e1
-        a0, a1, a2 = abs(om0), abs(om1), abs(om2)
-        cond_area = adj0 / area2 if area2_sq > 0 else math.inf
-        size_k = a0 * (2 * adj0 + a0) * sq0 + a1 * (2 * adj1 + a1) * sq1
-        size_k += a2 * (2 * adj2 + a2) * sq2
-        size_k += 2 * (a1 * a2 * adj0 + a0 * a2 * adj1 + a0 * a1 * adj2)
-        cond_k = 1.0 if size_k == 0 else size_k / abs(k_num)
-        cond_rt = rt_sq_scale / (rt * (radius + rt))
-        cond = _fmax(_fmax(cond_area, cond_k), cond_rt)
-        if not (error_scale * cond <= tolerance) or not (area2 > 0):
+        ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
+            sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, False,
+            error_scale, tolerance,
+        )  # fmt: skip
+        if not ok:
             flags[i] = FLAG_REFINE
             continue
-
-        # Section 3 labels: A is the minimum-weight vertex of the given weights.
-        if wa0 <= wa1:
-            apex = 0 if wa0 <= wa2 else 2
-        else:
-            apex = 1 if wa1 <= wa2 else 2
-        if apex == 0:
-            a, b, c, dot_a = e0, e1, e2, d0
-        elif apex == 1:
-            a, b, c, dot_a = e1, e2, e0, d1
-        else:
-            a, b, c, dot_a = e2, e0, e1, d2
-        bc = b * c
-        rs = math.sqrt(orthoradius_sq) if orthoradius_sq >= 0 else math.nan
-        if rt + rs > 0:
-            gap = w_min / (rt + rs)
-        elif orthoradius_sq >= 0:
-            gap = 0.0
-        else:
-            gap = math.nan
-        shifted_direct = math.sqrt(xhat_sq - om0)
-        scalars[0, i] = radius * scale
-        scalars[1, i] = orthoradius_sq * scale * scale
-        scalars[2, i] = rt * scale
-        scalars[3, i] = delta * scale
-        scalars[4, i] = (delta + gap) * scale
-        scalars[5, i] = delta * scale + min(min(wa0, wa1), wa2)
-        scalars[6, i] = k_num / (bc * bc) * scale * scale
-        scalars[7, i] = area2 / bc
-        scalars[8, i] = dot_a / bc
-        scalars[9, i] = (math.sqrt(xx) - shifted_direct) * scale
-        edges[i, 0] = a * scale
-        edges[i, 1] = b * scale
-        edges[i, 2] = c * scale
-        first[i] = apex
+        _store_row(
+            i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min,
+            wa0, wa1, wa2, scalars, edges, first,
+        )  # fmt: skip
+        scalars[9, i] = (math.sqrt(xx) - math.sqrt(xhat_sq - om0)) * scale
 
         # Eq. (1) on the given coordinates and weights.
         pair0 = _dist_sq(points, i, 1, 2)
         pair1 = _dist_sq(points, i, 0, 2)
         pair2 = _dist_sq(points, i, 0, 1)
-        holds = abs(wa1 - wa2) <= pair0 and abs(wa0 - wa2) <= pair1 and abs(wa0 - wa1) <= pair2
-        overflow = not (
-            math.isfinite(scalars[0, i])
-            and math.isfinite(scalars[1, i])
-            and math.isfinite(scalars[5, i])
-            and math.isfinite(scalars[6, i])
-            and math.isfinite(scalars[9, i])
+        flags[i] = _row_flag(i, scalars, True, wa0, wa1, wa2, pair0, pair1, pair2)
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def edges_kernel(
+    lengths, weights, start, stop, error_scale, tolerance, scalars, edges, first, flags
+):  # fmt: skip
+    """Rows ``start`` to ``stop`` of Theorem 1 from edge lengths ``lengths[i]`` (edge j opposite
+    vertex j) and ``weights[i]``; flags as in :func:`triangles_kernel`.
+    """
+    for i in range(start, stop):
+        la0, la1, la2 = lengths[i, 0], lengths[i, 1], lengths[i, 2]
+        wa0, wa1, wa2 = weights[i, 0], weights[i, 1], weights[i, 2]
+        finite = True
+        for x in (la0, la1, la2, wa0, wa1, wa2):
+            if not math.isfinite(x):
+                finite = False
+        if not (finite and la0 > 0 and la1 > 0 and la2 > 0):
+            flags[i] = FLAG_NUMPY
+            continue
+        scale, inv_scale = _row_scale(max(max(la0, la1), la2), wa0, wa1, wa2)
+        if not scale > 0:
+            flags[i] = FLAG_NUMPY
+            continue
+        l0, l1, l2 = la0 * inv_scale, la1 * inv_scale, la2 * inv_scale
+        w0 = wa0 * inv_scale * inv_scale
+        w1 = wa1 * inv_scale * inv_scale
+        w2 = wa2 * inv_scale * inv_scale
+
+        # ``invariants_from_edges``: eq. (7)–(9), (15), (31).
+        sq0, sq1, sq2 = l0 * l0, l1 * l1, l2 * l2
+        d0 = (sq1 + sq2 - sq0) / 2
+        d1 = (sq0 + sq2 - sq1) / 2
+        d2 = (sq0 + sq1 - sq2) / 2
+        area2_sq = sq1 * sq2 - d0 * d0
+        w_min = min(min(w0, w1), w2)
+        om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
+        k_num = (
+            om0 * (2 * d0 - om0) * sq0
+            + om1 * (2 * d1 - om1) * sq1
+            + om2 * (2 * d2 - om2) * sq2
+            + 2 * (om1 * om2 * d0 + om0 * om2 * d1 + om0 * om1 * d2)
         )
-        flags[i] = FLAG_NUMPY if overflow else (FLAG_ASSUMPTION1 if holds else 0)
+        r_sq = sq0 * sq1 * sq2 / (4 * area2_sq)
+        gap = k_num / (4 * area2_sq)
+        rt_sq = r_sq - gap
+        rt_sq_scale = r_sq + abs(gap)
+
+        ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
+            sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, True,
+            error_scale, tolerance,
+        )  # fmt: skip
+        if not ok:
+            flags[i] = FLAG_REFINE
+            continue
+        _store_row(
+            i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min,
+            wa0, wa1, wa2, scalars, edges, first,
+        )  # fmt: skip
+        flags[i] = _row_flag(
+            i, scalars, False, wa0, wa1, wa2, la0 * la0, la1 * la1, la2 * la2
+        )  # fmt: skip
 
 
 def run_compiled(
@@ -259,43 +368,69 @@ def run_compiled(
     compute, and the ill-conditioned ones that need extended precision.
     """
     n, _, dim = points.shape
-    scalars = np.empty((len(SCALAR_FIELDS), n))
-    edges = np.empty((n, 3))
-    circ = np.empty((n, dim))
-    ortho = np.empty((n, dim))
-    first = np.empty(n, dtype=np.int64)
-    flags = np.empty(n, dtype=np.uint8)
     points = np.ascontiguousarray(points, dtype=np.float64)
     weights = np.ascontiguousarray(weights, dtype=np.float64)
+    scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS))
+    circ = np.empty((n, dim))
+    ortho = np.empty((n, dim))
+    _in_threads(
+        n,
+        lambda start, stop: triangles_kernel(
+            points, weights, start, stop, error_scale, tolerance, scalars, edges, circ, ortho,
+            first, flags,
+        ),
+    )  # fmt: skip
+    out, rest, refine = _collect(scalars, edges, first, flags)
+    out.update(circumcenter=circ, orthocenter=ortho)
+    return out, rest, refine
 
-    def run(bounds: tuple[int, int]) -> None:
-        triangles_kernel(
-            points,
-            weights,
-            *bounds,
-            error_scale,
-            tolerance,
-            scalars,
-            edges,
-            circ,
-            ortho,
-            first,
-            flags,
-        )
 
-    # The kernel releases the GIL, so plain threads run chunks in parallel. (numba's own
-    # parallel loops would bring an OpenMP runtime, which aborts a process that forks.)
+def run_compiled_edges(
+    lengths: np.ndarray, weights: np.ndarray, error_scale: float, tolerance: float
+) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+    """As :func:`run_compiled`, from edge lengths ``lengths`` (n, 3) instead of coordinates."""
+    n = lengths.shape[0]
+    lengths = np.ascontiguousarray(lengths, dtype=np.float64)
+    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS) - 1)
+    _in_threads(
+        n,
+        lambda start, stop: edges_kernel(
+            lengths, weights, start, stop, error_scale, tolerance, scalars, edges, first, flags
+        ),
+    )
+    return _collect(scalars, edges, first, flags)
+
+
+def _allocate(n: int, n_scalars: int):
+    return (
+        np.empty((n_scalars, n)),
+        np.empty((n, 3)),
+        np.empty(n, dtype=np.int64),
+        np.empty(n, dtype=np.uint8),
+    )
+
+
+def _in_threads(n: int, run_rows) -> None:
+    """Call ``run_rows(start, stop)`` over chunks of ``range(n)`` in a thread pool.
+
+    The kernels release the GIL, so plain threads run chunks in parallel. (numba's own parallel
+    loops would bring an OpenMP runtime, which aborts a process that forks.)
+    """
     chunks = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)]
-    if len(chunks) == 1:
-        run(chunks[0])
-    else:
-        with ThreadPoolExecutor(max_workers=min(len(chunks), os.cpu_count() or 1)) as pool:
-            list(pool.map(run, chunks))
-    out = dict(zip(SCALAR_FIELDS, scalars, strict=True))
+    if len(chunks) <= 1:
+        for start, stop in chunks:
+            run_rows(start, stop)
+        return
+    with ThreadPoolExecutor(max_workers=min(len(chunks), os.cpu_count() or 1)) as pool:
+        list(pool.map(lambda bounds: run_rows(*bounds), chunks))
+
+
+def _collect(scalars, edges, first, flags):
+    # From edges there are no centers, so no ``delta_direct`` (the last scalar row).
+    out = dict(zip(SCALAR_FIELDS, scalars, strict=False))
     out.update(
         edges=edges,
-        circumcenter=circ,
-        orthocenter=ortho,
         min_weight_vertex=first,
         valid=(flags == 0) | (flags == FLAG_ASSUMPTION1),
         assumption1_holds=flags == FLAG_ASSUMPTION1,

@@ -180,13 +180,19 @@ def _assumption1(weights: np.ndarray, pair_sq: np.ndarray) -> np.ndarray:
         )
 
 
-def _edges_chunk(edges: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
-    """One chunk: ``edges`` (3, n), edge i opposite vertex i; ``weights`` (3, n)."""
+def _edges_chunk(
+    edges: np.ndarray, weights: np.ndarray, extended: bool = False
+) -> dict[str, np.ndarray]:
+    """One chunk: ``edges`` (3, n), edge i opposite vertex i; ``weights`` (3, n).
+
+    ``extended`` starts every row in extended precision (see
+    :func:`vorobound.geometry.precision.tiered`).
+    """
     finite = np.isfinite(edges).all(axis=0) & np.isfinite(weights).all(axis=0)
     finite &= (edges > 0).all(axis=0)
     scale = _row_scale(edges, weights)
     out, valid = tiered(
-        invariants_from_edges, (edges / scale, weights / scale / scale), finite, from_edges=True
+        invariants_from_edges, (edges / scale, weights / scale / scale), finite, True, extended
     )
     with np.errstate(all="ignore"):
         pair_sq = edges * edges
@@ -274,22 +280,31 @@ def weighted_triangles(points, weights) -> WeightedTriangles:
     lead = _batch_shapes(p.shape[:-2], w.shape[:-1])
     p = np.broadcast_to(p, lead + p.shape[-2:]).reshape(-1, 3, p.shape[-1])
     w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3)
-    compiled = _compiled_kernel(p.shape[0])
-    if compiled is None:
-        return _pack(_run_chunked(_points_chunk, p.transpose(1, 2, 0), w.T), lead)
-    out, rest, refine = compiled(p, w, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
-    # The numpy path finishes what the kernel left: non-finite, overflowing or degenerate
-    # rows (``rest``) and ill-conditioned ones (``refine``, which start in extended precision).
-    for index, chunk_fn in ((rest, _points_chunk), (refine, _points_chunk_extended)):
+    return _pack(_evaluate("run_compiled", _points_chunk, p, w), lead)
+
+
+def _evaluate(kernel_name: str, chunk_fn, data: np.ndarray, weights: np.ndarray) -> dict:
+    """Fields for ``data`` (n, ...) and ``weights`` (n, 3), batch first, by the fastest path.
+
+    With the compiled kernel, the numpy path (``chunk_fn``) finishes the rows the kernel left:
+    non-finite, overflowing or degenerate ones, and ill-conditioned ones, which start in
+    extended precision. Both paths give the same bits.
+    """
+    kernel = _compiled_kernel(data.shape[0], kernel_name)
+    if kernel is None:
+        return _run_chunked(chunk_fn, np.moveaxis(data, 0, -1), weights.T)
+    out, rest, refine = kernel(data, weights, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
+    for index, extended in ((rest, False), (refine, True)):
         if index.size:
-            fixed = _run_chunked(chunk_fn, p[index].transpose(1, 2, 0), w[index].T, spread=True)
+            fixed = _run_chunked(
+                functools.partial(chunk_fn, extended=extended),
+                np.moveaxis(data[index], 0, -1),
+                weights[index].T,
+                spread=True,
+            )
             for key, value in fixed.items():
                 out[key][index] = value
-    return _pack(out, lead)
-
-
-def _points_chunk_extended(points: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
-    return _points_chunk(points, weights, extended=True)
+    return out
 
 
 COMPILED_MIN_ROWS = 1 << 17
@@ -300,14 +315,14 @@ on one to two million triangles; below this size (the bounds solvers' batches, a
 single triangle from the CLI) the numpy path is used and numba is never imported."""
 
 
-def _compiled_kernel(n_rows: int):
-    """The compiled batch kernel, or None for small batches or when it cannot run.
+def _compiled_kernel(n_rows: int, name: str):
+    """The compiled batch function ``name``, or None for small batches or when it cannot run.
 
     Small batches stay on the numpy path (see ``COMPILED_MIN_ROWS``).
     """
     if n_rows < COMPILED_MIN_ROWS or not compiled_available():
         return None
-    return _load_compiled()
+    return getattr(_load_compiled(), name)
 
 
 def compiled_available() -> bool:
@@ -324,7 +339,7 @@ def compiled_available() -> bool:
 @functools.cache
 def _load_compiled():
     try:
-        from .compiled import run_compiled
+        from . import compiled
     except (ImportError, RuntimeError, OSError) as exc:  # e.g. a numba that cannot cache
         warnings.warn(
             f"the compiled kernel could not be loaded ({exc}); using the numpy path",
@@ -332,7 +347,7 @@ def _load_compiled():
             stacklevel=3,
         )
         return None
-    return run_compiled
+    return compiled
 
 
 def theorem1_from_edges(edges, weights) -> WeightedTriangles:
@@ -362,6 +377,6 @@ def theorem1_from_edges(edges, weights) -> WeightedTriangles:
     if w.ndim < 1 or w.shape[-1] != 3:
         raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
     lead = _batch_shapes(e.shape[:-1], w.shape[:-1])
-    e = np.broadcast_to(e, lead + (3,)).reshape(-1, 3).T
-    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3).T
-    return _pack(_run_chunked(_edges_chunk, e, w), lead)
+    e = np.broadcast_to(e, lead + (3,)).reshape(-1, 3)
+    w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3)
+    return _pack(_evaluate("run_compiled_edges", _edges_chunk, e, w), lead)
