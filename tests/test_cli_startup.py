@@ -1,4 +1,4 @@
-"""``vorobound --help`` stays light: no scipy, no matplotlib."""
+"""``vorobound --help`` stays light: no scipy, no matplotlib, no numba."""
 
 import subprocess
 import sys
@@ -7,13 +7,13 @@ PROBE = (
     "import sys\n"
     "from vorobound.cli import main\n"
     "code = main(['--help'])\n"
-    "heavy = [m for m in ('scipy', 'matplotlib') if m in sys.modules]\n"
+    "heavy = [m for m in ('scipy', 'matplotlib', 'numba') if m in sys.modules]\n"
     "print('HEAVY=' + ','.join(heavy))\n"
     "sys.exit(code)\n"
 )
 
 
-def test_help_imports_neither_scipy_nor_matplotlib():
+def test_help_imports_no_heavy_library():
     done = subprocess.run(
         [sys.executable, "-c", PROBE], capture_output=True, text=True, check=False
     )
@@ -30,3 +30,18 @@ def test_python_dash_m_entry_point():
     )
     assert done.returncode == 0, done.stderr
     assert '"circumradius": 2.5' in done.stdout
+
+
+def test_one_triangle_does_not_load_numba():
+    probe = (
+        "import sys\n"
+        "from vorobound.cli import main\n"
+        "code = main(['triangle', '-p', '0,0,0', '-p', '1,0,0', '-p', '0,1,0', '--json'])\n"
+        "print('NUMBA=' + str('numba' in sys.modules))\n"
+        "sys.exit(code)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert "NUMBA=False" in done.stdout
