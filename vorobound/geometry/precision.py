@@ -59,8 +59,19 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
 
 
 def _exact_rows(builder, arrays: tuple[np.ndarray, ...]) -> tuple[dict, np.ndarray]:
-    """Exact rational evaluation, one row at a time so that a degenerate row fails alone."""
+    """Exact rational evaluation of all rows at once, or row by row if one is degenerate.
+
+    Each numpy operation on an object array costs about the same for one row as for a few, so
+    the batch goes first; a degenerate row (zero area: a division by zero) sends the batch to
+    the row-by-row loop, where it fails alone.
+    """
     n = arrays[0].shape[-1]
+    try:
+        inv = builder(*(_to_fractions(x) for x in arrays))
+    except ZeroDivisionError:
+        inv = None
+    if inv is not None and all(area > 0 for area in inv.area2_sq):
+        return _finished_rows(inv)[0], np.ones(n, dtype=bool)
     rows, ok = [], np.zeros(n, dtype=bool)
     for i in range(n):
         try:
