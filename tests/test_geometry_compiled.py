@@ -159,3 +159,35 @@ def test_concurrent_calls_from_threads_agree():
     expected = [_batch_delta_sum(seed) for seed in range(4)]
     with ThreadPoolExecutor(4) as pool:
         assert list(pool.map(_batch_delta_sum, range(4))) == expected
+
+
+def test_batch_shapes_and_broadcast_weights_on_the_compiled_path(monkeypatch):
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    rng = np.random.default_rng(3)
+    points = rng.standard_normal((4, 5, 3, 3))
+    fast = weighted_triangles(points, [0.0, 0.01, 0.02])
+    assert fast.delta.shape == (4, 5)
+    assert fast.circumcenter.shape == (4, 5, 3)
+    assert fast.edges.shape == (4, 5, 3)
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    slow = weighted_triangles(points, [0.0, 0.01, 0.02])
+    for name, value in _fields(fast).items():
+        np.testing.assert_array_equal(value, getattr(slow, name), err_msg=name)
+
+
+def test_a_kernel_that_cannot_load_falls_back_with_a_warning(monkeypatch):
+    import sys
+
+    import vorobound.geometry
+
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    monkeypatch.delattr(vorobound.geometry, "compiled")
+    monkeypatch.setitem(sys.modules, "vorobound.geometry.compiled", None)  # import fails
+    triangle_module._load_compiled.cache_clear()
+    try:
+        with pytest.warns(RuntimeWarning, match="numpy path"):
+            assert not triangle_module.compiled_available()
+        result = weighted_triangles([[0, 0], [1, 0], [0, 1]], [0.0, 0.1, 0.2])
+        assert result.valid.all()
+    finally:
+        triangle_module._load_compiled.cache_clear()
