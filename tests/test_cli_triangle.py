@@ -63,6 +63,8 @@ def test_table_for_people(run_cli):
         (["--edges", "1,1,1", "-p", "0,0"], "either"),
         ([], "either"),
         (["--edges", "1,1,1", "--bogus"], "No such option"),
+        # Exact arithmetic ends above the float64 range: rejected, not an OverflowError.
+        (["-p", "1e-85,1", "-p", "0,2", "-p", "0,0", "-w", "1e300,0,0"], "overflows"),
     ],
 )
 def test_bad_input_is_one_line_exit_2(run_cli, args, fragment):

@@ -3,6 +3,9 @@
 import numpy as np
 import pytest
 from hard_triangles import families
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 from mp_reference import reference, relative_error
 
 from vorobound import theorem1_from_edges, weighted_triangles
@@ -191,3 +194,41 @@ def test_a_kernel_that_cannot_load_falls_back_with_a_warning(monkeypatch):
         assert result.valid.all()
     finally:
         triangle_module._load_compiled.cache_clear()
+
+
+def _any_float(width=64):
+    return st.floats(allow_nan=True, allow_infinity=True, width=width)
+
+
+@settings(
+    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    st.integers(2, 3).flatmap(
+        lambda dim: arrays(
+            np.float64,
+            st.tuples(st.integers(1, 40), st.just(3), st.just(dim)),
+            elements=st.one_of(st.floats(-1e3, 1e3), _any_float()),
+        )
+    ),
+    st.data(),
+)
+def test_compiled_and_numpy_paths_agree_on_arbitrary_input(monkeypatch, points, data):
+    weights = data.draw(
+        arrays(
+            np.float64,
+            (points.shape[0], 3),
+            elements=st.one_of(st.floats(-1e2, 1e2), _any_float()),
+        )
+    )
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    monkeypatch.delenv("VOROBOUND_PURE_NUMPY", raising=False)
+    fast = _fields(weighted_triangles(points, weights))
+    lengths = np.abs(points[:, :, 0])
+    fast_edges = _fields(theorem1_from_edges(lengths, weights))
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    slow = _fields(weighted_triangles(points, weights))
+    slow_edges = _fields(theorem1_from_edges(lengths, weights))
+    for got, want in ((fast, slow), (fast_edges, slow_edges)):
+        for name, value in got.items():
+            np.testing.assert_array_equal(value, want[name], err_msg=name)

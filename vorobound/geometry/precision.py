@@ -9,6 +9,7 @@ arithmetic (:class:`fractions.Fraction`). Only the finished quantities are round
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -22,6 +23,21 @@ ERROR_GROWTH = 4.0  # roundings along the longest chain of dependent operations
 EPS64 = float(np.finfo(np.float64).epsneg)
 _EPS_LONG = float(np.finfo(np.longdouble).epsneg)
 _HAS_LONGDOUBLE = _EPS_LONG < EPS64 / 16
+
+
+def _as_float64(x) -> np.ndarray:
+    """Round to float64; exact rationals too large for it become ±inf instead of raising."""
+    x = np.asarray(x)
+    if x.dtype != object:
+        return x.astype(np.float64)
+    return np.array([_fraction_to_float(v) for v in x.ravel()], dtype=np.float64).reshape(x.shape)
+
+
+def _fraction_to_float(value) -> float:
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
 
 
 def _to_fractions(x: np.ndarray) -> np.ndarray:
@@ -38,7 +54,7 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
     """
     orthoradius_sq = inv.rt_sq - inv.w_min
     if inv.k_num.dtype == object:
-        inv = Invariants(*(None if f is None else np.asarray(f, dtype=np.float64) for f in inv))
+        inv = Invariants(*(None if f is None else _as_float64(f) for f in inv))
     rad = finish(inv)
     fields = {
         "edges": rad.edges,
@@ -55,7 +71,7 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
     if inv.circ_offset is not None:
         fields["circ_offset"] = inv.circ_offset
         fields["ortho_shift"] = inv.ortho_shift
-    return {key: np.asarray(value, dtype=np.float64) for key, value in fields.items()}, rad
+    return {key: _as_float64(value) for key, value in fields.items()}, rad
 
 
 def _exact_rows(builder, arrays: tuple[np.ndarray, ...]) -> tuple[dict, np.ndarray]:

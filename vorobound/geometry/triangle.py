@@ -76,7 +76,8 @@ def _row_scale(lengths: np.ndarray, weights: np.ndarray) -> np.ndarray:
     axes = tuple(range(lengths.ndim - 1))
     size = np.maximum(np.abs(lengths).max(axis=axes), np.sqrt(np.abs(weights).max(axis=0)))
     _, exponent = np.frexp(np.where(np.isfinite(size) & (size > 0), size, 1.0))
-    return np.ldexp(1.0, exponent)
+    with np.errstate(over="ignore"):  # a row near the float64 limit: the kernel rejects it
+        return np.ldexp(1.0, exponent)
 
 
 def _complete(
