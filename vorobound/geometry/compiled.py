@@ -7,8 +7,8 @@ higher precision, or that is not finite or degenerate, is only flagged: the call
 flagged rows with the numpy path, which stays the reference implementation.
 
 The loop bodies have no data-dependent branches: every row is computed in full (a flagged
-row's numbers are overwritten later), and choices are selects. That is about a third faster
-than returning early from bad rows, which costs branch mispredictions on every row.
+row's numbers are overwritten later), and choices are selects. Measured single-threaded, that
+is about a fifth faster per row than returning early from bad rows and calling ``frexp``.
 
 The arithmetic mirrors, step by step:
 
@@ -36,7 +36,7 @@ FLAG_NUMPY = 2  # not finite, degenerate, or overflowing: the numpy path decides
 FLAG_REFINE = 3  # too ill-conditioned for float64: the numpy path refines it
 
 CHUNK_ROWS = 1 << 15
-"""Rows per task handed to a worker thread (the kernel needs no temporaries)."""
+"""Rows per task handed to a worker thread; its only temporaries are row scales (24 B a row)."""
 
 # Rows of the scalar block ``scalars[j, :]``.
 SCALAR_FIELDS = (
@@ -71,7 +71,8 @@ def _row_scales(sizes, finite):
 
     ``frexp(size)`` has exponent e = (biased exponent of size) − 1022 for a normal size, so the
     scale 2^e and its reciprocal 2^−e are built from the exponent bits. A size that is zero,
-    subnormal or within a factor 2 of overflow clears ``finite`` (the numpy path takes it).
+    subnormal, not finite or within a factor 4 of overflow clears ``finite`` (the numpy path
+    takes those rows).
     """
     scales = np.empty_like(sizes)
     inverses = np.empty_like(sizes)
