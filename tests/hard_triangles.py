@@ -37,6 +37,13 @@ def families(seed: int = 7, count: int = 40) -> dict[str, tuple[np.ndarray, np.n
     theta = rng.uniform(2.2, 3.0, count)
     obtuse = np.stack([[[0.0, 0], [1, 0], [0.7 * np.cos(t), 0.7 * np.sin(t)]] for t in theta])
     out["obtuse"] = (obtuse, rng.random((count, 3)) * 0.05)
+    # Weights (~1) that set the row scale, beside a triangle 2^-262 to 2^-270 as large: in
+    # float64 its intermediates would fall below the normal range.
+    tiny_scale = 2.0 ** -rng.integers(262, 271, (count, 1, 1))
+    out["tiny_triangle_unit_weights"] = (
+        rng.standard_normal((count, 3, 2)) * tiny_scale,
+        rng.random((count, 3)),
+    )
     out["far_from_origin"] = (
         rng.standard_normal((count, 3, 3)) + 1e6,
         rng.random((count, 3)) * 1e-2,

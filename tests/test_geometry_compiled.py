@@ -41,6 +41,20 @@ def _stress_batch(dim: int, rng: np.random.Generator) -> tuple[np.ndarray, np.nd
     return np.concatenate([p for p, _ in parts]), np.concatenate([w for _, w in parts])
 
 
+def _assert_same_bits(value: np.ndarray, expected: np.ndarray, name: str) -> None:
+    """Equal dtype, shape and bits (the sign of a zero included); any NaN matches any NaN."""
+    assert value.dtype == expected.dtype, name
+    assert value.shape == expected.shape, name
+    if value.dtype.kind != "f":
+        np.testing.assert_array_equal(value, expected, err_msg=name)
+        return
+    nan = np.isnan(value)
+    np.testing.assert_array_equal(nan, np.isnan(expected), err_msg=name)
+    np.testing.assert_array_equal(
+        value[~nan].view(np.uint64), expected[~nan].view(np.uint64), err_msg=name
+    )
+
+
 def _fields(result):
     return {
         name: getattr(result, name)
@@ -58,9 +72,7 @@ def test_compiled_kernel_matches_numpy_path_bit_for_bit(dim, monkeypatch):
     slow = _fields(weighted_triangles(points, weights))
     assert fast.keys() == slow.keys()
     for name, value in fast.items():
-        assert value.dtype == slow[name].dtype, name
-        assert value.shape == slow[name].shape, name
-        np.testing.assert_array_equal(value, slow[name], err_msg=name)
+        _assert_same_bits(value, slow[name], name)
     # The batch really exercised both outcomes, and both paths.
     assert fast["valid"].sum() > len(points) // 2
     assert (~fast["valid"]).sum() > 100
@@ -95,8 +107,7 @@ def test_compiled_edges_kernel_matches_numpy_path_bit_for_bit(monkeypatch):
     assert fast.keys() == slow.keys()
     assert "circumcenter" not in fast and "delta_direct" not in fast
     for name, value in fast.items():
-        assert value.dtype == slow[name].dtype, name
-        np.testing.assert_array_equal(value, slow[name], err_msg=name)
+        _assert_same_bits(value, slow[name], name)
     assert fast["valid"].sum() > len(lengths) // 2
     assert (~fast["valid"]).sum() > 100
     _, rest, refine = compiled.run_compiled_edges(lengths, weights, *REFINE_TEST)
@@ -175,7 +186,7 @@ def test_batch_shapes_and_broadcast_weights_on_the_compiled_path(monkeypatch):
     monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
     slow = weighted_triangles(points, [0.0, 0.01, 0.02])
     for name, value in _fields(fast).items():
-        np.testing.assert_array_equal(value, getattr(slow, name), err_msg=name)
+        _assert_same_bits(value, getattr(slow, name), name)
 
 
 def test_a_kernel_that_cannot_load_falls_back_with_a_warning(monkeypatch):
@@ -231,4 +242,23 @@ def test_compiled_and_numpy_paths_agree_on_arbitrary_input(monkeypatch, points, 
     slow_edges = _fields(theorem1_from_edges(lengths, weights))
     for got, want in ((fast, slow), (fast_edges, slow_edges)):
         for name, value in got.items():
-            np.testing.assert_array_equal(value, want[name], err_msg=name)
+            _assert_same_bits(value, want[name], name)
+
+
+@pytest.mark.parametrize(
+    "points, weights",
+    [
+        ([[0, 0], [0, 1], [1, 1.0]], [1, 0, 0.5]),  # right angle at the apex: cos θ = ±0
+        ([[0, 0], [0, 1], [1, -1.0]], [0.0, -0.0, -0.0]),  # tied ±0 weights: k = ±0
+    ],
+)
+def test_signed_zeros_agree(points, weights, monkeypatch):
+    monkeypatch.setattr(triangle_module, "COMPILED_MIN_ROWS", 1)
+    fast = _fields(weighted_triangles([points], [weights]))
+    fast_edges = _fields(theorem1_from_edges(_edge_lengths(np.array([points])), [weights]))
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    slow = _fields(weighted_triangles([points], [weights]))
+    slow_edges = _fields(theorem1_from_edges(_edge_lengths(np.array([points])), [weights]))
+    for got, want in ((fast, slow), (fast_edges, slow_edges)):
+        for name, value in got.items():
+            _assert_same_bits(value, want[name], name)

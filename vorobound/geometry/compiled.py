@@ -3,8 +3,9 @@
 One pass per triangle computes everything the numpy path computes for a well-conditioned
 row, with the same operations in the same order (so the results agree to the last bit), and
 writes straight into the caller's output arrays. A row that the numpy path would refine in
-higher precision, or that is not finite or degenerate, is only flagged: the caller recomputes
-flagged rows with the numpy path, which stays the reference implementation.
+higher precision (ill-conditioned, near underflow, or degenerate), or that is not finite or
+overflows, is only flagged: the caller recomputes flagged rows with the numpy path, which stays
+the reference implementation.
 
 The loop bodies have no data-dependent branches: every row is computed in full (a flagged
 row's numbers are overwritten later), and choices are selects. Measured single-threaded, that
@@ -30,13 +31,19 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from numba import njit
+from numba.core.errors import NumbaError
+
+from .invariants import AREA_FLOOR, K_FLOOR, SQ_FLOOR
+
+KERNEL_ERRORS = (NumbaError,)
+"""Errors of numba itself (typing, lowering) that mean "use the numpy path instead"."""
 
 FLAG_ASSUMPTION1 = 1
-FLAG_NUMPY = 2  # not finite, degenerate, or overflowing: the numpy path decides
-FLAG_REFINE = 3  # too ill-conditioned for float64: the numpy path refines it
+FLAG_NUMPY = 2  # not finite, out of the scalable range, or overflowing: the numpy path decides
+FLAG_REFINE = 3  # ill-conditioned, near underflow or degenerate: the numpy path refines it
 
 CHUNK_ROWS = 1 << 15
-"""Rows per task handed to a worker thread; its only temporaries are row scales (24 B a row)."""
+"""Rows per task handed to a worker thread; its only temporaries are row scales (25 B a row)."""
 
 # Rows of the scalar block ``scalars[j, :]``.
 SCALAR_FIELDS = (
@@ -57,6 +64,12 @@ SCALAR_FIELDS = (
 def _fmax(x, y):
     """``numpy.fmax``: the larger of two numbers, ignoring a NaN."""
     return y if x != x else (x if y != y else (x if x >= y else y))
+
+
+@njit(inline="always")
+def _minimum(x, y):
+    """``numpy.minimum`` for non-NaN numbers: on a tie (such as 0.0 and -0.0) the second."""
+    return x if x < y else y
 
 
 @njit(inline="always")
@@ -103,6 +116,14 @@ def _scaled_vertex(points, i, j, inv_scale):
 
 
 @njit(inline="always")
+def _dot(a0, a1, a2, b0, b1, b2, three):
+    """a·b summed in the order of ``invariants._dot``. In 2-D the z term is left out: adding
+    its +0 would turn a −0 sum into +0. (Sums of squares need no such care.)"""
+    total = a0 * b0 + a1 * b1
+    return total + a2 * b2 if three else total
+
+
+@njit(inline="always")
 def _dist_sq(points, i, j, m):
     """Squared distance between vertices j and m of row i, unscaled."""
     total = 0.0
@@ -139,7 +160,9 @@ def _finish_row(
     cond_k = 1.0 if size_k == 0 else size_k / abs(k_num)
     cond_rt = rt_sq_scale / (rt * (radius + rt))
     cond = _fmax(_fmax(cond_area, cond_k), cond_rt)
-    ok = (error_scale * cond <= tolerance) & (area2 > 0)
+    underflow = (_minimum(_minimum(sq0, sq1), sq2) < SQ_FLOOR) | (area2_sq < AREA_FLOOR)
+    underflow = underflow | ((abs(k_num) < K_FLOOR) & (size_k > 0))
+    ok = (error_scale * cond <= tolerance) & (area2 > 0) & (not underflow)
     return ok, e0, e1, e2, area2, radius, rt, delta
 
 
@@ -166,7 +189,7 @@ def _store_row(
     gap = gap if rt + rs > 0 else (0.0 if orthoradius_sq >= 0 else math.nan)
     radius_out = radius * scale
     orthoradius_sq_out = orthoradius_sq * scale * scale
-    literal_out = delta * scale + min(min(wa0, wa1), wa2)
+    literal_out = delta * scale + _minimum(_minimum(wa0, wa1), wa2)
     k_out = k_num / (bc * bc) * scale * scale
     scalars[0, i] = radius_out
     scalars[1, i] = orthoradius_sq_out
@@ -243,8 +266,8 @@ def triangles_kernel(
         pair1 = _dist_sq(points, i, 0, 2)
         pair2 = _dist_sq(points, i, 0, 1)
 
-        # Edge vectors u = p1 − p0, v = p2 − p0, e = p2 − p1 (a 2-D row has z = 0, which
-        # adds exact zeros to every sum below and so changes no bit).
+        # Edge vectors u = p1 − p0, v = p2 − p0, e = p2 − p1 (a 2-D row has z = 0: +0 added
+        # to a sum of squares changes no bit, and ``_dot`` leaves it out).
         q00, q01, q02 = _scaled_vertex(points, i, 0, inv_scale)
         q10, q11, q12 = _scaled_vertex(points, i, 1, inv_scale)
         q20, q21, q22 = _scaled_vertex(points, i, 2, inv_scale)
@@ -254,16 +277,17 @@ def triangles_kernel(
         sq0 = f0 * f0 + f1 * f1 + f2 * f2
         sq1 = v0 * v0 + v1 * v1 + v2 * v2
         sq2 = u0 * u0 + u1 * u1 + u2 * u2
-        d0 = u0 * v0 + u1 * v1 + u2 * v2
-        d1 = -(u0 * f0 + u1 * f1 + u2 * f2)
-        d2 = v0 * f0 + v1 * f1 + v2 * f2
+        three = dim == 3
+        d0 = _dot(u0, u1, u2, v0, v1, v2, three)
+        d1 = -_dot(u0, u1, u2, f0, f1, f2, three)
+        d2 = _dot(v0, v1, v2, f0, f1, f2, three)
         n0 = u1 * v2 - u2 * v1
         n1 = u2 * v0 - u0 * v2
         n2 = u0 * v1 - u1 * v0
         area2_sq = n0 * n0 + n1 * n1 + n2 * n2
 
         # Weights shifted by their minimum, eq. (6), and the numerator of k, eq. (31).
-        w_min = min(min(w0, w1), w2)
+        w_min = _minimum(_minimum(w0, w1), w2)
         om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
         k_num = (
             om0 * (2 * d0 - om0) * sq0
@@ -354,7 +378,7 @@ def edges_kernel(
         d1 = (sq0 + sq2 - sq1) / 2
         d2 = (sq0 + sq1 - sq2) / 2
         area2_sq = sq1 * sq2 - d0 * d0
-        w_min = min(min(w0, w1), w2)
+        w_min = _minimum(_minimum(w0, w1), w2)
         om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
         k_num = (
             om0 * (2 * d0 - om0) * sq0
@@ -389,9 +413,11 @@ def run_compiled(
     kernel left for the numpy path (their entries in the fields are unset): those it could not
     compute, and the ill-conditioned ones that need extended precision.
     """
+    if points.ndim != 3 or points.shape[1] != 3 or points.shape[2] not in (2, 3):
+        raise ValueError(f"points must have shape (n, 3, 2) or (n, 3, 3), got {points.shape}")
     n, _, dim = points.shape
-    points = np.ascontiguousarray(points, dtype=np.float64)
-    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    points = _readonly(points)
+    weights = _readonly(weights)
     scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS))
     circ = np.empty((n, dim))
     ortho = np.empty((n, dim))
@@ -412,8 +438,8 @@ def run_compiled_edges(
 ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
     """As :func:`run_compiled`, from edge lengths ``lengths`` (n, 3) instead of coordinates."""
     n = lengths.shape[0]
-    lengths = np.ascontiguousarray(lengths, dtype=np.float64)
-    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    lengths = _readonly(lengths)
+    weights = _readonly(weights)
     scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS) - 1)
     _in_threads(
         n,
@@ -422,6 +448,17 @@ def run_compiled_edges(
         ),
     )
     return _collect(scalars, edges, first, flags)
+
+
+def _readonly(x: np.ndarray) -> np.ndarray:
+    """A contiguous float64 read-only view (or copy) of an input.
+
+    numba compiles one version per read-only/writable combination of the arguments; always
+    passing read-only inputs keeps that to one compilation per kernel.
+    """
+    view = np.ascontiguousarray(x, dtype=np.float64).view()
+    view.flags.writeable = False
+    return view
 
 
 def _allocate(n: int, n_scalars: int):

@@ -153,6 +153,21 @@ def invariants_from_edges(edges: np.ndarray, weights: np.ndarray) -> Invariants:
     )
 
 
+SQ_FLOOR = 2.0**-300
+"""Smallest squared edge (in row-scale units) that float64 evaluation accepts.
+
+Rows are scaled so that coordinates and sqrt|weights| are at most about 1. When the weights
+set that scale and the triangle is tiny beside it, products of up to six lengths (the
+circumradius, the numerator of k) fall below the normal float64 range and lose digits without
+any cancellation the condition estimate would see. Below these floors a row is refined in
+extended precision, whose exponent range is far wider.
+"""
+AREA_FLOOR = 2.0**-700
+"""Smallest (2·area)² in row-scale units that float64 evaluation accepts (see ``SQ_FLOOR``)."""
+K_FLOOR = 2.0**-990
+"""Smallest nonzero |k·b²·c²| in row-scale units that float64 evaluation accepts."""
+
+
 class Radicals(NamedTuple):
     """Finished quantities of a batch (float arrays, batch on the last axis)."""
 
@@ -187,7 +202,8 @@ def condition_estimate(inv: Invariants, rad: Radicals, from_edges: bool = False)
     edges. The numerator of k: the ratio of the magnitudes of its terms (each dot product
     replaced by the edge product that bounds it) to ``|k_num|``. And the squared shifted
     orthoradius, a difference whose error enters through ``R + R̂``. A non-positive area
-    gives ``inf`` so that exact arithmetic decides.
+    gives ``inf`` so that exact arithmetic decides, and so (in float64) does a row whose
+    intermediates come near underflow (``SQ_FLOOR``, ``AREA_FLOOR``, ``K_FLOOR``).
     """
     e0, e1, e2 = rad.edges
     adj0, adj1, adj2 = e1 * e2, e0 * e2, e0 * e1
@@ -204,4 +220,10 @@ def condition_estimate(inv: Invariants, rad: Radicals, from_edges: bool = False)
         cond_rt = inv.rt_sq_scale / (rt * (rad.circumradius + rt))
     # 0/0 (equal weights: k_num = 0 exactly) is harmless; NaN from bad input is not refined.
     cond_k[size == 0] = 1.0
-    return np.fmax(np.fmax(cond_area, cond_k), cond_rt)
+    cond = np.fmax(np.fmax(cond_area, cond_k), cond_rt)
+    if inv.area2_sq.dtype == np.float64:
+        underflow = np.minimum(np.minimum(sq0, sq1), sq2) < SQ_FLOOR
+        underflow |= inv.area2_sq < AREA_FLOOR
+        underflow |= (np.abs(inv.k_num) < K_FLOOR) & (size > 0)
+        cond[underflow] = np.inf
+    return cond

@@ -39,18 +39,18 @@ def _min_weight_vertex(weights: np.ndarray) -> np.ndarray:
     return np.where(w0 <= w1, np.where(w0 <= w2, 0, 2), np.where(w1 <= w2, 1, 2))
 
 
-def _apex_first(per_vertex: np.ndarray, onehot: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+def _apex_first(per_vertex: np.ndarray, apex: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
     """Reorder a (3, n) per-vertex array cyclically so that row 0 is the minimum-weight vertex.
 
-    ``onehot[j]`` is 1.0 where vertex j is that vertex. The selection is a multiply-add, exact
-    because x·1 = x and x·0 + y = y, and much faster than a data-dependent gather.
+    ``apex[j]`` is True where vertex j is that vertex. A select, so every bit (the sign of a
+    zero included) is kept.
     """
     r0, r1, r2 = per_vertex
-    h0, h1, h2 = onehot
+    is0, is1, _ = apex
     return (
-        r0 * h0 + r1 * h1 + r2 * h2,
-        r1 * h0 + r2 * h1 + r0 * h2,
-        r2 * h0 + r0 * h1 + r1 * h2,
+        np.where(is0, r0, np.where(is1, r1, r2)),
+        np.where(is0, r1, np.where(is1, r2, r0)),
+        np.where(is0, r2, np.where(is1, r0, r1)),
     )
 
 
@@ -93,10 +93,10 @@ def _complete(
 
 def _complete_rows(out, valid, weights, scale):
     first = _min_weight_vertex(weights)
-    onehot = tuple((first == j).astype(np.float64) for j in range(3))
-    a, b, c = _apex_first(out.pop("edges"), onehot)
+    apex = tuple(first == j for j in range(3))
+    a, b, c = _apex_first(out.pop("edges"), apex)
     dots = out.pop("dots")
-    dot_a = dots[0] * onehot[0] + dots[1] * onehot[1] + dots[2] * onehot[2]
+    dot_a = np.where(apex[0], dots[0], np.where(apex[1], dots[1], dots[2]))
     w_min = out.pop("w_min")
     area2 = out.pop("area2")
     k_num = out.pop("k_num")
@@ -292,9 +292,15 @@ def _evaluate(kernel_name: str, chunk_fn, data: np.ndarray, weights: np.ndarray)
     extended precision. Both paths give the same bits.
     """
     kernel = _compiled_kernel(data.shape[0], kernel_name)
+    if kernel is not None:
+        try:
+            out, rest, refine = kernel(data, weights, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
+        except _load_compiled().KERNEL_ERRORS as exc:  # a numba that cannot compile the kernel
+            message = f"the compiled kernel failed ({exc}); using the numpy path"
+            warnings.warn(message, RuntimeWarning, stacklevel=3)
+            kernel = None
     if kernel is None:
         return _run_chunked(chunk_fn, np.moveaxis(data, 0, -1), weights.T)
-    out, rest, refine = kernel(data, weights, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
     for index, extended in ((rest, False), (refine, True)):
         if index.size:
             fixed = _run_chunked(
