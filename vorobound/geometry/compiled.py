@@ -20,7 +20,9 @@ The arithmetic mirrors, step by step:
 * :func:`vorobound.geometry.triangle._complete_rows` (Section 3 labels, eq. (1), (32)).
 
 Importing this module compiles nothing; the first call compiles (a few seconds) and caches
-the machine code on disk for later processes.
+the machine code on disk for later processes. The helpers stay in this one file, longer than
+the project's usual modules, on purpose: numba checks only the defining file's timestamp
+before reusing cached machine code, so a helper in another module could go stale.
 """
 
 from __future__ import annotations
@@ -134,6 +136,21 @@ def _dist_sq(points, i, j, m):
 
 
 @njit(inline="always")
+def _shifted_k(w0, w1, w2, d0, d1, d2, sq0, sq1, sq2):
+    """Weights shifted by their minimum, eq. (6), and k·b²·c² of eq. (31) in the vertex-free
+    form of ``invariants.k_numerator``; returns (w_min, ω0, ω1, ω2, k·b²·c²)."""
+    w_min = _minimum(_minimum(w0, w1), w2)
+    om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
+    k_num = (
+        om0 * (2 * d0 - om0) * sq0
+        + om1 * (2 * d1 - om1) * sq1
+        + om2 * (2 * d2 - om2) * sq2
+        + 2 * (om1 * om2 * d0 + om0 * om2 * d1 + om0 * om1 * d2)
+    )
+    return w_min, om0, om1, om2, k_num
+
+
+@njit(inline="always")
 def _finish_row(
     sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, from_edges, error_scale,
     tolerance,
@@ -206,6 +223,23 @@ def _store_row(
     first[i] = apex
     # What can overflow when scaled back (the numpy path then decides).
     return _finite(radius_out) & _finite(orthoradius_sq_out) & _finite(literal_out) & _finite(k_out)
+
+
+@njit(inline="always")
+def _finish_and_store(
+    i, scale, sq0, sq1, sq2, d0, d1, d2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2,
+    w_min, wa0, wa1, wa2, from_edges, error_scale, tolerance, scalars, edges, first,
+):  # fmt: skip
+    """``_finish_row`` then ``_store_row``; returns (float64 is enough, outputs are finite)."""
+    ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
+        sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, from_edges,
+        error_scale, tolerance,
+    )  # fmt: skip
+    finite_out = _store_row(
+        i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min, wa0,
+        wa1, wa2, scalars, edges, first,
+    )  # fmt: skip
+    return ok, finite_out
 
 
 @njit(inline="always")
@@ -286,15 +320,7 @@ def triangles_kernel(
         n2 = u0 * v1 - u1 * v0
         area2_sq = n0 * n0 + n1 * n1 + n2 * n2
 
-        # Weights shifted by their minimum, eq. (6), and the numerator of k, eq. (31).
-        w_min = _minimum(_minimum(w0, w1), w2)
-        om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
-        k_num = (
-            om0 * (2 * d0 - om0) * sq0
-            + om1 * (2 * d1 - om1) * sq1
-            + om2 * (2 * d2 - om2) * sq2
-            + 2 * (om1 * om2 * d0 + om0 * om2 * d1 + om0 * om1 * d2)
-        )
+        w_min, om0, om1, om2, k_num = _shifted_k(w0, w1, w2, d0, d1, d2, sq0, sq1, sq2)
 
         # Centers as offsets from p0, eq. (2)–(3).
         two_det = 2 * area2_sq
@@ -320,13 +346,9 @@ def triangles_kernel(
         rt_sq = xhat_sq - om0
         rt_sq_scale = xhat_sq + om0
 
-        ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
-            sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, False,
-            error_scale, tolerance,
-        )  # fmt: skip
-        finite_out = _store_row(
-            i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min,
-            wa0, wa1, wa2, scalars, edges, first,
+        ok, finite_out = _finish_and_store(
+            i, scale, sq0, sq1, sq2, d0, d1, d2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1,
+            om2, w_min, wa0, wa1, wa2, False, error_scale, tolerance, scalars, edges, first,
         )  # fmt: skip
         direct = (math.sqrt(xx) - math.sqrt(xhat_sq - om0)) * scale
         scalars[9, i] = direct
@@ -378,26 +400,15 @@ def edges_kernel(
         d1 = (sq0 + sq2 - sq1) / 2
         d2 = (sq0 + sq1 - sq2) / 2
         area2_sq = sq1 * sq2 - d0 * d0
-        w_min = _minimum(_minimum(w0, w1), w2)
-        om0, om1, om2 = w0 - w_min, w1 - w_min, w2 - w_min
-        k_num = (
-            om0 * (2 * d0 - om0) * sq0
-            + om1 * (2 * d1 - om1) * sq1
-            + om2 * (2 * d2 - om2) * sq2
-            + 2 * (om1 * om2 * d0 + om0 * om2 * d1 + om0 * om1 * d2)
-        )
+        w_min, om0, om1, om2, k_num = _shifted_k(w0, w1, w2, d0, d1, d2, sq0, sq1, sq2)
         r_sq = sq0 * sq1 * sq2 / (4 * area2_sq)
         gap = k_num / (4 * area2_sq)
         rt_sq = r_sq - gap
         rt_sq_scale = r_sq + abs(gap)
 
-        ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
-            sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, True,
-            error_scale, tolerance,
-        )  # fmt: skip
-        finite_out = _store_row(
-            i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min,
-            wa0, wa1, wa2, scalars, edges, first,
+        ok, finite_out = _finish_and_store(
+            i, scale, sq0, sq1, sq2, d0, d1, d2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1,
+            om2, w_min, wa0, wa1, wa2, True, error_scale, tolerance, scalars, edges, first,
         )  # fmt: skip
         flags[i] = _row_flag(
             usable[i - start], ok, finite_out, wa0, wa1, wa2, la0 * la0, la1 * la1, la2 * la2
