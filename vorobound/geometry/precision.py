@@ -121,12 +121,8 @@ def tiered(
     the same as refining them after a float64 pass.
     """
     if extended and _HAS_LONGDOUBLE:
-        with np.errstate(all="ignore"):
-            inv = builder(*(x.astype(np.longdouble) for x in arrays))
-            out, rad = _finished_rows(inv)
-            cond = condition_estimate(inv, rad, from_edges).astype(np.float64)
-        pending = finite & ~(ERROR_GROWTH * _EPS_LONG * cond <= REFINE_TOLERANCE)
-        return _exact_tier(builder, arrays, finite, out, pending)
+        out, pending = _extended_stage(builder, arrays, from_edges)
+        return _exact_tier(builder, arrays, finite, out, finite & pending)
     with np.errstate(all="ignore"):
         inv = builder(*arrays)
         out, rad = _finished_rows(inv)
@@ -134,15 +130,23 @@ def tiered(
     pending = finite & ~(ERROR_GROWTH * EPS64 * cond <= REFINE_TOLERANCE)
     if _HAS_LONGDOUBLE and pending.any():
         idx = np.flatnonzero(pending)
-        with np.errstate(all="ignore"):
-            inv_ld = builder(*(x[..., idx].astype(np.longdouble) for x in arrays))
-            refined, rad_ld = _finished_rows(inv_ld)
-            cond_ld = condition_estimate(inv_ld, rad_ld, from_edges).astype(np.float64)
+        refined, still_pending = _extended_stage(
+            builder, tuple(x[..., idx] for x in arrays), from_edges
+        )
         for key, value in refined.items():
             out[key][..., idx] = value
         pending[:] = False
-        pending[idx[~(ERROR_GROWTH * _EPS_LONG * cond_ld <= REFINE_TOLERANCE)]] = True
+        pending[idx[still_pending]] = True
     return _exact_tier(builder, arrays, finite, out, pending)
+
+
+def _extended_stage(builder, arrays, from_edges: bool) -> tuple[dict, np.ndarray]:
+    """Float64 fields computed in ``numpy.longdouble``, and which rows still need exactness."""
+    with np.errstate(all="ignore"):
+        inv = builder(*(x.astype(np.longdouble) for x in arrays))
+        out, rad = _finished_rows(inv)
+        cond = condition_estimate(inv, rad, from_edges).astype(np.float64)
+    return out, ~(ERROR_GROWTH * _EPS_LONG * cond <= REFINE_TOLERANCE)
 
 
 def _exact_tier(builder, arrays, finite, out, pending) -> tuple[dict, np.ndarray]:
