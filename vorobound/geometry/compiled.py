@@ -20,22 +20,23 @@ The arithmetic mirrors, step by step:
 * :func:`vorobound.geometry.triangle._complete_rows` (Section 3 labels, eq. (1), (32)).
 
 Importing this module compiles nothing; the first call compiles (a few seconds) and caches
-the machine code on disk for later processes. The helpers stay in this one file, longer than
-the project's usual modules, on purpose: numba checks only the defining file's timestamp
-before reusing cached machine code, so a helper in another module could go stale.
+the machine code on disk for later processes. The kernels release the GIL and run on plain
+threads (numba's own parallel loops would bring an OpenMP runtime, which aborts a process that
+forks). The compiled helpers stay in this one file, longer than the project's usual modules,
+on purpose: numba checks only the defining file's timestamp before reusing cached machine
+code, so a compiled helper in another module could go stale.
 """
 
 from __future__ import annotations
 
 import math
-import os
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from numba import njit
 from numba.core.errors import NumbaError
 
 from .invariants import AREA_FLOOR, K_FLOOR, SQ_FLOOR
+from .threads import chunk_bounds, run_in_threads
 
 KERNEL_ERRORS = (NumbaError,)
 """Errors of numba itself (typing, lowering) that mean "use the numpy path instead"."""
@@ -432,12 +433,12 @@ def run_compiled(
     scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS))
     circ = np.empty((n, dim))
     ortho = np.empty((n, dim))
-    _in_threads(
-        n,
-        lambda start, stop: triangles_kernel(
-            points, weights, start, stop, error_scale, tolerance, scalars, edges, circ, ortho,
-            first, flags,
+    run_in_threads(
+        lambda chunk: triangles_kernel(
+            points, weights, *chunk, error_scale, tolerance, scalars, edges, circ, ortho, first,
+            flags,
         ),
+        chunk_bounds(n, CHUNK_ROWS),
     )  # fmt: skip
     out, rest, refine = _collect(scalars, edges, first, flags)
     out.update(circumcenter=circ, orthocenter=ortho)
@@ -452,11 +453,11 @@ def run_compiled_edges(
     lengths = _readonly(lengths)
     weights = _readonly(weights)
     scalars, edges, first, flags = _allocate(n, len(SCALAR_FIELDS) - 1)
-    _in_threads(
-        n,
-        lambda start, stop: edges_kernel(
-            lengths, weights, start, stop, error_scale, tolerance, scalars, edges, first, flags
+    run_in_threads(
+        lambda chunk: edges_kernel(
+            lengths, weights, *chunk, error_scale, tolerance, scalars, edges, first, flags
         ),
+        chunk_bounds(n, CHUNK_ROWS),
     )
     return _collect(scalars, edges, first, flags)
 
@@ -479,21 +480,6 @@ def _allocate(n: int, n_scalars: int):
         np.empty(n, dtype=np.int64),
         np.empty(n, dtype=np.uint8),
     )
-
-
-def _in_threads(n: int, run_rows) -> None:
-    """Call ``run_rows(start, stop)`` over chunks of ``range(n)`` in a thread pool.
-
-    The kernels release the GIL, so plain threads run chunks in parallel. (numba's own parallel
-    loops would bring an OpenMP runtime, which aborts a process that forks.)
-    """
-    chunks = [(s, min(s + CHUNK_ROWS, n)) for s in range(0, n, CHUNK_ROWS)]
-    if len(chunks) <= 1:
-        for start, stop in chunks:
-            run_rows(start, stop)
-        return
-    with ThreadPoolExecutor(max_workers=min(len(chunks), os.cpu_count() or 1)) as pool:
-        list(pool.map(lambda bounds: run_rows(*bounds), chunks))
 
 
 def _collect(scalars, edges, first, flags):

@@ -18,7 +18,6 @@ import functools
 import importlib.util
 import os
 import warnings
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from ..errors import VoroboundError
 from .invariants import invariants_from_edges, invariants_from_points
 from .precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE, tiered
 from .result import WeightedTriangles
+from .threads import chunk_bounds, run_in_threads
 
 CHUNK_ROWS = 1 << 16
 """Rows per chunk: about 40 temporaries of 512 kB each, per worker thread."""
@@ -76,7 +76,7 @@ def _row_scale(lengths: np.ndarray, weights: np.ndarray) -> np.ndarray:
     axes = tuple(range(lengths.ndim - 1))
     size = np.maximum(np.abs(lengths).max(axis=axes), np.sqrt(np.abs(weights).max(axis=0)))
     _, exponent = np.frexp(np.where(np.isfinite(size) & (size > 0), size, 1.0))
-    with np.errstate(over="ignore"):  # a row near the float64 limit: the kernel rejects it
+    with np.errstate(over="ignore"):  # a row at the float64 limit: inf scale, rejected later
         return np.ldexp(1.0, exponent)
 
 
@@ -216,7 +216,7 @@ def _run_chunked(
     rows = CHUNK_ROWS
     if spread:
         rows = min(rows, max(_MIN_SPREAD_ROWS, -(-n // (os.cpu_count() or 1))))
-    bounds = [(s, min(s + rows, n)) for s in range(0, n, rows)] or [(0, 0)]
+    bounds = chunk_bounds(n, rows) or [(0, 0)]
 
     def compute(b):
         part = chunk_fn(
@@ -235,9 +235,7 @@ def _run_chunked(
             out[key][b[0] : b[1]] = value
 
     store(bounds[0], head)
-    workers = min(len(bounds) - 1, os.cpu_count() or 1)
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        list(pool.map(lambda b: store(b, compute(b)), bounds[1:]))
+    run_in_threads(lambda b: store(b, compute(b)), bounds[1:])
     return out
 
 
@@ -288,8 +286,8 @@ def _evaluate(kernel_name: str, chunk_fn, data: np.ndarray, weights: np.ndarray)
     """Fields for ``data`` (n, ...) and ``weights`` (n, 3), batch first, by the fastest path.
 
     With the compiled kernel, the numpy path (``chunk_fn``) finishes the rows the kernel left:
-    non-finite, overflowing or degenerate ones, and ill-conditioned ones, which start in
-    extended precision. Both paths give the same bits.
+    non-finite, out-of-range or overflowing ones as they are, and ill-conditioned, near-underflow
+    or degenerate ones starting in extended precision. Both paths give the same bits.
     """
     kernel = _compiled_kernel(data.shape[0], kernel_name)
     if kernel is not None:
