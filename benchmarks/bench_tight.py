@@ -19,7 +19,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from vorobound.bounds.params import SamplingParams  # noqa: E402
-from vorobound.bounds.solve import solve_eps_star  # noqa: E402
+from vorobound.bounds.eps_star import solve_eps_star  # noqa: E402
 from vorobound.bounds.tight import solve_tight, tight_supremum  # noqa: E402
 
 SUPREMUM_TARGET_S = 2.0

@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 from vorobound import VoroboundError
 from vorobound.bounds.audit import audit_chain, exact_quantities, printed_step_counterexamples
 from vorobound.bounds.chain import chain_bounds
-from vorobound.bounds.feasible import feasible_mask, sample_feasible
+from vorobound.bounds.configurations import feasible_mask, sample_feasible
 from vorobound.bounds.params import SamplingParams
-from vorobound.bounds.solve import solve_eps_star
+from vorobound.bounds.eps_star import solve_eps_star
 
 PAPER = SamplingParams(0.0047)
 INVALID_PRINTED_STEPS = {"(49)", "(52)", "(53)"}

@@ -8,9 +8,9 @@ import pytest
 
 from vorobound import VoroboundError
 from vorobound.bounds.chain import chain_bounds
-from vorobound.bounds.feasible import GuideTriangles, feasible_mask, sample_feasible
+from vorobound.bounds.configurations import GuideTriangles, feasible_mask, sample_feasible
 from vorobound.bounds.params import SamplingParams
-from vorobound.bounds.solve import solve_eps_star
+from vorobound.bounds.eps_star import solve_eps_star
 from vorobound.bounds.tight import solve_tight, tight_supremum
 
 PAPER = SamplingParams(0.0047)

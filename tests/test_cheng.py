@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from vorobound import VoroboundError, weighted_triangles
-from vorobound.bounds.cheng import cheng_constants, nearest_vertex_distances, simplex_radii
+from vorobound.studies.cheng import cheng_constants, nearest_vertex_distances, simplex_radii
 
 ALPHAS = (0.1, 0.2, 0.3, 0.4, 0.45, 0.49)
 SUP_RTOL = 1e-12

@@ -68,6 +68,6 @@ def test_no_traceback_escapes(command, args):
 
 
 def _quick_solve_tight(params, lipschitz=None, progress=False, **_):
-    from vorobound.bounds.solve import solve_eps_star
+    from vorobound.bounds.eps_star import solve_eps_star
 
     return solve_eps_star(params, "rigorous")

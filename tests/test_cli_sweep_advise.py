@@ -7,7 +7,7 @@ import json
 import pytest
 
 from vorobound.bounds.params import SamplingParams
-from vorobound.bounds.solve import solve_eps_star
+from vorobound.bounds.eps_star import solve_eps_star
 
 
 def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):

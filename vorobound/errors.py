@@ -1,5 +1,33 @@
-"""The one exception type the library raises for bad input."""
+"""The exceptions vorobound raises. Every one is a :class:`VoroboundError` (a ``ValueError``).
+
+The command line turns any of them into one line on stderr and exit code 2. Callers that need
+to tell the cases apart catch the subclass.
+"""
 
 
 class VoroboundError(ValueError):
-    """Raised for invalid input or a problem without a solution; the CLI prints its message."""
+    """Base class: bad input, or a problem whose answer cannot be computed."""
+
+
+class InputError(VoroboundError):
+    """A parameter or an input array is invalid or outside the supported range."""
+
+
+class NoAdmissibleEps(VoroboundError):
+    """No sampling density ε keeps the bound within the quality target.
+
+    Sweeps turn this one error into an empty ε* cell (with the reason beside it); every other
+    error stops the sweep.
+    """
+
+
+class ReadError(VoroboundError):
+    """A file cannot be read or is not what the command expects (mesh, sizing, balls, ...)."""
+
+
+class WriteError(VoroboundError):
+    """An output file cannot be written (the previous file, if any, is left intact)."""
+
+
+class CertificateError(VoroboundError):
+    """A certificate is malformed, or re-checking it fails."""

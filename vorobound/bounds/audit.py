@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chain import ChainBounds, chain_bounds
-from .feasible import GuideTriangles
+from .configurations import GuideTriangles
 from .params import Mode, SamplingParams
 
 AUDIT_RTOL = 1e-9

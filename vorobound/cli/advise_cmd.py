@@ -13,7 +13,7 @@ from .output import fmt, parse_numbers, print_json, print_table
 
 
 def _surface(area, lfs, sphere, torus, mesh, sizing):
-    from ..reports import surfaces
+    from ..sampling import surfaces
 
     given = [x is not None for x in (area, sphere, torus, mesh)]
     if sum(given) > 1:
@@ -77,7 +77,7 @@ def advise(
         raise VoroboundError(f"--lipschitz must be non-negative, got {lipschitz}")
     surface = _surface(area, lfs, sphere, torus, mesh, sizing)
     params = make_params(0.5, sigma, delta_ratio, 1.0, rho_f)
-    from ..reports.surfaces import planar_area
+    from ..sampling.surfaces import planar_area
 
     # Without a surface, lengths are reported per unit L (counts are dropped below).
     basis = surface or planar_area(1.0, 1.0)

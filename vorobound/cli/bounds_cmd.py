@@ -119,7 +119,7 @@ def solve(
 
         result = solve_tight(params, lipschitz=lipschitz, progress=not as_json)
     else:
-        from ..bounds.solve import solve_eps_star
+        from ..bounds.eps_star import solve_eps_star
 
         result = solve_eps_star(params, mode.value)
     payload = {

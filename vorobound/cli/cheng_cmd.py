@@ -21,7 +21,7 @@ def cheng(
 ) -> None:
     """R/R̂ for weights in [0, α²N(s)²]: c_rad = 1/sqrt(1−4α²), the conjectured 1/sqrt(1−3α²),
     and the numerically maximized ratio (docs/cheng.md)."""
-    from ..bounds.cheng import cheng_constants
+    from ..studies.cheng import cheng_constants
 
     result = cheng_constants(alpha, dim=dim, seed=seed)
     unbounded = math.isinf(result.numeric_sup)

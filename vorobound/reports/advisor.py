@@ -18,9 +18,9 @@ import math
 from dataclasses import dataclass
 
 from ..bounds.params import Mode, SamplingParams
-from ..bounds.solve import solve_eps_star
+from ..bounds.eps_star import solve_eps_star
 from .figure_data import BASELINE_EPS
-from .surfaces import Surface
+from ..sampling.surfaces import Surface
 
 GUARANTEE = (
     "Covered: with eps <= eps_star every guide triangle has R - R_hat <= (rho_f - 1)*delta*L_i, "

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..bounds.chain import chain_bounds
 from ..bounds.params import Mode, SamplingParams
-from ..bounds.solve import EpsStar, solve_eps_star
+from ..bounds.eps_star import EpsStar, solve_eps_star
 
 BASELINE_EPS = 1 / 500
 """The sampling density of the original VoroCrust analysis."""

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from ..bounds.chain import chain_bounds
 from ..bounds.params import SamplingParams
-from ..bounds.solve import EpsStar, solve_eps_star
+from ..bounds.eps_star import EpsStar, solve_eps_star
 from .figure_data import BASELINE_EPS
 
 PAPER_EPS = 0.0047

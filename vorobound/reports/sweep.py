@@ -11,7 +11,7 @@ import numpy as np
 
 from ..bounds.chain import chain_arrays
 from ..bounds.params import Mode, SamplingParams
-from ..bounds.solve import solve_eps_star_batch
+from ..bounds.eps_star import solve_eps_star_batch
 from ..errors import VoroboundError
 
 MAX_GRID_POINTS = 10_000_000

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..bounds.audit import audit_chain, exact_quantities
 from ..bounds.chain import chain_bounds
-from ..bounds.feasible import sample_feasible
+from ..bounds.configurations import sample_feasible
 from ..bounds.params import SamplingParams
 from ..errors import VoroboundError
 

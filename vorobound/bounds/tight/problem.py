@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import VoroboundError
-from .feasible import GuideTriangles, feasible_mask
-from .params import SamplingParams
+from ...errors import VoroboundError
+from ..configurations import GuideTriangles, feasible_mask
+from ..params import SamplingParams
 
 PROJECTION_STEPS = 6
 """Newton steps onto active constraints (quadratic convergence: three or four suffice)."""

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import VoroboundError
+from ..errors import InputError
+from .mesh_io import read_sizing, read_triangle_mesh
 
 
 @dataclass(frozen=True)
@@ -39,7 +40,7 @@ def torus(major: float, minor: float) -> Surface:
     """
     _positive(minor, "torus minor radius")
     if not major > minor:
-        raise VoroboundError(f"a ring torus needs R > r, got R={major:g}, r={minor:g}")
+        raise InputError(f"a ring torus needs R > r, got R={major:g}, r={minor:g}")
     from scipy.integrate import quad
 
     def integrand(phi):
@@ -69,62 +70,34 @@ def planar_area(area: float, lfs: float) -> Surface:
 
 
 def mesh_surface(path: Path, lfs: float | None = None, sizing: Path | None = None) -> Surface:
-    """A triangle mesh read with meshio; L constant (``lfs``) or per vertex (``sizing`` CSV)."""
+    """A triangle mesh read with meshio; L constant (``lfs``) or per vertex (``sizing`` CSV).
+
+    With a sizing file each triangle uses the mean L of its vertices.
+    """
     if (lfs is None) == (sizing is None):
-        raise VoroboundError("a mesh needs either --lfs L or --sizing FILE (one value per vertex)")
-    try:
-        import meshio
-    except ImportError:
-        raise VoroboundError("reading meshes needs meshio: pip install meshio") from None
-    try:
-        mesh = meshio.read(path)
-    except Exception as exc:  # meshio raises many types for unreadable files
-        raise VoroboundError(f"cannot read mesh {path}: {exc}") from None
-    cells = [block.data for block in mesh.cells if block.type == "triangle"]
-    if not cells:
-        raise VoroboundError(f"mesh {path} has no triangles")
-    tri = np.concatenate(cells)
-    pts = np.asarray(mesh.points, dtype=float)
-    if pts.shape[1] == 2:
-        pts = np.column_stack([pts, np.zeros(len(pts))])
-    cross = np.cross(pts[tri[:, 1]] - pts[tri[:, 0]], pts[tri[:, 2]] - pts[tri[:, 0]])
-    areas = 0.5 * np.linalg.norm(cross, axis=1)
+        raise InputError("a mesh needs either a constant L or a sizing file (one L per vertex)")
+    mesh = read_triangle_mesh(path)
+    areas = mesh.triangle_areas()
     if sizing is not None:
-        vertex_lfs = _read_sizing(sizing, len(pts))
-        tri_lfs = vertex_lfs[tri].mean(axis=1)
+        tri_lfs = read_sizing(sizing, len(mesh.points))[mesh.triangles].mean(axis=1)
     else:
         _positive(lfs, "lfs")
-        tri_lfs = np.full(len(tri), lfs)
-    return Surface(
-        f"mesh {Path(path).name}",
-        float(areas.sum()),
-        float((areas / tri_lfs**2).sum()),
-        float(tri_lfs.min()),
-        False,
-    )
+        tri_lfs = np.full(len(mesh.triangles), float(lfs))
+    return surface_from_mesh_areas(mesh.name, areas, tri_lfs)
 
 
-def _read_sizing(path: Path, count: int) -> np.ndarray:
-    try:
-        lines = [ln.strip() for ln in Path(path).read_text().splitlines() if ln.strip()]
-    except OSError as exc:
-        raise VoroboundError(f"cannot read sizing file {path}: {exc.strerror}") from None
-    values = []
-    for index, line in enumerate(lines):
-        try:
-            values.append(float(line.split(",")[-1]))
-        except ValueError:
-            if index == 0:
-                continue  # a header
-            raise VoroboundError(f"sizing file {path}, line {index + 1}: not a number") from None
-    data = np.array(values)
-    if len(data) != count:
-        raise VoroboundError(f"sizing file {path} has {len(data)} values for {count} vertices")
-    if not (np.isfinite(data).all() and (data > 0).all()):
-        raise VoroboundError(f"sizing file {path}: every value must be positive and finite")
-    return data
+def surface_from_mesh_areas(name: str, areas: np.ndarray, tri_lfs: np.ndarray) -> Surface:
+    """A :class:`Surface` from triangle areas and one L per triangle, refusing nonsense."""
+    with np.errstate(all="ignore"):
+        area = float(areas.sum())
+        integral = float((areas / tri_lfs**2).sum())
+    if not (math.isfinite(area) and area > 0):
+        raise InputError(f"mesh {name}: its triangles have no (finite) area")
+    if not (math.isfinite(integral) and integral > 0):
+        raise InputError(f"mesh {name}: the integral of 1/L² over the surface is not finite")
+    return Surface(f"mesh {name}", area, integral, float(tri_lfs.min()), False)
 
 
 def _positive(value, name: str) -> None:
     if value is None or not (math.isfinite(value) and value > 0):
-        raise VoroboundError(f"{name} must be positive and finite, got {value}")
+        raise InputError(f"{name} must be positive and finite, got {value}")

@@ -10,8 +10,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import VoroboundError
-from .tight_problem import AGREE_RTOL, Problem, onto_plateau, project, with_jacobian
+from ...errors import VoroboundError
+from .problem import AGREE_RTOL, Problem, onto_plateau, project, with_jacobian
 
 DE_POPSIZE = 12
 """Differential evolution population, per coordinate."""

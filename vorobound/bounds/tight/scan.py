@@ -1,7 +1,7 @@
 """The tight bound: the exact supremum of R − R̂ over every feasible guide triangle.
 
 R − R̂ of eq. (29) and the constraint set (33)–(37), H3 are stated in
-:mod:`vorobound.bounds.tight_problem` and optimized by :mod:`vorobound.bounds.tight_search`;
+:mod:`vorobound.bounds.tight.problem` and optimized by :mod:`vorobound.bounds.tight.search`;
 this module reports the extremes and finds the tight ε*.
 
 Structure of the optimum, measured for σ = 3/4, δ = 2ε, ρ_f = 1.38 (evidence at ε = 0.0047:
@@ -35,11 +35,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .feasible import sample_feasible
-from .params import SamplingParams
-from .solve import EpsStar, find_eps_star
-from .tight_problem import AGREE_RTOL, Problem, checked_problem, describe
-from .tight_search import best_feasible, best_of_sample, extremum, polish
+from ..configurations import sample_feasible
+from ..params import SamplingParams
+from ..eps_star import EpsStar, find_eps_star
+from .problem import AGREE_RTOL, Problem, checked_problem, describe
+from .search import best_feasible, best_of_sample, extremum, polish
 
 DENSE_SAMPLES = 20_000
 """Feasible configurations sampled (half biased to the boundaries) as evidence and as starts."""
@@ -173,7 +173,7 @@ def solve_tight(
     """Largest ε whose tight bound sup(R − R̂) stays within (ρ_f − 1)·δ·L_i.
 
     Scans ``grid`` upwards, warm-starting each ε from the previous maximizer, up to the
-    first crossing; refines it with brentq (:func:`vorobound.bounds.solve.find_eps_star`);
+    first crossing; refines it with brentq (:func:`vorobound.bounds.eps_star.find_eps_star`);
     confirms the root and the bracket's lower end by full global searches, and repeats with
     their maximizers as extra starts if they beat the scan.
 

@@ -1,0 +1,113 @@
+"""Writing output files safely: a temporary file in the same folder, then a rename.
+
+A reader never sees a half-written file, and a run that fails or is killed before the rename
+leaves the previous file as it was. Two runs writing the same path each write their own
+temporary file, so the survivor is one complete file. A set of files (the figures of one run)
+is written the same way: every member is finished first, then each is renamed into place.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+from .errors import WriteError
+
+TEMP_PREFIX = ".vorobound-tmp-"
+"""Temporary files start with this (hidden) prefix, so a killed run's leftovers are easy to spot."""
+
+
+def _temp_for(path: Path) -> Path:
+    folder = path.parent
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, name = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.name}.", dir=folder)
+    except OSError as exc:
+        raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+    os.close(handle)
+    return Path(name)
+
+
+def _discard(temp: Path) -> None:
+    with contextlib.suppress(OSError):
+        temp.unlink()
+
+
+def _publish(temp: Path, path: Path) -> None:
+    try:
+        # mkstemp creates files readable by the owner only; give the usual permissions.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(temp, 0o666 & ~umask)
+        os.replace(temp, path)
+    except OSError as exc:
+        _discard(temp)
+        raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; rename it onto ``path`` if the block succeeds.
+
+    For writers that want a file name (matplotlib, meshio, numpy). On any exception, including
+    KeyboardInterrupt, the temporary file is removed and ``path`` is untouched.
+    """
+    target = Path(path)
+    temp = _temp_for(target)
+    try:
+        yield temp
+    except BaseException:
+        _discard(temp)
+        raise
+    _publish(temp, target)
+
+
+@contextlib.contextmanager
+def atomic_open(path: str | os.PathLike, mode: str = "w", encoding: str = "utf-8"):
+    """Like ``open(path, mode)`` for writing, but the file appears only when the block ends."""
+    binary = "b" in mode
+    with atomic_path(path) as temp:
+        try:
+            handle = open(temp, mode, **({} if binary else {"encoding": encoding, "newline": ""}))
+        except OSError as exc:
+            raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+        with handle:
+            try:
+                yield handle
+                handle.flush()
+                os.fsync(handle.fileno())
+            except OSError as exc:
+                raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+
+
+def write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically; return the path."""
+    with atomic_open(path, "w") as handle:
+        handle.write(text)
+    return Path(path)
+
+
+def write_set(writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
+    """Write several files as a set: each writer fills a temporary path, then all are renamed.
+
+    ``writers`` maps each final path to a function that writes the file at the path it is given.
+    If any writer fails (or the run is interrupted) before the renames, no final path changes.
+    """
+    temps: dict[Path, Path] = {}
+    try:
+        for path, write in writers.items():
+            temps[path] = _temp_for(Path(path))
+            try:
+                write(temps[path])
+            except OSError as exc:
+                raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+    except BaseException:
+        for temp in temps.values():
+            _discard(temp)
+        raise
+    for path, temp in temps.items():
+        _publish(temp, Path(path))
+    return [Path(p) for p in writers]

@@ -1,0 +1,117 @@
+"""Reading the files users bring: triangle meshes (through meshio) and per-vertex sizing CSVs.
+
+meshio reports an unreadable file by printing to stdout and calling ``sys.exit(1)``; here its
+output is captured and every failure becomes a :class:`~vorobound.errors.ReadError` with one
+line of explanation, so a command's JSON on stdout stays clean.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ReadError
+
+
+@dataclass(frozen=True)
+class TriangleMesh:
+    """Vertices (n, 3) and triangles (m, 3) of a surface mesh, checked for basic sanity."""
+
+    points: np.ndarray
+    triangles: np.ndarray
+    name: str
+
+    def triangle_areas(self) -> np.ndarray:
+        """Area of each triangle (cross product of two edges)."""
+        p = self.points[self.triangles]
+        return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def quiet_meshio(call, path: Path, what: str):
+    """Run a meshio ``call`` with its stdout/stderr chatter captured; failures raise ReadError."""
+    sink = io.StringIO()
+    try:
+        with (
+            contextlib.redirect_stdout(sink),
+            contextlib.redirect_stderr(sink),
+            warnings.catch_warnings(),
+        ):
+            warnings.simplefilter("ignore")
+            return call()
+    except SystemExit:
+        said = " ".join(sink.getvalue().split())
+        raise ReadError(f"cannot read {what} {path}: {said or 'meshio could not read it'}") from None
+    except MemoryError:
+        raise ReadError(f"cannot read {what} {path}: it does not fit in memory") from None
+    except Exception as exc:  # meshio and its format readers raise many types
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        raise ReadError(f"cannot read {what} {path}: {message}") from None
+
+
+def read_triangle_mesh(path: str | Path) -> TriangleMesh:
+    """Read the triangles of any mesh meshio understands (STL, OBJ, PLY, OFF, VTK, VTU, ...).
+
+    Raises
+    ------
+    ReadError
+        Unreadable file, no triangles, points that are not 2-D or 3-D, non-finite coordinates,
+        or faces that refer to missing vertices.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ReadError(f"cannot read mesh {path}: no such file")
+    import meshio
+
+    mesh = quiet_meshio(lambda: meshio.read(path), path, "mesh")
+    points = np.asarray(mesh.points)
+    if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
+        raise ReadError(f"mesh {path}: points must be 2-D or 3-D, got shape {points.shape}")
+    if not np.issubdtype(points.dtype, np.number) or np.iscomplexobj(points):
+        raise ReadError(f"mesh {path}: point coordinates are not real numbers")
+    points = points.astype(float)
+    if not np.isfinite(points).all():
+        raise ReadError(f"mesh {path}: some point coordinates are NaN or infinite")
+    if points.shape[1] == 2:
+        points = np.column_stack([points, np.zeros(len(points))])
+    blocks = [np.asarray(block.data) for block in mesh.cells if block.type == "triangle"]
+    if not blocks or sum(len(b) for b in blocks) == 0:
+        raise ReadError(f"mesh {path} has no triangles")
+    triangles = np.concatenate(blocks).astype(np.int64)
+    if triangles.min() < 0 or triangles.max() >= len(points):
+        raise ReadError(
+            f"mesh {path}: a face refers to vertex {int(triangles.max()) + 1} but the mesh has "
+            f"{len(points)} vertices"
+        )
+    return TriangleMesh(points, triangles, path.name)
+
+
+def read_sizing(path: str | Path, count: int) -> np.ndarray:
+    """One positive, finite local feature size per vertex from a CSV (last column; a header
+    line is allowed)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ReadError(f"sizing file {path} is not UTF-8 text") from None
+    except OSError as exc:
+        raise ReadError(f"cannot read sizing file {path}: {exc.strerror or exc}") from None
+    lines = [line.strip() for line in text.splitlines() if line.strip()]
+    values = []
+    for index, line in enumerate(lines):
+        try:
+            values.append(float(line.split(",")[-1]))
+        except ValueError:
+            if index == 0:
+                continue  # a header
+            raise ReadError(f"sizing file {path}, line {index + 1}: not a number") from None
+    data = np.array(values, dtype=float)
+    if len(data) != count:
+        raise ReadError(f"sizing file {path} has {len(data)} values for {count} vertices")
+    if not (np.isfinite(data).all() and (data > 0).all()):
+        raise ReadError(f"sizing file {path}: every value must be positive and finite")
+    return data

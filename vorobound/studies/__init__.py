@@ -1,0 +1,1 @@
+"""Numerical studies beside the main bounds (Cheng, Dey and Shewchuk's constant)."""
