@@ -18,8 +18,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from vorobound.bounds.params import SamplingParams  # noqa: E402
 from vorobound.bounds.eps_star import solve_eps_star  # noqa: E402
+from vorobound.bounds.params import QualityParams  # noqa: E402
 from vorobound.bounds.tight import solve_tight, tight_supremum  # noqa: E402
 
 SUPREMUM_TARGET_S = 2.0
@@ -45,7 +45,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3, help="runs per timing (best kept)")
     args = parser.parse_args()
-    params = SamplingParams(PAPER_EPS)
+    params = QualityParams().at(PAPER_EPS)
     print(f"paper parameters, {os.cpu_count()} cores")
     print(f"  rigorous eps*: {solve_eps_star(params, 'rigorous').eps_star:.7f}")
     for lam in (None, 1.0):

@@ -9,15 +9,16 @@ from vorobound import VoroboundError
 from vorobound.bounds.audit import audit_chain, exact_quantities, printed_step_counterexamples
 from vorobound.bounds.chain import chain_bounds
 from vorobound.bounds.configurations import feasible_mask, sample_feasible
-from vorobound.bounds.params import SamplingParams
 from vorobound.bounds.eps_star import solve_eps_star
+from vorobound.bounds.params import QualityParams
+from vorobound.errors import InputError
 
-PAPER = SamplingParams(0.0047)
+PAPER = QualityParams().at(0.0047)
 INVALID_PRINTED_STEPS = {"(49)", "(52)", "(53)"}
 
 
 def test_paper_mode_reproduces_the_published_eps():
-    result = solve_eps_star(PAPER, "paper")
+    result = solve_eps_star(PAPER.quality, "paper")
     assert round(result.eps_star, 4) == 0.0047  # the paper's figure
     assert result.eps_star > 1 / 500
     chain = chain_bounds(PAPER, "paper", eps=result.eps_star)
@@ -32,23 +33,23 @@ def test_target_is_076_eps_for_the_paper_parameters():
 
 
 def test_eps_star_does_not_depend_on_the_feature_size():
-    base = solve_eps_star(PAPER, "rigorous").eps_star
+    base = solve_eps_star(PAPER.quality, "rigorous").eps_star
     for lfs in (0.01, 30.0):
-        other = solve_eps_star(SamplingParams(0.004, lfs=lfs), "rigorous").eps_star
+        other = solve_eps_star(QualityParams(lfs=lfs), "rigorous").eps_star
         assert other == pytest.approx(base, rel=1e-10)
 
 
 @settings(max_examples=25, deadline=None)
 @given(st.floats(1.05, 3.0), st.floats(0.01, 0.5), st.sampled_from(["paper", "rigorous"]))
 def test_eps_star_grows_with_rho_f(rho_f, step, mode):
-    low = solve_eps_star(SamplingParams(0.01, rho_f=rho_f), mode).eps_star
-    high = solve_eps_star(SamplingParams(0.01, rho_f=rho_f + step), mode).eps_star
+    low = solve_eps_star(QualityParams(rho_f=rho_f), mode).eps_star
+    high = solve_eps_star(QualityParams(rho_f=rho_f + step), mode).eps_star
     assert high > low
 
 
 def test_no_admissible_eps_is_a_clear_error():
     with pytest.raises(VoroboundError, match="no admissible eps"):
-        solve_eps_star(SamplingParams(0.01, rho_f=1 + 1e-12), "paper")
+        solve_eps_star(QualityParams(rho_f=1 + 1e-12), "paper")
 
 
 @pytest.mark.parametrize(
@@ -57,29 +58,39 @@ def test_no_admissible_eps_is_a_clear_error():
         {"eps": 0},
         {"eps": 1},
         {"eps": float("nan")},
+        {"eps": 1e-320},
         {"eps": 0.1, "sigma": -1},
+        {"eps": 0.1, "sigma": 1e308},
         {"eps": 0.1, "delta_ratio": 0},
+        {"eps": 0.1, "delta_ratio": 1e308},
+        {"eps": 0.1, "delta_ratio": 1e-300},
         {"eps": 0.1, "lfs": 0},
+        {"eps": 0.1, "lfs": 1e-320},
         {"eps": 0.1, "rho_f": 1},
+        {"eps": 0.1, "rho_f": 1e308},
+        {"eps": "0.1"},
+        {"eps": True},
+        {"eps": 0.1, "sigma": 1 + 1j},
     ],
 )
-def test_invalid_parameters_raise(kwargs):
-    with pytest.raises(VoroboundError):
-        SamplingParams(**kwargs)
+def test_invalid_parameters_raise_input_errors(kwargs):
+    eps = kwargs.pop("eps")
+    with pytest.raises(InputError):
+        QualityParams(**kwargs).at(eps)
 
 
 def test_chain_accepts_arrays_of_eps():
     eps = np.geomspace(1e-4, 0.05, 7)
     chain = chain_bounds(PAPER, "rigorous", eps=eps)
     assert chain.bound.shape == (7,)
-    single = chain_bounds(SamplingParams(float(eps[3])), "rigorous")
+    single = chain_bounds(QualityParams().at(float(eps[3])), "rigorous")
     assert chain.bound[3] == pytest.approx(float(single.bound), rel=1e-15)
 
 
 @pytest.mark.parametrize("eps", [0.002, 0.0047, 0.0058, 0.02])
 @pytest.mark.parametrize("sigma", [0.5, 0.75, 1.0])
 def test_rigorous_chain_is_never_violated(eps, sigma):
-    params = SamplingParams(eps, sigma=sigma)
+    params = QualityParams(sigma=sigma).at(eps)
     tri = sample_feasible(params, 4000, np.random.default_rng(int(eps * 1e4) + int(sigma * 10)))
     assert len(tri) == 4000
     assert feasible_mask(tri, params).all()
@@ -95,7 +106,7 @@ def test_paper_chain_fails_exactly_at_the_steps_the_errata_name():
 
 @pytest.mark.parametrize("eps", [0.001, 0.0047, 0.01])
 def test_counterexamples_are_feasible_and_violate_their_step(eps):
-    params = SamplingParams(eps)
+    params = QualityParams().at(eps)
     found = printed_step_counterexamples(params)
     assert {c.label for c in found} == {"(49)", "(52)"}
     printed = chain_bounds(params, "paper")
@@ -103,9 +114,9 @@ def test_counterexamples_are_feasible_and_violate_their_step(eps):
         assert feasible_mask(example.triangle, params).all()
         q = exact_quantities(example.triangle, params)
         if example.label == "(49)":
-            assert q["cos"][0] < printed.k_cos
+            assert q.cos[0] < printed.k_cos
         else:
-            assert q["sin"][0] < printed.sin_min_obtuse and not q["acute"][0]
+            assert q.sin[0] < printed.sin_min_obtuse and not q.acute[0]
 
 
 def test_rigorous_bounds_use_the_corrected_cosine():

@@ -9,11 +9,11 @@ import pytest
 from vorobound import VoroboundError
 from vorobound.bounds.chain import chain_bounds
 from vorobound.bounds.configurations import GuideTriangles, feasible_mask, sample_feasible
-from vorobound.bounds.params import SamplingParams
 from vorobound.bounds.eps_star import solve_eps_star
+from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.bounds.tight import solve_tight, tight_supremum
 
-PAPER = SamplingParams(0.0047)
+PAPER = QualityParams().at(0.0047)
 BUDGET = {"dense_samples": 3000, "de_maxiter": 60}
 """Small search budgets: the optimum is found from every start anyway (see the evidence)."""
 SAMPLE_RTOL = 1e-9
@@ -33,9 +33,8 @@ def _vertex(params: SamplingParams, lipschitz: float | None) -> GuideTriangles:
     return GuideTriangles.of(sigma * eps * lfs, sigma * eps * lfs, theta, lfs_max, lfs_max)
 
 
-def _as_triangle(config: dict) -> GuideTriangles:
-    keys = ("b", "c", "theta", "lfs_j", "lfs_k")
-    return GuideTriangles.of(*(config[k] for k in keys))
+def _as_triangle(config) -> GuideTriangles:
+    return config.triangles()
 
 
 @pytest.fixture(scope="module")
@@ -45,45 +44,46 @@ def paper_tight():
 
 @pytest.fixture(scope="module")
 def eps_stars():
-    return {lam: solve_tight(PAPER, lam, **BUDGET) for lam in (None, 1.0)}
+    return {lam: solve_tight(PAPER.quality, lam, **BUDGET) for lam in (None, 1.0)}
 
 
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_supremum_dominates_a_dense_feasible_sample(paper_tight, lam):
     result = paper_tight[lam]
     tri = sample_feasible(PAPER, 5000, np.random.default_rng(7), lam)
-    delta = tri.delta(PAPER)
+    delta = tri.radius_gap(PAPER)
     assert len(tri) == 5000
     assert delta.max() <= result.supremum * (1 + SAMPLE_RTOL)
     assert delta.min() >= result.infimum * (1 + SAMPLE_RTOL)
     for config in (result.maximizer, result.minimizer):
         assert feasible_mask(_as_triangle(config), PAPER, lam).all()
     maximizer = _as_triangle(result.maximizer)
-    assert maximizer.delta(PAPER)[0] == pytest.approx(result.supremum, rel=1e-14)
+    assert maximizer.radius_gap(PAPER)[0] == pytest.approx(result.supremum, rel=1e-14)
     for config in (result.maximizer, result.minimizer):
-        assert config["lfs_j"] <= config["lfs_k"]
+        assert config.lfs_j <= config.lfs_k
 
 
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_supremum_is_the_closed_form_vertex(paper_tight, lam):
     vertex = _vertex(PAPER, lam)
     assert feasible_mask(vertex, PAPER, lam).all()
-    expected = vertex.delta(PAPER)[0]
+    expected = vertex.radius_gap(PAPER)[0]
     result = paper_tight[lam]
     assert expected * (1 - 1e-15) <= result.supremum <= expected * (1 + VERTEX_RTOL)
-    assert result.maximizer["b"] == pytest.approx(PAPER.sigma * PAPER.eps, rel=1e-12)
-    assert "R = ε/(1−ε)·L_i (H3)" in result.evidence["active_constraints"]
+    assert result.maximizer.b == pytest.approx(PAPER.sigma * PAPER.eps, rel=1e-12)
+    assert "R = ε/(1−ε)·L_i (H3)" in result.evidence.active_constraints
 
 
 def test_evidence_shows_agreement_and_is_json_ready(paper_tight):
     import json
+    from dataclasses import asdict
 
     evidence = paper_tight[None].evidence
-    assert evidence["agreeing_starts"] >= evidence["starts"] - 1
-    assert evidence["spread_of_local_optima"] < SAMPLE_RTOL
-    assert evidence["dense_sample_max"] <= paper_tight[None].supremum
-    assert evidence["infimum"]["dense_sample_min"] >= paper_tight[None].infimum
-    json.dumps(evidence)
+    assert evidence.agreeing_starts >= evidence.starts - 1
+    assert evidence.spread_of_local_optima < SAMPLE_RTOL
+    assert evidence.dense_sample_extreme <= paper_tight[None].supremum
+    assert paper_tight[None].infimum_evidence.dense_sample_extreme >= paper_tight[None].infimum
+    json.dumps(asdict(evidence))
     assert paper_tight[None].supremum / PAPER.target == pytest.approx(0.17841021, rel=1e-7)
 
 
@@ -97,7 +97,7 @@ def test_infimum_below_supremum_and_lipschitz_only_lowers_it(paper_tight):
 
 @pytest.mark.parametrize("eps", [1e-4, 0.002, 0.0047, 0.02, 0.05])
 def test_tight_never_exceeds_the_rigorous_chain(eps):
-    params = SamplingParams(eps)
+    params = QualityParams().at(eps)
     rigorous = float(chain_bounds(params, "rigorous").bound)
     plain = tight_supremum(params, **BUDGET).supremum
     lipschitz = tight_supremum(params, 1.0, **BUDGET).supremum
@@ -105,18 +105,18 @@ def test_tight_never_exceeds_the_rigorous_chain(eps):
 
 
 def test_large_eps_reaches_the_trivial_bound_with_zero_orthoradius():
-    params = SamplingParams(0.1)
+    params = QualityParams().at(0.1)
     result = tight_supremum(params, **BUDGET)
     r_max = params.eps / (1 - params.eps) * params.lfs
     assert result.supremum == pytest.approx(r_max, rel=1e-12)
-    assert "R̂ = 0 (w_B = c², w_C = b²)" in result.evidence["active_constraints"]
+    assert "R̂ = 0 (w_B = c², w_C = b²)" in result.evidence.active_constraints
     assert feasible_mask(_as_triangle(result.maximizer), params).all()
 
 
 def test_deterministic_for_a_seed_and_scale_free():
     first = tight_supremum(PAPER, 1.0, seed=3, **BUDGET)
     assert tight_supremum(PAPER, 1.0, seed=3, **BUDGET) == first
-    scaled = tight_supremum(SamplingParams(PAPER.eps, lfs=30.0), 1.0, seed=3, **BUDGET)
+    scaled = tight_supremum(QualityParams(lfs=30.0).at(PAPER.eps), 1.0, seed=3, **BUDGET)
     assert scaled.supremum == pytest.approx(30 * first.supremum, rel=1e-12)
 
 
@@ -131,7 +131,7 @@ def test_solve_tight_meets_the_target_at_eps_star(eps_stars):
 
 
 def test_tight_eps_star_beats_the_rigorous_one(eps_stars):
-    rigorous = solve_eps_star(PAPER, "rigorous").eps_star
+    rigorous = solve_eps_star(PAPER.quality, "rigorous").eps_star
     assert rigorous == pytest.approx(RIGOROUS_EPS_STAR, rel=1e-4)
     assert eps_stars[None].eps_star > 4 * rigorous
     assert eps_stars[1.0].eps_star >= eps_stars[None].eps_star
@@ -141,7 +141,7 @@ def test_tight_eps_star_beats_the_rigorous_one(eps_stars):
 
 def test_solve_tight_is_quiet_without_progress(capsys):
     grid = np.geomspace(0.005, 0.05, 6)
-    result = solve_tight(PAPER, grid=grid, **BUDGET)
+    result = solve_tight(PAPER.quality, grid=grid, **BUDGET)
     captured = capsys.readouterr()
     assert captured.out == captured.err == ""
     assert result.eps_star == pytest.approx(0.0247812, rel=1e-5)
@@ -152,14 +152,14 @@ def test_bad_lipschitz_is_a_clear_error(lam):
     with pytest.raises(VoroboundError, match="lipschitz"):
         tight_supremum(PAPER, lam)
     with pytest.raises(VoroboundError, match="lipschitz"):
-        solve_tight(PAPER, lam)
+        solve_tight(PAPER.quality, lam)
 
 
 def test_impossible_inputs_raise_voroboundError():
     with pytest.raises(VoroboundError, match="no crossing"):
-        solve_tight(PAPER, 0.0, grid=np.geomspace(1e-3, 0.5, 5), **BUDGET)
+        solve_tight(PAPER.quality, 0.0, grid=np.geomspace(1e-3, 0.5, 5), **BUDGET)
     with pytest.raises(VoroboundError, match="no feasible guide triangle"):
-        tight_supremum(SamplingParams(0.1, sigma=2.5))
+        tight_supremum(QualityParams(sigma=2.5).at(0.1))
 
 
 def test_importing_the_module_does_not_import_scipy():

@@ -3,6 +3,7 @@
 import functools
 import json
 import math
+from dataclasses import asdict
 
 import mpmath as mp
 import numpy as np
@@ -23,6 +24,9 @@ FLAT_RTOL = 1e-7
 WEIGHT_SLACK = 1e-12
 """Relative slack on w ≤ α² N² for weights computed as fraction · α² N²."""
 DIGITS = 50
+MIN_AGREEING_STARTS = 5
+"""Of the 9 local polishes (global-search result and 8 sample points), at least this many must
+reach the supremum: it is found from many independent starts, not by one lucky run."""
 
 
 @functools.cache
@@ -79,16 +83,19 @@ def test_triangle_sup_within_proven_bound_and_equal_to_conjecture(alpha):
     assert r.numeric_sup <= r.c_rad
     assert r.numeric_sup <= r.c_conjectured * (1 + SUP_RTOL)
     assert r.numeric_sup >= r.c_conjectured * (1 - REACH_RTOL)
-    assert r.evidence["unbounded"] is False
-    assert r.evidence["local_polish"]["reaching_best"] >= 1
+    assert r.evidence.unbounded is False
+    # The supremum is found independently: several polishes from different starts reach it,
+    # and the global search alone comes close.
+    assert r.evidence.reaching_best >= MIN_AGREEING_STARTS
+    assert r.evidence.global_search_value >= r.numeric_sup * (1 - REACH_RTOL)
 
 
 @pytest.mark.parametrize("alpha", (0.1, 0.3, 0.49))
 def test_triangle_maximizer_is_equilateral_with_full_weights(alpha):
     m = result(alpha, 2).maximizer
-    edges = nearest_vertex_distances(np.array(m["points"]))
+    edges = nearest_vertex_distances(np.array(m.points))
     np.testing.assert_allclose(edges, 1.0, rtol=1e-6)
-    np.testing.assert_allclose(m["weight_fractions"], 1.0, rtol=1e-6)
+    np.testing.assert_allclose(m.weight_fractions, 1.0, rtol=1e-6)
 
 
 @pytest.mark.parametrize("alpha", (0.1, 0.3, 0.45, 0.49))
@@ -113,14 +120,14 @@ def test_triangle_sup_increases_with_alpha():
 def test_triangle_maximizer_admissible_and_recomputed_independently(alpha):
     r = result(alpha, 2)
     m = r.maximizer
-    points, weights = np.array(m["points"]), np.array(m["weights"])
+    points, weights = np.array(m.points), np.array(m.weights)
     pair = np.linalg.norm(points[:, None] - points[None], axis=-1) + np.diag([np.inf] * 3)
     bound = alpha**2 * pair.min(axis=1) ** 2
     assert (weights >= 0).all() and (weights <= bound * (1 + WEIGHT_SLACK)).all()
     tri = weighted_triangles(points, weights)
     ratio = float(tri.circumradius / np.sqrt(tri.orthoradius_sq))
     assert ratio == pytest.approx(r.numeric_sup, rel=ORACLE_RTOL)
-    assert m["ratio"] == pytest.approx(r.numeric_sup, rel=SUP_RTOL)
+    assert m.ratio == pytest.approx(r.numeric_sup, rel=SUP_RTOL)
     # The same triangle placed in 3-D gives the same ratio.
     rotation, _ = np.linalg.qr(np.random.default_rng(0).standard_normal((3, 3)))
     lifted = np.c_[points, np.zeros(3)] @ rotation.T + [0.3, -1.0, 2.0]
@@ -135,32 +142,30 @@ def test_triangle_maximizer_admissible_and_recomputed_independently(alpha):
 def test_tetrahedron_sup_is_infinite(alpha):
     r = result(alpha, 3)
     assert math.isinf(r.numeric_sup)
-    assert r.evidence["unbounded"] is True
-    floors = list(r.evidence["max_by_flatness_floor"].values())
+    assert r.evidence.unbounded is True
+    floors = list(r.evidence.max_by_flatness_floor.values())
     # Each tenfold flatter floor multiplies the maximum by about ten: R/R̂ ∝ 1/height.
     np.testing.assert_allclose(np.array(floors[1:]) / floors[:-1], 10.0, rtol=0.05)
-    assert r.maximizer["ratio"] > 1e4 * r.c_rad
+    assert r.maximizer.ratio > 1e4 * r.c_rad
 
 
 @pytest.mark.parametrize("alpha", (0.1, 0.3))
 def test_tetrahedron_maximizer_admissible_and_recomputed_independently(alpha):
     m = result(alpha, 3).maximizer
-    points, weights = np.array(m["points"]), np.array(m["weights"])
+    points, weights = np.array(m.points), np.array(m.weights)
     pair = np.linalg.norm(points[:, None] - points[None], axis=-1) + np.diag([np.inf] * 4)
     bound = alpha**2 * pair.min(axis=1) ** 2
     assert (weights >= 0).all() and (weights <= bound * (1 + WEIGHT_SLACK)).all()
     radius, ortho_sq = ratio_mp(points, weights)
-    assert m["circumradius"] == pytest.approx(radius, rel=FLAT_RTOL)
-    assert m["orthoradius"] ** 2 == pytest.approx(ortho_sq, rel=FLAT_RTOL)
+    assert m.circumradius == pytest.approx(radius, rel=FLAT_RTOL)
+    assert m.orthoradius**2 == pytest.approx(ortho_sq, rel=FLAT_RTOL)
 
 
 def test_tetrahedron_maximizer_against_gudhi():
     m = result(0.3, 3).maximizer
-    points, weights = np.array(m["points"]), np.array(m["weights"])
-    assert gudhi_top_value(points, weights) == pytest.approx(m["orthoradius"] ** 2, rel=FLAT_RTOL)
-    assert gudhi_top_value(points, np.zeros(4)) == pytest.approx(
-        m["circumradius"] ** 2, rel=FLAT_RTOL
-    )
+    points, weights = np.array(m.points), np.array(m.weights)
+    assert gudhi_top_value(points, weights) == pytest.approx(m.orthoradius**2, rel=FLAT_RTOL)
+    assert gudhi_top_value(points, np.zeros(4)) == pytest.approx(m.circumradius**2, rel=FLAT_RTOL)
 
 
 def flat_witness(alpha, height):
@@ -245,14 +250,14 @@ def test_alpha_zero_gives_one(dim):
     r = result(0.0, dim)
     assert r.numeric_sup == 1.0  # exact: every weight is 0
     assert r.c_rad == 1.0 and r.c_conjectured == 1.0
-    assert r.maximizer["weights"] == [0.0] * (dim + 1)
+    assert r.maximizer.weights == [0.0] * (dim + 1)
 
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_result_is_json_able(dim):
     r = result(0.3, dim)
-    json.dumps(r.maximizer, allow_nan=False)
-    json.dumps(r.evidence, allow_nan=False)
+    json.dumps(asdict(r.maximizer), allow_nan=False)
+    json.dumps(asdict(r.evidence), allow_nan=False)
     assert r.alpha == 0.3 and r.dim == dim
     assert r.c_rad == pytest.approx(1 / math.sqrt(1 - 4 * 0.09))
     assert r.c_conjectured == pytest.approx(1 / math.sqrt(1 - 3 * 0.09))

@@ -6,8 +6,8 @@ import json
 
 import pytest
 
-from vorobound.bounds.params import SamplingParams
 from vorobound.bounds.eps_star import solve_eps_star
+from vorobound.bounds.params import QualityParams
 
 
 def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):
@@ -16,7 +16,7 @@ def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):
     rows = json.loads(out)
     assert [r["rho_f"] for r in rows] == pytest.approx([1.2, 1.3, 1.4, 1.5])
     for row in rows:
-        expected = solve_eps_star(SamplingParams(0.01, rho_f=row["rho_f"]), "paper").eps_star
+        expected = solve_eps_star(QualityParams(rho_f=row["rho_f"]).at(0.01), "paper").eps_star
         assert row["eps_star"] == pytest.approx(expected, rel=1e-10)
 
 

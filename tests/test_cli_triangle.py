@@ -27,7 +27,7 @@ def test_json_from_points(run_cli):
     data = json.loads(out)
     assert REQUIRED_KEYS <= data.keys()
     lib = weighted_triangles([[0, 0], [1, 0], [0.2, 0.9]], [0.05, 0.01, 0.03])
-    assert data["delta"] == pytest.approx(float(lib.delta), rel=1e-15)
+    assert data["delta"] == pytest.approx(float(lib.radius_gap), rel=1e-15)
     assert data["min_weight_vertex"] == 1
     assert data["circumcenter"] == pytest.approx([0.5, 0.3611111111111111])
 
@@ -37,7 +37,7 @@ def test_json_from_edges_agrees_with_points(run_cli):
     code, out, _ = run_cli("triangle", "--edges", "5,4,3", "-w", "0,0.2,0.5", "--json")
     assert code == 0
     data = json.loads(out)
-    assert data["delta"] == pytest.approx(float(lib.delta), rel=1e-13)
+    assert data["delta"] == pytest.approx(float(lib.radius_gap), rel=1e-13)
     assert data["delta_direct"] is None and "circumcenter" not in data
 
 

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from vorobound.bounds.chain import chain_bounds
-from vorobound.bounds.params import SamplingParams
+from vorobound.bounds.params import QualityParams
 from vorobound.plotting import plot_comparison, plot_figure3
 from vorobound.reports.figure_data import chain_curve, comparison_data, figure3_data
 
-PARAMS = SamplingParams(0.0047)
+PARAMS = QualityParams().at(0.0047)
 
 
 def _line(ax, fragment):
@@ -20,7 +20,7 @@ def _line(ax, fragment):
 
 
 def test_figure3_paper_curve_meets_target_at_solved_eps():
-    data = figure3_data(PARAMS)
+    data = figure3_data(PARAMS.quality)
     ax = plot_figure3(data).axes[0]
     eps, acute = _line(ax, r"\theta \leq").get_xydata().T
     _, target = _line(ax, "target").get_xydata().T
@@ -37,8 +37,8 @@ def test_figure3_paper_curve_meets_target_at_solved_eps():
 
 
 def test_comparison_has_every_mode_and_the_target():
-    curves = [chain_curve(PARAMS, mode) for mode in ("paper", "rigorous")]
-    ax = plot_comparison(comparison_data(curves, PARAMS)).axes[0]
+    curves = [chain_curve(PARAMS.quality, mode) for mode in ("paper", "rigorous")]
+    ax = plot_comparison(comparison_data(curves, PARAMS.quality)).axes[0]
     for curve in curves:
         line = _line(ax, f"{curve.mode}:")
         x, y = line.get_xydata().T
@@ -51,7 +51,7 @@ def test_plotting_on_a_given_axes_returns_its_figure():
 
     fig = Figure()
     ax = fig.add_subplot()
-    assert plot_figure3(figure3_data(PARAMS), ax=ax) is fig
+    assert plot_figure3(figure3_data(PARAMS.quality), ax=ax) is fig
 
 
 @pytest.mark.parametrize("fmt", ["png", "pdf", "svg"])

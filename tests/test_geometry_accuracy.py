@@ -19,7 +19,7 @@ def test_delta_matches_mpmath(name):
     assert result.valid.all()
     for i in range(len(points)):
         ref = reference(points[i], weights[i])
-        assert relative_error(result.delta[i], ref["delta"]) <= DELTA_RTOL
+        assert relative_error(result.radius_gap[i], ref["delta"]) <= DELTA_RTOL
         assert relative_error(result.circumradius[i], ref["circumradius"]) <= RADIUS_RTOL
         assert (
             relative_error(result.shifted_orthoradius[i], ref["shifted_orthoradius"]) <= RADIUS_RTOL
@@ -30,8 +30,8 @@ def test_subtracting_radii_loses_the_digits_theorem1_keeps():
     points, weights = FAMILIES["tiny_weights"]
     result = weighted_triangles(points, weights)
     exact = [reference(points[i], weights[i])["delta"] for i in range(len(points))]
-    err_theorem = [relative_error(result.delta[i], exact[i]) for i in range(len(points))]
-    err_direct = [relative_error(result.delta_direct[i], exact[i]) for i in range(len(points))]
+    err_theorem = [relative_error(result.radius_gap[i], exact[i]) for i in range(len(points))]
+    err_direct = [relative_error(result.radius_gap_direct[i], exact[i]) for i in range(len(points))]
     # Two radii of size ~1 carry absolute errors ~1e-16; their difference is ~1e-12.
     assert max(err_theorem) <= DELTA_RTOL
     assert np.median(err_direct) > 1e-6
@@ -58,15 +58,17 @@ def test_edges_only_formula_matches_mpmath(name):
             cx = (b * b + c * c - a * a) / (2 * c)
             planar = [[0, 0], [c, 0], [cx, mp.sqrt(b * b - cx * cx)]]
         ref = reference(planar, weights[i])
-        assert relative_error(result.delta[i], ref["delta"]) <= 1e-11
-    np.testing.assert_allclose(result.delta, by_coords.delta, rtol=1e-9)
+        assert relative_error(result.radius_gap[i], ref["delta"]) <= 1e-11
+    np.testing.assert_allclose(result.radius_gap, by_coords.radius_gap, rtol=1e-9)
     np.testing.assert_allclose(result.k, by_coords.k, rtol=1e-9)
 
 
 def test_paper_literal_is_delta_plus_min_weight():
     points, weights = FAMILIES["random_2d_signed"]
     result = weighted_triangles(points, weights)
-    np.testing.assert_allclose(result.paper_literal, result.delta + weights.min(axis=1), rtol=1e-15)
+    np.testing.assert_allclose(
+        result.paper_literal, result.radius_gap + weights.min(axis=1), rtol=1e-15
+    )
 
 
 def test_correct_link_to_given_weights():
@@ -81,7 +83,7 @@ def test_correct_link_to_given_weights():
 
         with mp.workdps(60):
             given = ref["circumradius"] - mp.sqrt(ref["orthoradius_sq"])
-        assert relative_error(result.delta_unshifted[i], given) <= 1e-11
+        assert relative_error(result.radius_gap_unshifted[i], given) <= 1e-11
 
 
 def test_eq32_as_printed_is_not_a_length():
@@ -91,7 +93,9 @@ def test_eq32_as_printed_is_not_a_length():
     weights = rng.uniform(0.01, 0.05, (30, 3))
     base = weighted_triangles(points, weights)
     scaled = weighted_triangles(points * 10.0, weights * 100.0)
-    np.testing.assert_allclose(scaled.delta_unshifted, 10.0 * base.delta_unshifted, rtol=1e-12)
+    np.testing.assert_allclose(
+        scaled.radius_gap_unshifted, 10.0 * base.radius_gap_unshifted, rtol=1e-12
+    )
     ratio = scaled.paper_literal / base.paper_literal
     assert np.all(np.abs(ratio - 10.0) > 0.5)
 
@@ -105,4 +109,4 @@ def test_identity_does_not_need_assumption_1():
     assert (~result.assumption1_holds).sum() > 30
     for i in np.flatnonzero(~result.assumption1_holds):
         ref = reference(points[i], weights[i])
-        assert relative_error(result.delta[i], ref["delta"]) <= DELTA_RTOL
+        assert relative_error(result.radius_gap[i], ref["delta"]) <= DELTA_RTOL

@@ -105,7 +105,7 @@ def test_compiled_edges_kernel_matches_numpy_path_bit_for_bit(monkeypatch):
     monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
     slow = _fields(theorem1_from_edges(lengths, weights))
     assert fast.keys() == slow.keys()
-    assert "circumcenter" not in fast and "delta_direct" not in fast
+    assert "circumcenter" not in fast and "radius_gap_direct" not in fast
     for name, value in fast.items():
         _assert_same_bits(value, slow[name], name)
     assert fast["valid"].sum() > len(lengths) // 2
@@ -146,13 +146,13 @@ def test_compiled_path_matches_mpmath_on_hard_triangles(name, monkeypatch):
     assert result.valid.all()
     for i in range(0, len(points), 4):
         ref = reference(points[i], weights[i])
-        assert relative_error(result.delta[i], ref["delta"]) <= DELTA_RTOL
+        assert relative_error(result.radius_gap[i], ref["delta"]) <= DELTA_RTOL
 
 
 def _batch_delta_sum(seed: int) -> float:
     rng = np.random.default_rng(seed)
     points = rng.standard_normal((triangle_module.COMPILED_MIN_ROWS, 3, 3))
-    return float(weighted_triangles(points, [0.0, 0.1, 0.2]).delta.sum())
+    return float(weighted_triangles(points, [0.0, 0.1, 0.2]).radius_gap.sum())
 
 
 def test_a_process_that_used_the_kernel_can_fork_and_use_it_again():
@@ -180,7 +180,7 @@ def test_batch_shapes_and_broadcast_weights_on_the_compiled_path(monkeypatch):
     rng = np.random.default_rng(3)
     points = rng.standard_normal((4, 5, 3, 3))
     fast = weighted_triangles(points, [0.0, 0.01, 0.02])
-    assert fast.delta.shape == (4, 5)
+    assert fast.radius_gap.shape == (4, 5)
     assert fast.circumcenter.shape == (4, 5, 3)
     assert fast.edges.shape == (4, 5, 3)
     monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")

@@ -35,8 +35,12 @@ def test_rigid_motions_keep_radii_and_delta(points, weights, shift, seed):
     base = weighted_triangles(points, weights)
     moved = weighted_triangles(points @ rot.T + shift, weights)
     scale = float(base.circumradius)
-    for name in ("circumradius", "shifted_orthoradius", "delta", "orthoradius_sq", "k"):
-        _close(getattr(moved, name), getattr(base, name), scale * (scale if name != "delta" else 1))
+    for name in ("circumradius", "shifted_orthoradius", "radius_gap", "orthoradius_sq", "k"):
+        _close(
+            getattr(moved, name),
+            getattr(base, name),
+            scale * (scale if name != "radius_gap" else 1),
+        )
     _close(moved.orthocenter, base.orthocenter @ rot.T + shift, scale)
 
 
@@ -49,7 +53,7 @@ def test_vertex_order_does_not_matter(points, weights, perm):
     perm = list(perm)
     other = weighted_triangles(points[perm], weights[perm])
     scale = float(base.circumradius)
-    _close(other.delta, base.delta, scale)
+    _close(other.radius_gap, base.radius_gap, scale)
     _close(other.k, base.k, scale * scale)
     _close(other.circumcenter, base.circumcenter, scale)
     assert perm[int(other.min_weight_vertex)] == int(base.min_weight_vertex)
@@ -65,7 +69,7 @@ def test_uniform_weight_shift_eq5(points, weights, alpha):
     scale = float(base.circumradius)
     _close(shifted.orthocenter, base.orthocenter, scale)
     _close(shifted.orthoradius_sq, base.orthoradius_sq + alpha, scale * scale + abs(alpha))
-    _close(shifted.delta, base.delta, scale)
+    _close(shifted.radius_gap, base.radius_gap, scale)
 
 
 @settings(max_examples=150, deadline=None)
@@ -75,7 +79,7 @@ def test_scaling(points, weights, s):
     assume(_well_shaped(points))
     base = weighted_triangles(points, weights)
     scaled = weighted_triangles(points * s, weights * s * s)
-    _close(scaled.delta, s * base.delta, s * float(base.circumradius))
+    _close(scaled.radius_gap, s * base.radius_gap, s * float(base.circumradius))
 
 
 @settings(max_examples=100, deadline=None)
@@ -83,7 +87,7 @@ def test_scaling(points, weights, s):
 def test_equal_weights_give_zero_delta(points, w):
     assume(_well_shaped(points))
     result = weighted_triangles(points, [w, w, w])
-    assert float(result.delta) == 0.0
+    assert float(result.radius_gap) == 0.0
     np.testing.assert_allclose(result.orthocenter, result.circumcenter, rtol=0, atol=0)
 
 

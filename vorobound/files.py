@@ -20,10 +20,21 @@ TEMP_PREFIX = ".vorobound-tmp-"
 """Temporary files start with this (hidden) prefix, so a killed run's leftovers are easy to spot."""
 
 
-def _temp_for(path: Path) -> Path:
-    folder = path.parent
+def ensure_folder(folder: str | os.PathLike) -> Path:
+    """Create ``folder`` (and its parents) if needed, for outputs that go into a folder."""
+    folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise WriteError(f"cannot create folder {folder}: {exc.strerror or exc}") from None
+    return folder
+
+
+def _temp_for(path: Path) -> Path:
+    folder = path.parent
+    if not folder.is_dir():
+        raise WriteError(f"cannot write {path}: folder {folder} does not exist")
+    try:
         handle, name = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.name}.", dir=folder)
     except OSError as exc:
         raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None

@@ -4,11 +4,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import VoroboundError
+from .files import atomic_path, ensure_folder, write_set
 from .reports.figure_data import ComparisonData, Figure3Data
 
 COLUMN_WIDTH_IN = 3.5
 """One column of a two-column paper, in inches."""
+FIGURE_HEIGHT_IN = 2.6
+"""Height of every figure, in inches."""
+DPI = 200
+"""Resolution of raster formats."""
+COMPARISON_YLIM_FACTOR = 2.5
+"""The comparison figure shows bounds up to this multiple of the target."""
 _STYLE = {"font.size": 8, "axes.labelsize": 8, "legend.fontsize": 7, "lines.linewidth": 1.2}
 
 
@@ -17,7 +23,7 @@ def _axes(ax):
 
     if ax is not None:
         return ax.figure, ax
-    fig = Figure(figsize=(COLUMN_WIDTH_IN, 2.6), layout="constrained")
+    fig = Figure(figsize=(COLUMN_WIDTH_IN, FIGURE_HEIGHT_IN), layout="constrained")
     return fig, fig.add_subplot()
 
 
@@ -94,19 +100,25 @@ def plot_comparison(data: ComparisonData, ax=None):
         ax.set_xlabel(r"sampling density $\epsilon$")
         ax.set_ylabel(r"bound on $(R - \hat R)\,/\,(\epsilon L_i)$")
         ax.set_title("Bounds on R − R̂ by mode")
-        ax.set_ylim(0, 2.5 * data.target_over_eps)
+        ax.set_ylim(0, COMPARISON_YLIM_FACTOR * data.target_over_eps)
         ax.legend(loc="upper left")
         ax.grid(alpha=0.3, which="both")
     return fig
 
 
-def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = 200) -> Path:
-    """Write ``fig`` to ``out_dir/stem.fmt`` (creating the folder); return the path."""
-    out = Path(out_dir)
-    path = out / f"{stem}.{fmt}"
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, format=fmt, dpi=dpi)
-    except OSError as exc:
-        raise VoroboundError(f"cannot write {path}: {exc.strerror or exc}") from None
+def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = DPI) -> Path:
+    """Write ``fig`` to ``out_dir/stem.fmt`` atomically (temporary file, then rename)."""
+    path = ensure_folder(out_dir) / f"{stem}.{fmt}"
+    with atomic_path(path) as temp:
+        fig.savefig(temp, format=fmt, dpi=dpi)
     return path
+
+
+def save_set(figures: dict, out_dir: str | Path, fmt: str = "png", dpi: int = DPI) -> list[Path]:
+    """Write ``{stem: figure}`` into ``out_dir`` as one set: all files or none are replaced."""
+    out = ensure_folder(out_dir)
+
+    def writer(fig):
+        return lambda temp: fig.savefig(temp, format=fmt, dpi=dpi)
+
+    return write_set({out / f"{stem}.{fmt}": writer(fig) for stem, fig in figures.items()})

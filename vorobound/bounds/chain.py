@@ -19,8 +19,9 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from ..errors import VoroboundError
-from .params import Mode, SamplingParams
+from ..errors import InputError
+from . import constraints as limits
+from .params import EPS_RANGE, Mode, SamplingParams
 
 
 def _eq(label: str, text: str):
@@ -75,15 +76,17 @@ def chain_bounds(params: SamplingParams, mode: Mode | str = Mode.paper, eps=None
     mode : {"paper", "rigorous"}
         ``paper``: as printed; ``rigorous``: with the invalid steps replaced.
     eps : float or array_like, optional
-        Values of ε in (0, 1) to evaluate at, overriding ``params.eps``.
+        Values of ε (in the supported range of :data:`~vorobound.bounds.params.EPS_RANGE`) to
+        evaluate at, overriding ``params.eps``.
 
     References
     ----------
     Eq. (29), (33)–(53), (55).
     """
     e = np.asarray(params.eps if eps is None else eps, dtype=float)
-    if np.any(~np.isfinite(e)) or np.any((e <= 0) | (e >= 1)):
-        raise VoroboundError("eps must lie in (0, 1)")
+    low, high = EPS_RANGE
+    if not np.all((e >= low) & (e <= high)):  # also rejects NaN
+        raise InputError(f"eps must lie in [{low:g}, {high:g}]")
     return chain_arrays(e, params.sigma, params.delta_ratio, params.lfs, params.rho_f, mode)
 
 
@@ -91,30 +94,30 @@ def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> Chain
     """The chain with every parameter an array (broadcast together); no validation.
 
     Used by sweeps over σ, δ/ε and ρ_f; :func:`chain_bounds` is the validated entry point.
+    The limits of the constraint set come from :mod:`vorobound.bounds.constraints`.
     """
     mode = Mode(mode)
     if mode is Mode.tight:
-        raise VoroboundError("the tight bound is an optimization: use vorobound.bounds.tight")
+        raise InputError("the tight bound is not a chain: use vorobound.bounds.tight")
     e, sigma, ratio, lfs, rho_f = np.broadcast_arrays(
         *(np.asarray(x, dtype=float) for x in (eps, sigma, delta_ratio, lfs, rho_f))
     )
-    one_m = 1 - e
-    edge_max = 2 * e / one_m * lfs
-    edge_min = sigma * e * lfs
-    lfs_j_max = (1 + e) / one_m * lfs
-    a_max = 2 * e * (1 + e) / one_m**2 * lfs
-    # δ²(L_j² − L_i²) ≤ δ² L_i² ((1+ε)² − (1−ε)²)/(1−ε)² = δ² L_i² · 4ε/(1−ε)².
-    weight_max = (ratio * e) ** 2 * lfs**2 * 4 * e / one_m**2
+    edge_max = limits.edge_max(e) * lfs
+    edge_min = limits.edge_min(e, sigma) * lfs
+    lfs_j_max = limits.lfs_max(e) * lfs
+    a_max = limits.opposite_edge_max(e) * lfs
+    weight_max = limits.weight_max(e, ratio) * lfs**2
     k1_max = 4 * weight_max
     # −2(c w_C/b + b w_B/c) with c, b at their extremes; 2 w_B w_C/(b c) with b, c at the minimum.
     k2_min = -4 * (edge_max / edge_min) * weight_max
     k2_max = 2 * weight_max**2 / edge_min**2
-    k_sin = sigma * one_m / 2
+    k_sin = limits.k_sin(e, sigma)
     with np.errstate(invalid="ignore"):
         if mode is Mode.paper:
+            one_m = 1 - e
             k_cos = sigma**2 * one_m**2 / 4 - 0.5 * (1 + e) ** 2 / one_m**2
         else:
-            k_cos = 2 * k_sin**2 - 1
+            k_cos = limits.cos_min(e, sigma)
         cos_max_acute = np.sqrt(1 - k_sin**2)
         sin_min_obtuse = np.sqrt(1 - k_cos**2)
     k_max_acute = k1_max + k2_max * cos_max_acute

@@ -1,12 +1,9 @@
-"""Guide-triangle configurations allowed by the sampling conditions of Section 4.1.
+"""Guide-triangle configurations, and random feasible ones for audits and optimizer starts.
 
 A configuration is (b, c, θ, L_j, L_k) with L_i = ``params.lfs``: A = p_i at the origin,
 B = p_j at distance c, C = p_k at distance b, θ the angle at A. Weights are δ²L², shifted by the
-minimum δ²L_i² (so A has weight 0, eq. (6), (37)).
-
-The *paper's constraint set*: edges (34)–(36), L bound (33), circumradius ≤ ε/(1−ε)·L_i
-(property H3), and pairwise sparsity with the pair's smaller L. ``lipschitz=λ`` adds
-|L_x − L_y| ≤ λ·|p_x − p_y| for each pair.
+minimum δ²L_i² (so A has weight 0, eq. (6), (37)). Feasibility is decided by the one constraint
+set of :mod:`vorobound.bounds.constraints` (with ``lipschitz=λ`` adding its Lipschitz conditions).
 """
 
 from __future__ import annotations
@@ -15,11 +12,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..geometry import weighted_triangles
+from . import constraints
 from .params import SamplingParams
 
-FEASIBILITY_RTOL = 1e-12
-"""Relative slack when testing a constraint, so points on the boundary count as feasible."""
+BOUNDARY_SHARE = 0.25
+"""In a biased batch, the share of each coordinate pushed to its lower end (and, again, to its
+upper end) of the range: the extremes of the constraint set are where bounds are attained."""
+STEER_SHARE = 0.5
+"""In a biased batch, the share of angles aimed at the largest feasible angle (where the
+printed eq. (49) fails, docs/errata.md E4)."""
+STEER_SPREAD = 1e-3
+"""Relative spread of the steered angles below that largest angle."""
 
 
 @dataclass(frozen=True)
@@ -77,63 +82,121 @@ class GuideTriangles:
             axis=1,
         )
 
-    def delta(self, params: SamplingParams) -> np.ndarray:
+    def radius_gap(self, params: SamplingParams) -> np.ndarray:
         """Exact R − R̂ of the shifted triangle (Theorem 1), via the geometry core."""
         w_b, w_c = self.weights(params)
         weights = np.stack([np.zeros_like(w_b), w_b, w_c], axis=-1)
-        return weighted_triangles(self.points(), weights).delta
+        return weighted_triangles(self.points(), weights).radius_gap
+
+    def scaled(self, params: SamplingParams) -> constraints.ScaledConfiguration:
+        """The configurations in the units of the constraint set (lengths over εL_i)."""
+        return constraints.scale_configuration(
+            self.b,
+            self.c,
+            self.a,
+            np.sin(self.theta),
+            params.lfs,
+            self.lfs_j,
+            self.lfs_k,
+            params.eps,
+        )
+
+
+@dataclass(frozen=True)
+class GuideConfiguration:
+    """One guide triangle of the constraint set, in absolute units (L_i = ``params.lfs``)."""
+
+    b: float
+    """|p_i p_k|, eq. (8)."""
+    c: float
+    """|p_i p_j|, eq. (9)."""
+    theta: float
+    """Angle at p_i, eq. (10)."""
+    lfs_j: float
+    """L_j."""
+    lfs_k: float
+    """L_k."""
+    a: float
+    """|p_j p_k|, eq. (7)."""
+    circumradius: float
+    """R, eq. (15)."""
+    w_b: float
+    """Shifted weight δ²(L_j² − L_i²) of p_j, eq. (37)."""
+    w_c: float
+    """Shifted weight δ²(L_k² − L_i²) of p_k, eq. (37)."""
+
+    @classmethod
+    def of(cls, tri: GuideTriangles, params: SamplingParams, index: int = 0) -> GuideConfiguration:
+        """Row ``index`` of a batch of configurations."""
+        w_b, w_c = tri.weights(params)
+        return cls(
+            b=float(tri.b[index]),
+            c=float(tri.c[index]),
+            theta=float(tri.theta[index]),
+            lfs_j=float(tri.lfs_j[index]),
+            lfs_k=float(tri.lfs_k[index]),
+            a=float(tri.a[index]),
+            circumradius=float(tri.circumradius[index]),
+            w_b=float(w_b[index]),
+            w_c=float(w_c[index]),
+        )
+
+    def triangles(self) -> GuideTriangles:
+        """This configuration as a batch of one."""
+        return GuideTriangles.of(self.b, self.c, self.theta, self.lfs_j, self.lfs_k)
 
 
 def feasible_mask(
     tri: GuideTriangles, params: SamplingParams, lipschitz: float | None = None
 ) -> np.ndarray:
-    """True where a configuration satisfies the constraint set (see the module docstring)."""
-    eps, lfs, sigma = params.eps, params.lfs, params.sigma
-    slack = 1 + FEASIBILITY_RTOL
-    edge_min = sigma * eps * lfs / slack
-    edge_max = 2 * eps / (1 - eps) * lfs * slack
-    a = tri.a
-    ok = (tri.b >= edge_min) & (tri.b <= edge_max) & (tri.c >= edge_min) & (tri.c <= edge_max)
-    ok &= (tri.theta > 0) & (tri.theta < np.pi)
-    ok &= a <= 2 * eps * (1 + eps) / (1 - eps) ** 2 * lfs * slack
-    ok &= a >= sigma * eps * np.minimum(tri.lfs_j, tri.lfs_k) / slack
-    ok &= tri.circumradius <= eps / (1 - eps) * lfs * slack
-    lfs_max = (1 + eps) / (1 - eps) * lfs * slack
-    for lfs_x in (tri.lfs_j, tri.lfs_k):
-        ok &= (lfs_x >= lfs / slack) & (lfs_x <= lfs_max)
-    if lipschitz is not None:
-        tol = FEASIBILITY_RTOL * lfs
-        ok &= np.abs(tri.lfs_j - lfs) <= lipschitz * tri.c + tol
-        ok &= np.abs(tri.lfs_k - lfs) <= lipschitz * tri.b + tol
-        ok &= np.abs(tri.lfs_j - tri.lfs_k) <= lipschitz * a + tol
-    return ok
+    """True where a configuration satisfies the constraint set (boundary points included)."""
+    limits = constraints.ConstraintParams(params.eps, params.sigma, lipschitz)
+    inside = (tri.theta > 0) & (tri.theta < np.pi)
+    return inside & constraints.feasible(tri.scaled(params), limits)
 
 
-def _candidates(params: SamplingParams, n: int, rng: np.random.Generator, biased: bool):
+def _candidates(
+    params: SamplingParams,
+    n: int,
+    rng: np.random.Generator,
+    biased: bool,
+    lipschitz: float | None,
+):
     eps, lfs = params.eps, params.lfs
-    lo, hi = params.sigma * eps * lfs, 2 * eps / (1 - eps) * lfs
-    lfs_hi = (1 + eps) / (1 - eps) * lfs
+    lo = constraints.edge_min(eps, params.sigma) * lfs
+    hi = constraints.edge_max(eps) * lfs
     b = rng.uniform(lo, hi, n)
     c = rng.uniform(lo, hi, n)
     theta = rng.uniform(0, np.pi, n)
-    lfs_j = rng.uniform(lfs, lfs_hi, n)
-    lfs_k = rng.uniform(lfs, lfs_hi, n)
+    # L_j, L_k between L_i and their cap: (33), or the Lipschitz cap L_i + λ·edge when lower
+    # (drawing below the cap keeps rejection efficient even for a tiny λ).
+    lfs_hi = constraints.lfs_max(eps) * lfs
+    cap_j, cap_k = np.full(n, lfs_hi), np.full(n, lfs_hi)
+    if lipschitz is not None:
+        cap_j, cap_k = (
+            np.minimum(cap_j, lfs + lipschitz * c),
+            np.minimum(cap_k, lfs + lipschitz * b),
+        )
+    lfs_j = lfs + (cap_j - lfs) * rng.random(n)
+    lfs_k = lfs + (cap_k - lfs) * rng.random(n)
     if biased:
         # Push each coordinate to an end of its range with probability 1/2 (either end), and
         # aim θ at the largest angle a short-edged triangle can have (the cases (49) misses).
         for arr, low, high in (
             (b, lo, hi),
             (c, lo, hi),
-            (lfs_j, lfs, lfs_hi),
-            (lfs_k, lfs, lfs_hi),
+            (lfs_j, lfs, cap_j),
+            (lfs_k, lfs, cap_k),
         ):
+            high = np.broadcast_to(high, arr.shape)
             pick = rng.random(n)
-            arr[pick < 0.25] = low
-            arr[(pick >= 0.25) & (pick < 0.5)] = high
-        k_sin = np.clip(params.sigma * (1 - eps) / 2, 0, 1)
+            arr[pick < BOUNDARY_SHARE] = low
+            upper = (pick >= BOUNDARY_SHARE) & (pick < 2 * BOUNDARY_SHARE)
+            arr[upper] = high[upper]
+        k_sin = np.clip(constraints.k_sin(eps, params.sigma), 0, 1)
         theta_far = np.pi - 2 * np.arcsin(k_sin)
-        steer = rng.random(n) < 0.5
-        theta[steer] = theta_far * (1 - np.abs(rng.normal(0, 1e-3, steer.sum())))
+        steer = rng.random(n) < STEER_SHARE
+        theta[steer] = theta_far * (1 - np.abs(rng.normal(0, STEER_SPREAD, steer.sum())))
     return GuideTriangles.of(b, c, theta, lfs_j, lfs_k)
 
 
@@ -145,7 +208,15 @@ def sample_feasible(
     biased_fraction: float = 0.5,
     max_rounds: int = 200,
 ) -> GuideTriangles:
-    """``count`` feasible configurations by rejection: uniform, and biased to the boundaries."""
+    """``count`` feasible configurations by rejection: uniform, and biased to the boundaries.
+
+    Raises InputError when the constraint set is empty at ``params`` (k_sin ≥ 1, eq. (48)).
+    """
+    if constraints.k_sin(params.eps, params.sigma) >= 1:
+        raise InputError(
+            f"no guide triangle is feasible at eps={params.eps:g}, sigma={params.sigma:g}: "
+            "sparsity (34)-(36) and H3 need sigma*(1 - eps) < 2"
+        )
     kept: list[GuideTriangles] = []
     total = 0
     for _ in range(max_rounds):
@@ -153,7 +224,7 @@ def sample_feasible(
             break
         batch = max(4 * (count - total), 1024)
         biased = rng.random() < biased_fraction
-        cand = _candidates(params, batch, rng, biased)
+        cand = _candidates(params, batch, rng, biased, lipschitz)
         good = cand.take(feasible_mask(cand, params, lipschitz))
         kept.append(good)
         total += len(good)

@@ -113,6 +113,9 @@ class ScaledConfiguration:
     """(L_j/L_i − 1)/ε."""
     excess_k: object
     """(L_k/L_i − 1)/ε."""
+    excess_resolution: object = 0.0
+    """Rounding error of ``excess_*`` when they were computed from absolute L values (L − L_i
+    cancels when ε is small); numeric feasibility tests allow it on the L conditions."""
 
 
 @dataclass(frozen=True)
@@ -141,6 +144,8 @@ class Constraint:
     """(config, params, xp) ↦ (small, large)."""
     lipschitz: bool = False
     """True for the conditions that exist only when a Lipschitz constant λ is given."""
+    involves_lfs: bool = False
+    """True for the conditions on L (their numeric test allows ``excess_resolution``)."""
 
 
 def _upper_lfs(cfg, p, xp):
@@ -148,19 +153,25 @@ def _upper_lfs(cfg, p, xp):
 
 
 CONSTRAINTS: tuple[Constraint, ...] = (
-    Constraint("lfs_j_min", "(33)", "L_i ≤ L_j", lambda cfg, p, xp: (0, cfg.excess_j)),
+    Constraint(
+        "lfs_j_min", "(33)", "L_i ≤ L_j", lambda cfg, p, xp: (0, cfg.excess_j), involves_lfs=True
+    ),
     Constraint(
         "lfs_j_max",
         "(33)",
         "L_j ≤ (1+ε)/(1−ε)·L_i",
         lambda cfg, p, xp: (cfg.excess_j, _upper_lfs(cfg, p, xp)),
+        involves_lfs=True,
     ),
-    Constraint("lfs_k_min", "(33)", "L_i ≤ L_k", lambda cfg, p, xp: (0, cfg.excess_k)),
+    Constraint(
+        "lfs_k_min", "(33)", "L_i ≤ L_k", lambda cfg, p, xp: (0, cfg.excess_k), involves_lfs=True
+    ),
     Constraint(
         "lfs_k_max",
         "(33)",
         "L_k ≤ (1+ε)/(1−ε)·L_i",
         lambda cfg, p, xp: (cfg.excess_k, _upper_lfs(cfg, p, xp)),
+        involves_lfs=True,
     ),
     Constraint("c_min", "(34)", "c ≥ σεL_i", lambda cfg, p, xp: (p.sigma, cfg.edge_c)),
     Constraint(
@@ -178,6 +189,7 @@ CONSTRAINTS: tuple[Constraint, ...] = (
             p.sigma * (1 + p.eps * xp.minimum(cfg.excess_j, cfg.excess_k)),
             cfg.edge_a,
         ),
+        involves_lfs=True,
     ),
     Constraint(
         "a_max",
@@ -197,6 +209,7 @@ CONSTRAINTS: tuple[Constraint, ...] = (
         "L_j − L_i ≤ λc",
         lambda cfg, p, xp: (cfg.excess_j, p.lipschitz * cfg.edge_c),
         lipschitz=True,
+        involves_lfs=True,
     ),
     Constraint(
         "lipschitz_ik",
@@ -204,6 +217,7 @@ CONSTRAINTS: tuple[Constraint, ...] = (
         "L_k − L_i ≤ λb",
         lambda cfg, p, xp: (cfg.excess_k, p.lipschitz * cfg.edge_b),
         lipschitz=True,
+        involves_lfs=True,
     ),
     Constraint(
         "lipschitz_jk",
@@ -211,6 +225,7 @@ CONSTRAINTS: tuple[Constraint, ...] = (
         "|L_j − L_k| ≤ λa",
         lambda cfg, p, xp: (xp.absolute(cfg.excess_j - cfg.excess_k), p.lipschitz * cfg.edge_a),
         lipschitz=True,
+        involves_lfs=True,
     ),
 )
 """The constraint set in a fixed order (certificates refer to constraints by name)."""
@@ -241,6 +256,8 @@ def violations(
         for constraint in active_constraints(params):
             small, large = (np.asarray(s, dtype=float) for s in constraint.sides(cfg, params, np))
             tol = rtol * (np.abs(small) + np.abs(large))
+            if constraint.involves_lfs:
+                tol = tol + 2 * np.asarray(cfg.excess_resolution, dtype=float)
             out[constraint.name] = ~(large - small >= -tol)
     return out
 
@@ -256,9 +273,18 @@ def feasible(
     return ok
 
 
+LFS_ROUNDING = 2 * np.finfo(float).eps
+"""Relative rounding error allowed for one absolute L value (and one difference of two)."""
+
+
 def scale_configuration(b, c, a, sin_theta, lfs_i, lfs_j, lfs_k, eps) -> ScaledConfiguration:
-    """A :class:`ScaledConfiguration` from absolute edge lengths and local feature sizes."""
+    """A :class:`ScaledConfiguration` from absolute edge lengths and local feature sizes.
+
+    (L − L_i)/(εL_i) loses digits when ε is small: its rounding error, about
+    LFS_ROUNDING·max(L)/(εL_i), is recorded as ``excess_resolution``.
+    """
     unit = np.multiply(eps, lfs_i)
+    largest = np.maximum(np.maximum(np.abs(lfs_i), np.abs(lfs_j)), np.abs(lfs_k))
     return ScaledConfiguration(
         edge_b=np.divide(b, unit),
         edge_c=np.divide(c, unit),
@@ -266,4 +292,5 @@ def scale_configuration(b, c, a, sin_theta, lfs_i, lfs_j, lfs_k, eps) -> ScaledC
         sin_theta=np.asarray(sin_theta, dtype=float),
         excess_j=np.divide(np.subtract(lfs_j, lfs_i), unit),
         excess_k=np.divide(np.subtract(lfs_k, lfs_i), unit),
+        excess_resolution=LFS_ROUNDING * largest / np.abs(unit),
     )

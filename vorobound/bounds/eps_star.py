@@ -1,4 +1,10 @@
-"""The largest ε whose bound on R − R̂ stays within the quality target (ρ_f − 1)·δ·L_i."""
+"""The largest ε whose bound on R − R̂ stays within the quality target (ρ_f − 1)·δ·L_i.
+
+ε* is the first crossing of bound(ε)/target(ε) − 1 from below, found by a log-spaced scan and a
+root finder. A crossing must be a root: where a chain stops being defined (the printed chain's
+eq. (52) needs |k_cos| ≤ 1) before it reaches the target, there is no ε*, and the solvers say so
+(:class:`NoCrossing`) instead of reporting the edge of the domain as a root.
+"""
 
 from __future__ import annotations
 
@@ -7,83 +13,143 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import VoroboundError
-from .chain import chain_arrays, chain_bounds
-from .params import Mode, SamplingParams
+from ..errors import InputError, NoAdmissibleEps
+from .chain import chain_arrays
+from .claims import CHAIN_CLAIM
+from .configurations import GuideConfiguration
+from .params import EPS_RANGE, Mode, QualityParams, SamplingParams
 
-SCAN_GRID = np.geomspace(1e-7, 0.999, 600)
+SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
 XTOL = 1e-15
 RTOL = 1e-13
+SIGMA_EMPTY = 2.0
+"""For σ ≥ 2 no triangle meets the sparsity (34)–(35) and H3 at small ε (k_sin ≥ 1)."""
+
+
+class NoCrossing(NoAdmissibleEps):
+    """The bound stays below the target wherever it is defined: no root, so no ε*."""
 
 
 @dataclass(frozen=True)
 class EpsStar:
-    """Result of the ε* root finder."""
+    """Result of an ε* solver."""
 
     eps_star: float
     """Largest ε with bound(ε) ≤ (ρ_f − 1)·δ·L_i (the first crossing above the scan start)."""
     mode: str
-    params: SamplingParams
+    quality: QualityParams
     residual: float
-    """bound(ε*) − target(ε*), relative to the target."""
+    """bound(ε*)/target(ε*) − 1 (zero up to the root finder's tolerance)."""
     iterations: int
     bracket: tuple[float, float]
-    """The scan cell in which brentq found the root."""
-    maximizer: dict | None = None
+    """The scan cell in which the root was found."""
+    method: str
+    """How the bound was evaluated: "chain", "closed form" or "optimizer"."""
+    claim: str
+    """Strength of the result: a word of :mod:`vorobound.bounds.claims`."""
+    maximizer: GuideConfiguration | None = None
     """For the tight mode: the worst guide triangle at ε*."""
+    lipschitz: float | None = None
+    """The Lipschitz constant of the constraint set (tight mode), if any."""
+
+    @property
+    def params(self) -> SamplingParams:
+        """The quality parameters at ε*."""
+        return self.quality.at(self.eps_star)
 
 
-def relative_gap_function(params: SamplingParams, mode: Mode | str) -> Callable:
-    """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized)."""
+def check_not_empty(quality: QualityParams, mode: str) -> None:
+    """Raise :class:`NoAdmissibleEps` when no guide triangle exists at small ε (σ ≥ 2)."""
+    if quality.sigma >= SIGMA_EMPTY:
+        raise NoAdmissibleEps(
+            f"sigma = {quality.sigma:g} >= 2: no triangle satisfies the sparsity condition "
+            f"(34)-(35) together with H3 at small eps, so the {mode} bound has no eps*"
+        )
+
+
+def relative_gap_function(quality: QualityParams, mode: Mode | str) -> Callable:
+    """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized; NaN where undefined)."""
 
     def gap(eps):
-        chain = chain_bounds(params, mode, eps=eps)
-        ratio = chain.bound / chain.target - 1
-        return np.where(np.isnan(ratio), np.inf, ratio)
+        chain = chain_arrays(
+            eps, quality.sigma, quality.delta_ratio, quality.lfs, quality.rho_f, mode
+        )
+        return chain.bound / chain.target - 1
 
     return gap
 
 
-def find_eps_star(gap: Callable, mode: str, params: SamplingParams, grid=SCAN_GRID) -> EpsStar:
+def first_crossing(values: np.ndarray, grid: np.ndarray, mode: str) -> int:
+    """Index of the first positive value; raises when there is no crossing below a NaN.
+
+    ``values`` are gap(ε) on ``grid``: negative inside the target, NaN where undefined.
+    """
+    positive = np.flatnonzero(values > 0)
+    undefined = np.flatnonzero(np.isnan(values))
+    if positive.size and positive[0] == 0:
+        raise NoAdmissibleEps(
+            f"the {mode} bound exceeds the target already at eps = {grid[0]:g}: no admissible eps"
+        )
+    if undefined.size and (not positive.size or undefined[0] < positive[0]):
+        raise NoCrossing(
+            f"the {mode} bound stays within the target up to eps = {grid[undefined[0] - 1]:.6g}, "
+            f"where it stops being defined: no crossing, so no eps*"
+        )
+    if not positive.size:
+        raise NoCrossing(
+            f"the {mode} bound stays within the target for every eps up to {grid[-1]:g}: "
+            "no crossing, so no eps*"
+        )
+    return int(positive[0])
+
+
+def find_eps_star(
+    gap: Callable,
+    mode: str,
+    quality: QualityParams,
+    claim: str,
+    grid=SCAN_GRID,
+    method: str = "chain",
+) -> EpsStar:
     """Scan ``grid`` for the first ε where ``gap`` turns positive, then refine with brentq.
 
     ``gap`` must accept an array of ε (for the scan) and a float (for brentq).
     """
     from scipy.optimize import brentq
 
+    grid = np.asarray(grid, dtype=float)
     values = np.asarray(gap(grid), dtype=float)
-    if values[0] > 0:
-        raise VoroboundError(
-            f"the {mode} bound exceeds the target already at eps = {grid[0]:g}: no admissible eps"
-        )
-    above = np.flatnonzero(values > 0)
-    if above.size == 0:
-        raise VoroboundError(
-            f"the {mode} bound stays within the target for all eps in (0, 1): no crossing"
-        )
-    hi_index = int(above[0])
+    hi_index = first_crossing(values, grid, mode)
     lo, hi = float(grid[hi_index - 1]), float(grid[hi_index])
     root, info = brentq(lambda x: float(gap(x)), lo, hi, xtol=XTOL, rtol=RTOL, full_output=True)
     return EpsStar(
         eps_star=float(root),
         mode=mode,
-        params=params.with_eps(root),
+        quality=quality,
         residual=float(gap(root)),
         iterations=int(info.iterations),
         bracket=(lo, hi),
+        method=method,
+        claim=claim,
     )
 
 
-def solve_eps_star(params: SamplingParams, mode: Mode | str = Mode.paper) -> EpsStar:
-    """Largest ε keeping the chosen bound on R − R̂ within (ρ_f − 1)·δ·L_i.
+def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> EpsStar:
+    """Largest ε keeping a chain's bound on R − R̂ within (ρ_f − 1)·δ·L_i.
 
     Parameters
     ----------
-    params : SamplingParams
-        σ, δ/ε, L_i and ρ_f (its ε is ignored).
+    quality : QualityParams
+        σ, δ/ε, ρ_f and L_i.
     mode : {"paper", "rigorous"}
-        Which closed-form chain to use; the tight mode lives in :mod:`vorobound.bounds.tight`.
+        Which chain; the tight mode lives in :mod:`vorobound.bounds.tight`.
+
+    Raises
+    ------
+    NoAdmissibleEps
+        When the bound exceeds the target at the smallest supported ε, when σ ≥ 2, or (as
+        :class:`NoCrossing`) when it never reaches the target where it is defined.
 
     References
     ----------
@@ -91,33 +157,54 @@ def solve_eps_star(params: SamplingParams, mode: Mode | str = Mode.paper) -> Eps
     """
     mode = Mode(mode)
     if mode is Mode.tight:
-        from .tight import solve_tight
-
-        return solve_tight(params)
-    return find_eps_star(relative_gap_function(params, mode), mode.value, params)
+        raise InputError("solve_eps_star handles the chains; use vorobound.bounds.tight")
+    check_not_empty(quality, mode.value)
+    gap = relative_gap_function(quality, mode)
+    return find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value])
 
 
 BISECTION_STEPS = 64
 """Halvings of the bracket in the batched solver (the bracket shrinks to one float spacing)."""
-BATCH_SCAN_GRID = np.geomspace(1e-7, 0.999, 120)
+BATCH_SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 200)
 """Coarser scan for the batched solver; bound/target rises monotonically in ε for the chains,
 so the first crossing is the same (checked against :func:`solve_eps_star` in the tests)."""
+
+STATUS_OK = 0
+STATUS_EXCEEDS_AT_START = 1
+"""The bound exceeds the target at the smallest supported ε."""
+STATUS_NO_CROSSING = 2
+"""The bound stays within the target wherever it is defined."""
+STATUS_EMPTY = 3
+"""σ ≥ 2: no feasible guide triangle at small ε."""
+STATUS_REASONS = {
+    STATUS_EXCEEDS_AT_START: "bound exceeds the target at the smallest eps",
+    STATUS_NO_CROSSING: "bound never reaches the target where it is defined",
+    STATUS_EMPTY: "sigma >= 2: no feasible guide triangle",
+}
+"""Why a batch row has no ε* (for the empty cells of a sweep)."""
 
 
 def solve_eps_star_batch(
     sigma, delta_ratio, rho_f, mode: Mode | str, grid=BATCH_SCAN_GRID
-) -> np.ndarray:
-    """ε* for many parameter sets at once (closed-form chains), NaN where there is none.
+) -> tuple[np.ndarray, np.ndarray]:
+    """ε* for many parameter sets at once (closed-form chains).
 
-    Same definition as :func:`solve_eps_star` (first crossing above the scan start), found by a
-    vectorized scan of ``grid`` and bisection of each row's bracket to full precision. ε* does
-    not depend on L_i.
+    Same definition as :func:`solve_eps_star`, found by a vectorized scan of ``grid`` and
+    bisection of each row's bracket to full precision. ε* does not depend on L_i. The caller
+    validates the parameters (e.g. through :class:`QualityParams`).
 
     Parameters
     ----------
     sigma, delta_ratio, rho_f : array_like
         Broadcast together; one ε* per element.
     mode : {"paper", "rigorous"}
+
+    Returns
+    -------
+    eps_star : numpy.ndarray
+        NaN where there is none.
+    status : numpy.ndarray of int
+        ``STATUS_OK`` or the reason (a key of ``STATUS_REASONS``).
     """
     sigma, ratio, rho_f = np.broadcast_arrays(
         *(np.asarray(x, dtype=float) for x in (sigma, delta_ratio, rho_f))
@@ -127,18 +214,28 @@ def solve_eps_star_batch(
 
     def gap(eps):
         chain = chain_arrays(eps, s, r, 1.0, q, mode)
-        ratio_ = chain.bound / chain.target - 1
-        return np.where(np.isnan(ratio_), np.inf, ratio_)
+        return chain.bound / chain.target - 1
 
-    values = gap(grid[None, :])
+    with np.errstate(invalid="ignore"):
+        values = gap(grid[None, :])
     positive = values > 0
-    first = np.argmax(positive, axis=1)
-    ok = positive.any(axis=1) & (first > 0)
+    undefined = np.isnan(values)
+    first_pos = np.where(positive.any(axis=1), np.argmax(positive, axis=1), grid.size)
+    first_nan = np.where(undefined.any(axis=1), np.argmax(undefined, axis=1), grid.size)
+    status = np.full(first_pos.shape, STATUS_OK)
+    status[first_nan < first_pos] = STATUS_NO_CROSSING
+    status[first_pos == grid.size] = STATUS_NO_CROSSING
+    status[first_pos == 0] = STATUS_EXCEEDS_AT_START
+    status[s[:, 0] >= SIGMA_EMPTY] = STATUS_EMPTY
+    ok = status == STATUS_OK
+    first = np.minimum(first_pos, grid.size - 1)
     lo = grid[np.maximum(first - 1, 0)][:, None].copy()
     hi = grid[first][:, None].copy()
     for _ in range(BISECTION_STEPS):
         mid = 0.5 * (lo + hi)
-        above = gap(mid) > 0
+        with np.errstate(invalid="ignore"):
+            above = gap(mid) > 0
         hi = np.where(above, mid, hi)
         lo = np.where(above, lo, mid)
-    return np.where(ok, lo[:, 0], np.nan).reshape(shape)
+    stars = np.where(ok, lo[:, 0], np.nan).reshape(shape)
+    return stars, status.reshape(shape)

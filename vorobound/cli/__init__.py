@@ -1,23 +1,39 @@
 """The ``vorobound`` command line (typer). Thin: parse, call the library, format.
 
-Heavy modules (numpy-based geometry, scipy, matplotlib) are imported inside the commands so
-that ``vorobound --help`` starts fast.
+Heavy modules (numpy, scipy, matplotlib) are imported inside the commands, so that
+``vorobound --help`` imports none of them. :func:`main` is the single place that turns failures
+into exit codes: a :class:`~vorobound.errors.VoroboundError` or a usage error is one line on
+stderr and code 2, Ctrl-C or SIGTERM is "interrupted" and code 130, and anything unexpected is
+one line saying it is a bug (code 70; the traceback with ``--debug`` or ``VOROBOUND_DEBUG=1``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import sys
+import threading
 
 import typer
 
 from ..errors import VoroboundError
 from .advise_cmd import advise
-from .bounds_cmd import bounds, solve
+from .bounds_cmd import bounds
 from .cheng_cmd import cheng
-from .figures_cmd import figure, reproduce
+from .figure_cmd import figure
+from .reproduce_cmd import reproduce
+from .solve_cmd import solve
 from .sweep_cmd import sweep
 from .triangle_cmd import triangle
 from .validate_cmd import validate
+
+EXIT_ERROR = 2
+"""Bad input, or a result that cannot be computed."""
+EXIT_BUG = 70
+"""An unexpected exception (EX_SOFTWARE): a bug in vorobound."""
+EXIT_INTERRUPTED = 130
+"""Ctrl-C or SIGTERM."""
 
 app = typer.Typer(
     name="vorobound",
@@ -31,11 +47,18 @@ app = typer.Typer(
 
 
 @app.callback()
-def _root() -> None:
+def _root(
+    debug: bool = typer.Option(
+        False, "--debug", help="Show the traceback of an unexpected error (a bug)."
+    ),
+) -> None:
     """Weighted-triangle geometry (Theorem 1) and the VoroCrust sampling bounds, audited.
 
-    Every command has --help and --json; errors print one line and exit with code 2.
+    Every command has --help and prints a table for people or, with --json, one JSON object
+    for programs. Errors print one line on stderr and exit with code 2; Ctrl-C exits with 130.
     """
+    if debug:
+        os.environ["VOROBOUND_DEBUG"] = "1"
 
 
 app.command("reproduce")(reproduce)
@@ -49,28 +72,101 @@ app.command("advise")(advise)
 app.command("cheng")(cheng)
 
 
+class Interrupted(BaseException):
+    """Raised by the SIGINT/SIGTERM handlers (not KeyboardInterrupt, which click swallows)."""
+
+
+def _usage_errors() -> tuple[type[BaseException], ...]:
+    """The usage-error base classes of the installed typer/click (they moved between versions)."""
+    found = [getattr(typer, "TyperException", None)]
+    with contextlib.suppress(ImportError):
+        import click
+
+        found.append(click.exceptions.ClickException)
+    return tuple(t for t in found if isinstance(t, type))
+
+
+@contextlib.contextmanager
+def _signals_raise_interrupted():
+    """While running a command, SIGINT and SIGTERM raise :class:`Interrupted` (main thread)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Interrupted
+
+    previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+def _tolerant_streams() -> None:
+    """Never fail on characters the terminal's encoding lacks (e.g. PYTHONIOENCODING=ascii)."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(AttributeError, ValueError, OSError):
+            stream.reconfigure(errors="replace")
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI and return its exit code; errors become one line on stderr and code 2."""
+    """Run the CLI and return its exit code (see the module docstring)."""
     args = sys.argv[1:] if argv is None else list(argv)
     if not args:
         args = ["--help"]
+    _tolerant_streams()
     try:
-        result = app(args=args, prog_name="vorobound", standalone_mode=False)
+        with _signals_raise_interrupted():
+            result = app(args=args, prog_name="vorobound", standalone_mode=False)
+            sys.stdout.flush()
+    except Interrupted:
+        return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
     except VoroboundError as exc:
-        return _fail(str(exc), 2)
-    except typer.TyperException as exc:  # usage errors (exit code 2) and friends
-        return _fail(exc.format_message(), getattr(exc, "exit_code", 1))
+        return _fail(str(exc), EXIT_ERROR)
     except typer.Exit as exc:
         return exc.exit_code
     except typer.Abort:
-        return _fail("aborted", 1)
-    except KeyboardInterrupt:
-        return _fail("interrupted", 130)
+        return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
+    except _usage_errors() as exc:
+        return _fail(exc.format_message(), getattr(exc, "exit_code", EXIT_ERROR) or EXIT_ERROR)
+    except OSError as exc:
+        if exc.errno is None:
+            return _bug(exc)
+        _silence_stdout()
+        return _fail(f"cannot write the output: {exc.strerror or exc}", EXIT_ERROR)
+    except MemoryError:
+        return _fail("out of memory: use smaller inputs", EXIT_ERROR)
+    except Exception as exc:  # the last line of defence: one line, traceback only on request
+        return _bug(exc)
     return result if isinstance(result, int) else 0
 
 
-def _fail(message: str, code: int) -> int:
-    print(f"error: {' '.join(str(message).split())}", file=sys.stderr)
+def _bug(exc: BaseException) -> int:
+    if os.environ.get("VOROBOUND_DEBUG") == "1":
+        import traceback
+
+        traceback.print_exception(exc, file=sys.stderr)
+    summary = f"{type(exc).__name__}: {exc}"
+    return _fail(
+        f"internal error (a bug in vorobound, please report it): {summary}; "
+        "rerun with --debug for the traceback",
+        EXIT_BUG,
+    )
+
+
+def _silence_stdout() -> None:
+    """After a failed write to stdout, point it at /dev/null so the exit flush cannot fail."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+
+
+def _fail(message: str, code: int, prefix: str = "error: ") -> int:
+    text = " ".join(str(message).split())
+    with contextlib.suppress(OSError, ValueError):
+        print(f"{prefix}{text}", file=sys.stderr)
     return code
 
 

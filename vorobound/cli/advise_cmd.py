@@ -7,9 +7,31 @@ from typing import Annotated
 
 import typer
 
+from ..bounds.params import LFS_RANGE
 from ..errors import VoroboundError
-from .common import DeltaRatio, Json, Lipschitz, RhoF, Sigma, make_params, params_dict
-from .output import fmt, parse_numbers, print_json, print_table
+from .options import (
+    DeltaRatio,
+    Json,
+    Lipschitz,
+    RhoF,
+    Sigma,
+    params_dict,
+    parse_modes,
+    parse_numbers,
+    quality_params,
+)
+from .progress import progress_bar
+from .render import fmt, print_json, print_table
+
+AREA_RANGE = (LFS_RANGE[0] ** 2, LFS_RANGE[1] ** 2)
+"""Supported areas: squares of the supported lengths."""
+
+
+def _length(value: float, flag: str, bounds: tuple[float, float] = LFS_RANGE) -> float:
+    """A surface dimension in the supported range (so areas and 1/L² stay finite)."""
+    from ..checks import checked_number
+
+    return checked_number(value, flag, *bounds)
 
 
 def _surface(area, lfs, sphere, torus, mesh, sizing):
@@ -23,14 +45,14 @@ def _surface(area, lfs, sphere, torus, mesh, sizing):
     if area is not None:
         if lfs is None:
             raise VoroboundError("--area needs --lfs (the local feature size)")
-        return surfaces.planar_area(area, lfs)
+        return surfaces.planar_area(_length(area, "--area", AREA_RANGE), _length(lfs, "--lfs"))
     if sphere is not None:
-        return surfaces.sphere(sphere)
+        return surfaces.sphere(_length(sphere, "--sphere"))
     if torus is not None:
-        major, minor = parse_numbers(torus, "--torus", 2)
+        major, minor = (_length(x, "--torus") for x in parse_numbers(torus, "--torus", 2))
         return surfaces.torus(major, minor)
     if mesh is not None:
-        return surfaces.mesh_surface(mesh, lfs, sizing)
+        return surfaces.mesh_surface(mesh, None if lfs is None else _length(lfs, "--lfs"), sizing)
     if lfs is not None:
         raise VoroboundError("--lfs describes a surface: use it with --area or --mesh")
     return None
@@ -63,30 +85,28 @@ def advise(
     """Largest ε per mode, ball radius δ·L, spacing σ·ε·L and sample counts for a surface.
 
     Sample counts are a covering lower and a packing upper estimate (exact bounds on a
-    sphere; docs/advisor.md), and the reduction against ε = 1/500 by the same formula.
+    sphere; docs/advisor.md), and the reduction against ε = 1/500 by the same formula. Each
+    mode's ε* says how strong it is: proven, numerical or invalid.
     """
-    from ..bounds.params import Mode
     from ..reports.advisor import GUARANTEE
     from ..reports.advisor import advise as run_advice
 
-    try:
-        modes = [Mode(m.strip()).value for m in mode.split(",")]
-    except ValueError:
-        raise VoroboundError(f"--mode: expected paper, rigorous or tight, got {mode!r}") from None
-    if lipschitz is not None and lipschitz < 0:
-        raise VoroboundError(f"--lipschitz must be non-negative, got {lipschitz}")
+    modes = parse_modes(mode)
     surface = _surface(area, lfs, sphere, torus, mesh, sizing)
-    params = make_params(0.5, sigma, delta_ratio, 1.0, rho_f)
+    quality = quality_params(sigma, delta_ratio, rho_f)
     from ..sampling.surfaces import planar_area
 
     # Without a surface, lengths are reported per unit L (counts are dropped below).
     basis = surface or planar_area(1.0, 1.0)
-    advice = run_advice(params, basis, modes, lipschitz, progress=not as_json)
+    with progress_bar(not as_json) as progress:
+        advice = run_advice(quality, basis, modes, lipschitz, progress=progress)
     entries = []
     for a in advice:
         entry = {
             "mode": a.mode,
             "eps_star": a.eps_star,
+            "claim": a.claim,
+            "method": a.method,
             "ball_radius": a.ball_radius,
             "min_spacing": a.min_spacing,
             "samples_low": a.samples_low,
@@ -111,7 +131,7 @@ def advise(
     if as_json:
         print_json(
             {
-                "params": params_dict(params) | {"eps": None},
+                "params": params_dict(quality, include_lfs=False),
                 "lipschitz": lipschitz,
                 "surface": surface_info,
                 "modes": entries,
@@ -122,11 +142,12 @@ def advise(
     title = "Sampling advice" + (f" for {surface.name}" if surface else " (lengths per unit L)")
     print_table(
         title,
-        ("mode", "ε*", "ball radius δL", "spacing σεL", "samples (low–high)", "vs ε=1/500"),
+        ("mode", "ε*", "claim", "ball radius δL", "spacing σεL", "samples (low–high)", "vs 1/500"),
         [
             (
                 e["mode"],
                 fmt(e["eps_star"], 5),
+                e["claim"],
                 fmt(e["ball_radius"], 5),
                 fmt(e["min_spacing"], 5),
                 "—"

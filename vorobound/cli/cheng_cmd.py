@@ -7,8 +7,8 @@ from typing import Annotated
 
 import typer
 
-from .common import Json
-from .output import fmt, print_json, print_table
+from .options import Json, Seed
+from .render import fmt, print_json, print_table
 
 
 def cheng(
@@ -16,7 +16,7 @@ def cheng(
     dim: Annotated[
         int, typer.Option("--dim", help="2: triangles; 3: tetrahedra (circumsphere/orthosphere).")
     ] = 2,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of the global search.")] = 0,
+    seed: Seed = 0,
     as_json: Json = False,
 ) -> None:
     """R/R̂ for weights in [0, α²N(s)²]: c_rad = 1/sqrt(1−4α²), the conjectured 1/sqrt(1−3α²),

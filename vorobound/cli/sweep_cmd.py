@@ -1,18 +1,27 @@
-"""``vorobound sweep``: bound curves over ε or ε* tables over the parameters."""
+"""``vorobound sweep``: ε* tables over the parameters, or bound curves over ε.
+
+Rows are written as they are computed (CSV and JSON), so memory stays bounded whatever the
+grid size; ``-o FILE`` writes to a temporary file that replaces FILE only when the sweep ends.
+"""
 
 from __future__ import annotations
 
 import csv
-import io
 import json
+import sys
 from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from ..errors import VoroboundError
-from .output import fmt, jsonable, print_table
+from ..errors import InputError
+from .options import Json, parse_modes, parse_values
+from .progress import progress_bar
+from .render import fmt, jsonable, print_table
+
+MAX_TABLE_ROWS = 10_000
+"""Larger sweeps are written as CSV or JSON, not drawn as a table."""
 
 
 class TableFormat(str, Enum):
@@ -31,7 +40,8 @@ def sweep(
     rho_f: Annotated[str, _opt("rho-f", "Quality constant ρ_f values.")] = "1.38",
     delta_ratio: Annotated[str, _opt("delta-ratio", "δ/ε values.")] = "2",
     lipschitz: Annotated[
-        str | None, _opt("lipschitz", "λ values (tight mode only; 'none' = no condition).")
+        str | None,
+        _opt("lipschitz", "λ values, tight mode only; 'none' means no Lipschitz condition."),
     ] = None,
     mode: Annotated[
         str, typer.Option("--mode", help="Comma list of modes: paper, rigorous, tight.")
@@ -40,80 +50,93 @@ def sweep(
     format: Annotated[
         TableFormat, typer.Option("--format", help="table for people, csv or json for programs.")
     ] = TableFormat.table,
+    as_json: Json = False,
     output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="Write to this file instead of stdout.")
+        Path | None,
+        typer.Option("--output", "-o", help="Write to this file (CSV unless --format json)."),
     ] = None,
-    jobs: Annotated[int, typer.Option("--jobs", help="Processes for tight-mode rows.")] = 1,
+    jobs: Annotated[
+        int,
+        typer.Option("--jobs", help="Worker processes for tight rows (capped by rows and CPUs)."),
+    ] = 1,
+    max_rows: Annotated[
+        int, typer.Option("--max-rows", help="Refuse grids with more rows than this.")
+    ] = 100_000_000,
+    yes: Annotated[
+        bool,
+        typer.Option("--yes", help="Run tight grids estimated to take longer than 10 minutes."),
+    ] = False,
 ) -> None:
     """Sweep the parameters: ε* per (mode, λ, σ, ρ_f, δ/ε), or with --eps the bound per ε.
 
-    Example: vorobound sweep --rho-f 1.2:1.5:4 --mode paper
+    A row whose parameters admit no ε* has an empty ε* and its reason in the note column;
+    every other problem stops the sweep with an error. Example:
+    vorobound sweep --rho-f 1.2:1.5:4 --mode paper --format csv
     """
-    from ..bounds.params import Mode
-    from ..reports.sweep import SweepSpec, parse_values, run_sweep
+    from ..parallel import usable_workers
+    from ..reports.sweep import SweepSpec, check_size, iter_sweep
 
-    try:
-        modes = [Mode(m.strip()) for m in mode.split(",")]
-    except ValueError:
-        raise VoroboundError(f"--mode: expected paper, rigorous or tight, got {mode!r}") from None
     if jobs < 1:
-        raise VoroboundError(f"--jobs must be at least 1, got {jobs}")
-    if lipschitz is None or lipschitz.strip().lower() == "none":
-        lams = [None]
-    else:
-        lams = parse_values(lipschitz, "lipschitz")
+        raise InputError(f"--jobs must be at least 1, got {jobs}")
+    if as_json:
+        format = TableFormat.json
+    lams = [None] if lipschitz is None else parse_values(lipschitz, "--lipschitz", True)
     spec = SweepSpec(
-        sigma=parse_values(sigma, "sigma"),
-        rho_f=parse_values(rho_f, "rho-f"),
-        delta_ratio=parse_values(delta_ratio, "delta-ratio"),
-        lipschitz=lams,
-        modes=modes,
-        eps=None if eps is None else parse_values(eps, "eps"),
+        sigma=tuple(parse_values(sigma, "--sigma")),
+        rho_f=tuple(parse_values(rho_f, "--rho-f")),
+        delta_ratio=tuple(parse_values(delta_ratio, "--delta-ratio")),
+        lipschitz=tuple(lams),
+        modes=tuple(parse_modes(mode)),
+        eps=None if eps is None else tuple(parse_values(eps, "--eps")),
         lfs=lfs,
     )
-    tight_rows = sum(1 for c in spec.combos() if c[0] is Mode.tight) * len(spec.eps or [None])
-    if tight_rows:
-        from rich.console import Console
-        from rich.progress import Progress
+    workers = usable_workers(jobs, spec.tight_rows)
+    check_size(spec, workers, max_rows=max_rows, allow_long=yes)
+    if workers < jobs and spec.tight_rows:
+        print(
+            f"note: using {workers} worker process(es) (capped by rows and CPUs)", file=sys.stderr
+        )
+    if format is TableFormat.table and output is None and spec.rows > MAX_TABLE_ROWS:
+        raise InputError(
+            f"{spec.rows:,} rows are too many for a table; use --format csv or json, or -o FILE"
+        )
+    with progress_bar(spec.tight_rows > 0) as progress:
+        rows = iter_sweep(spec, jobs=workers, progress=progress)
+        if output is not None:
+            from ..files import atomic_open
 
-        with Progress(console=Console(stderr=True), transient=True) as progress:
-            task = progress.add_task("tight rows", total=tight_rows)
-            table = run_sweep(spec, jobs=jobs, step=lambda: progress.advance(task))
-    else:
-        table = run_sweep(spec)
-    text = _render(table, format)
-    if output is None:
-        if text is not None:
-            print(text, end="")
+            kind = TableFormat.json if format is TableFormat.json else TableFormat.csv
+            with atomic_open(output, "w") as handle:
+                count = _write(rows, spec.columns, kind, handle)
+        elif format is TableFormat.table:
+            table = [[fmt(getattr(r, c), 8) for c in spec.columns] for r in rows]
         else:
-            print_table(
-                "vorobound sweep", table.columns, [[_cell(v) for v in row] for row in table.rows]
-            )
-        return
-    try:
-        output.write_text(text if text is not None else _render(table, TableFormat.csv))
-    except OSError as exc:
-        raise VoroboundError(f"cannot write {output}: {exc.strerror}") from None
-    print(f"wrote {len(table.rows)} rows to {output}")
+            count = _write(rows, spec.columns, format, sys.stdout)
+    if output is not None:
+        print(f"wrote {count} rows to {output}", file=sys.stderr)
+    elif format is TableFormat.table:
+        print_table("vorobound sweep", spec.columns, table)
 
 
-def _cell(value) -> str:
-    if value is None:
-        return "—"
-    return fmt(value, 8) if isinstance(value, float) else str(value)
-
-
-def _render(table, format: TableFormat) -> str | None:
-    if format is TableFormat.json:
-        rows = [dict(zip(table.columns, row, strict=True)) for row in table.rows]
-        return json.dumps(jsonable(rows), indent=2) + "\n"
+def _write(rows, columns: tuple[str, ...], format: TableFormat, handle) -> int:
+    """Stream ``rows`` to ``handle`` as CSV or as a JSON array; return how many."""
+    count = 0
     if format is TableFormat.csv:
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(table.columns)
-        for row in table.rows:
+        writer = csv.writer(handle, lineterminator="\n")
+        writer.writerow(columns)
+        for row in rows:
+            values = (getattr(row, c) for c in columns)
             writer.writerow(
-                ["" if v is None else repr(v) if isinstance(v, float) else v for v in row]
+                ["" if v is None else repr(v) if isinstance(v, float) else v for v in values]
             )
-        return buffer.getvalue()
-    return None
+            count += 1
+        return count
+    handle.write("[")
+    for row in rows:
+        record = {c: getattr(row, c) for c in columns}
+        handle.write(
+            ("," if count else "") + "\n  " + json.dumps(jsonable(record), allow_nan=False)
+        )
+        count += 1
+    handle.write("\n]\n" if count else "]\n")
+    return count

@@ -6,16 +6,22 @@ from typing import Annotated
 
 import typer
 
-from ..errors import VoroboundError
-from .output import fmt, parse_numbers, print_json, print_table
+from ..errors import InputError
+from .options import parse_numbers
+from .render import fmt, print_json, print_table
+
+OVERFLOW = (
+    "the triangle is fine, but with these weights the orthoball (or the weight differences) "
+    "overflows float64: no finite result"
+)
 
 
 def _check_edges(edges: list[float]) -> None:
     if min(edges) <= 0:
-        raise VoroboundError(f"edge lengths must be positive, got {edges}")
+        raise InputError(f"edge lengths must be positive, got {edges}")
     a, b, c = sorted(edges)
     if c >= a + b:
-        raise VoroboundError(f"edges {edges} violate the triangle inequality (degenerate triangle)")
+        raise InputError(f"edges {edges} violate the triangle inequality (degenerate triangle)")
 
 
 def triangle(
@@ -56,33 +62,37 @@ def triangle(
 
     w = parse_numbers(weights, "--weights", 3)
     if (point is None) == (edges is None):
-        raise VoroboundError("give either three --point/-p options or --edges a,b,c")
+        raise InputError("give either three --point/-p options or --edges a,b,c")
     if point is not None:
         if len(point) != 3:
-            raise VoroboundError(f"a triangle needs exactly three --point/-p, got {len(point)}")
+            raise InputError(f"a triangle needs exactly three --point/-p, got {len(point)}")
         coords = [parse_numbers(p, "--point", (2, 3)) for p in point]
         if len({len(c) for c in coords}) != 1:
-            raise VoroboundError("all three points must have the same dimension (2 or 3)")
+            raise InputError("all three points must have the same dimension (2 or 3)")
         result = weighted_triangles(coords, w)
         if not bool(result.valid):
-            raise VoroboundError(
-                "the points are collinear or coincident (no circumcircle), "
-                "or the result overflows float64"
-            )
+            if not bool(weighted_triangles(coords, [0.0, 0.0, 0.0]).valid):
+                raise InputError("the points are collinear or coincident (no circumcircle)")
+            raise InputError(OVERFLOW)
     else:
         lengths = parse_numbers(edges, "--edges", 3)
         _check_edges(lengths)
         result = theorem1_from_edges(lengths, w)
         if not bool(result.valid):
-            raise VoroboundError(f"edges {lengths} do not form a non-degenerate triangle")
+            if not bool(theorem1_from_edges(lengths, [0.0, 0.0, 0.0]).valid):
+                raise InputError(f"edges {lengths} do not form a non-degenerate triangle")
+            raise InputError(OVERFLOW)
 
     payload = {
         "circumradius": float(result.circumradius),
         "orthoradius_sq": float(result.orthoradius_sq),
         "shifted_orthoradius": float(result.shifted_orthoradius),
-        "delta": float(result.delta),
-        "delta_direct": None if result.delta_direct is None else float(result.delta_direct),
-        "delta_unshifted": float(result.delta_unshifted),
+        "radius_gap": float(result.radius_gap),
+        "delta": float(result.radius_gap),
+        "delta_direct": None
+        if result.radius_gap_direct is None
+        else float(result.radius_gap_direct),
+        "delta_unshifted": float(result.radius_gap_unshifted),
         "paper_literal": float(result.paper_literal),
         "k": float(result.k),
         "edges": result.edges,
@@ -100,8 +110,8 @@ def triangle(
         ("circumradius R", fmt(payload["circumradius"]), "eq. (3), (15)"),
         ("orthoradius_sq (signed)", fmt(payload["orthoradius_sq"]), "eq. (2)"),
         ("shifted orthoradius R̂", fmt(payload["shifted_orthoradius"]), "eq. (5)–(6)"),
-        ("delta = R − R̂ (Theorem 1)", fmt(payload["delta"], 15), "eq. (29)"),
-        ("delta_direct (two centers)", fmt(payload["delta_direct"], 15), "check"),
+        ("R − R̂ (Theorem 1)", fmt(payload["radius_gap"], 15), "eq. (29)"),
+        ("R − R̂ from two centers", fmt(payload["delta_direct"], 15), "check"),
         ("R − sqrt(orthoradius_sq)", fmt(payload["delta_unshifted"], 15), "given weights"),
         ("paper_literal", fmt(payload["paper_literal"], 15), "eq. (32) as printed"),
         ("k", fmt(payload["k"]), "eq. (31)"),

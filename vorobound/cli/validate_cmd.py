@@ -6,16 +6,28 @@ from typing import Annotated
 
 import typer
 
-from .common import DeltaRatio, Eps, Json, Lfs, Lipschitz, RhoF, Sigma, make_params, params_dict
-from .output import fmt, print_json, print_table
+from .options import (
+    DeltaRatio,
+    Eps,
+    Json,
+    Lfs,
+    Lipschitz,
+    RhoF,
+    Seed,
+    Sigma,
+    params_dict,
+    quality_params,
+)
+from .progress import progress_bar
+from .render import fmt, print_json, print_table
 
 
 def validate(
     eps: Eps,
     samples: Annotated[
-        int, typer.Option("--samples", help="Feasible configurations to draw.")
+        int, typer.Option("--samples", help="Feasible configurations to draw (at most 2,000,000).")
     ] = 20000,
-    seed: Annotated[int, typer.Option("--seed", help="Random seed (runs are deterministic).")] = 0,
+    seed: Seed = 0,
     lipschitz: Lipschitz = None,
     sigma: Sigma = 0.75,
     delta_ratio: DeltaRatio = 2.0,
@@ -33,24 +45,19 @@ def validate(
     """
     from ..reports.validate import validate as run_validation
 
-    params = make_params(eps, sigma, delta_ratio, lfs, rho_f)
-    report = run_validation(params, samples, seed, lipschitz, tight=not no_tight)
+    params = quality_params(sigma, delta_ratio, rho_f, lfs).at(eps)
+    with progress_bar(not as_json) as progress:
+        progress("sampling and auditing", 0, None)
+        report = run_validation(params, samples, seed, lipschitz, tight=not no_tight)
     if as_json:
         print_json(
             {
-                "params": params_dict(params),
+                "params": params_dict(params.quality, params.eps),
                 "samples": report.samples,
                 "seed": report.seed,
                 "lipschitz": report.lipschitz,
-                "max_delta": report.max_delta,
-                "inequalities": {
-                    label: {
-                        "violations": a.violations,
-                        "worst_ratio": a.worst_ratio,
-                        "checked": a.checked,
-                    }
-                    for label, a in report.inequalities.items()
-                },
+                "max_radius_gap": report.max_radius_gap,
+                "inequalities": report.inequalities,
                 "modes": report.modes,
             }
         )

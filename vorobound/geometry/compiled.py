@@ -53,13 +53,13 @@ SCALAR_FIELDS = (
     "circumradius",
     "orthoradius_sq",
     "shifted_orthoradius",
-    "delta",
-    "delta_unshifted",
+    "radius_gap",
+    "radius_gap_unshifted",
     "paper_literal",
     "k",
     "sin_theta",
     "cos_theta",
-    "delta_direct",
+    "radius_gap_direct",
 )
 
 
@@ -131,8 +131,8 @@ def _dist_sq(points, i, j, m):
     """Squared distance between vertices j and m of row i, unscaled."""
     total = 0.0
     for axis in range(points.shape[2]):
-        gap = points[i, j, axis] - points[i, m, axis]
-        total += gap * gap
+        diff = points[i, j, axis] - points[i, m, axis]
+        total += diff * diff
     return total
 
 
@@ -167,7 +167,7 @@ def _finish_row(
     area2 = math.sqrt(area2_sq)
     radius = e0 * e1 * e2 / (2 * area2)
     rt = math.sqrt(rt_sq) if rt_sq > 0 else 0.0
-    delta = k_num / (4 * area2_sq * (radius + rt))
+    radius_gap = k_num / (4 * area2_sq * (radius + rt))
     adj0, adj1, adj2 = e1 * e2, e0 * e2, e0 * e1
     a0, a1, a2 = abs(om0), abs(om1), abs(om2)
     inv_sin = adj0 / area2 if area2_sq > 0 else math.inf
@@ -181,12 +181,12 @@ def _finish_row(
     underflow = (_minimum(_minimum(sq0, sq1), sq2) < SQ_FLOOR) | (area2_sq < AREA_FLOOR)
     underflow = underflow | ((abs(k_num) < K_FLOOR) & (size_k > 0))
     ok = (error_scale * cond <= tolerance) & (area2 > 0) & (not underflow)
-    return ok, e0, e1, e2, area2, radius, rt, delta
+    return ok, e0, e1, e2, area2, radius, rt, radius_gap
 
 
 @njit(inline="always")
 def _store_row(
-    i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min, wa0, wa1,
+    i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, radius_gap, rt_sq, w_min, wa0, wa1,
     wa2, scalars, edges, first,
 ):  # fmt: skip
     """Write rows 0–8 of ``scalars``, the relabelled edges and the apex (``_complete_rows``).
@@ -203,17 +203,17 @@ def _store_row(
     bc = b * c
     # R − R̂_s = (R − R̂_t) + w_min/(R̂_t + R̂_s), eq. (5); not real when R̂_s² < 0.
     rs = math.sqrt(orthoradius_sq) if orthoradius_sq >= 0 else math.nan
-    gap = w_min / (rt + rs)
-    gap = gap if rt + rs > 0 else (0.0 if orthoradius_sq >= 0 else math.nan)
+    shift_gap = w_min / (rt + rs)
+    shift_gap = shift_gap if rt + rs > 0 else (0.0 if orthoradius_sq >= 0 else math.nan)
     radius_out = radius * scale
     orthoradius_sq_out = orthoradius_sq * scale * scale
-    literal_out = delta * scale + _minimum(_minimum(wa0, wa1), wa2)
+    literal_out = radius_gap * scale + _minimum(_minimum(wa0, wa1), wa2)
     k_out = k_num / (bc * bc) * scale * scale
     scalars[0, i] = radius_out
     scalars[1, i] = orthoradius_sq_out
     scalars[2, i] = rt * scale
-    scalars[3, i] = delta * scale
-    scalars[4, i] = (delta + gap) * scale
+    scalars[3, i] = radius_gap * scale
+    scalars[4, i] = (radius_gap + shift_gap) * scale
     scalars[5, i] = literal_out
     scalars[6, i] = k_out
     scalars[7, i] = area2 / bc
@@ -232,12 +232,12 @@ def _finish_and_store(
     w_min, wa0, wa1, wa2, from_edges, error_scale, tolerance, scalars, edges, first,
 ):  # fmt: skip
     """``_finish_row`` then ``_store_row``; returns (float64 is enough, outputs are finite)."""
-    ok, e0, e1, e2, area2, radius, rt, delta = _finish_row(
+    ok, e0, e1, e2, area2, radius, rt, radius_gap = _finish_row(
         sq0, sq1, sq2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1, om2, from_edges,
         error_scale, tolerance,
     )  # fmt: skip
     finite_out = _store_row(
-        i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, delta, rt_sq, w_min, wa0,
+        i, scale, e0, e1, e2, d0, d1, d2, area2, k_num, radius, rt, radius_gap, rt_sq, w_min, wa0,
         wa1, wa2, scalars, edges, first,
     )  # fmt: skip
     return ok, finite_out
@@ -403,9 +403,9 @@ def edges_kernel(
         area2_sq = sq1 * sq2 - d0 * d0
         w_min, om0, om1, om2, k_num = _shifted_k(w0, w1, w2, d0, d1, d2, sq0, sq1, sq2)
         r_sq = sq0 * sq1 * sq2 / (4 * area2_sq)
-        gap = k_num / (4 * area2_sq)
-        rt_sq = r_sq - gap
-        rt_sq_scale = r_sq + abs(gap)
+        squares_gap = k_num / (4 * area2_sq)
+        rt_sq = r_sq - squares_gap
+        rt_sq_scale = r_sq + abs(squares_gap)
 
         ok, finite_out = _finish_and_store(
             i, scale, sq0, sq1, sq2, d0, d1, d2, area2_sq, k_num, rt_sq, rt_sq_scale, om0, om1,
@@ -483,7 +483,7 @@ def _allocate(n: int, n_scalars: int):
 
 
 def _collect(scalars, edges, first, flags):
-    # From edges there are no centers, so no ``delta_direct`` (the last scalar row).
+    # From edges there are no centers, so no ``radius_gap_direct`` (the last scalar row).
     out = dict(zip(SCALAR_FIELDS, scalars, strict=False))
     out.update(
         edges=edges,

@@ -175,7 +175,7 @@ class Radicals(NamedTuple):
     area2: np.ndarray  #: doubled area
     circumradius: np.ndarray  #: R, eq. (15)
     shifted_orthoradius: np.ndarray  #: R̂ of the shifted triangle, eq. (5)
-    delta: np.ndarray  #: R − R̂, eq. (29)
+    radius_gap: np.ndarray  #: R − R̂, eq. (29)
 
 
 def finish(inv: Invariants) -> Radicals:
@@ -190,12 +190,12 @@ def finish(inv: Invariants) -> Radicals:
         area2 = np.sqrt(inv.area2_sq)
         circumradius = edges[0] * edges[1] * edges[2] / (2 * area2)
         shifted = np.sqrt(np.maximum(inv.rt_sq, 0))
-        delta = inv.k_num / (4 * inv.area2_sq * (circumradius + shifted))
-    return Radicals(edges, area2, circumradius, shifted, delta)
+        radius_gap = inv.k_num / (4 * inv.area2_sq * (circumradius + shifted))
+    return Radicals(edges, area2, circumradius, shifted, radius_gap)
 
 
 def condition_estimate(inv: Invariants, rad: Radicals, from_edges: bool = False) -> np.ndarray:
-    """Bound on how much rounding in the rational stage is amplified into ``delta``, per row.
+    """Bound on how much rounding in the rational stage is amplified into ``radius_gap``, per row.
 
     Three things can cancel. The doubled area: ``|u×v|`` has relative error ~ eps/sin θ₀ from
     coordinates (θ₀ the angle at vertex 0), and ``b²c² − (b c cos θ₀)²`` ~ eps/sin²θ₀ from

@@ -61,7 +61,7 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
         "area2": rad.area2,
         "circumradius": rad.circumradius,
         "shifted_orthoradius": rad.shifted_orthoradius,
-        "delta": rad.delta,
+        "radius_gap": rad.radius_gap,
         "k_num": inv.k_num,
         "dots": inv.dots,
         "w_min": inv.w_min,
@@ -159,6 +159,6 @@ def _exact_tier(builder, arrays, finite, out, pending) -> tuple[dict, np.ndarray
             out[key][..., idx] = exact[key] if key in exact else np.nan
         valid[idx] = ok
     # Also rejects results that overflow float64 (extended precision may not).
-    valid &= np.isfinite(out["delta"]) & (out["area2"] > 0) & np.isfinite(out["circumradius"])
+    valid &= np.isfinite(out["radius_gap"]) & (out["area2"] > 0) & np.isfinite(out["circumradius"])
     valid &= np.isfinite(out["edges"]).all(axis=0) & np.isfinite(out["orthoradius_sq"])
     return out, valid

@@ -22,12 +22,14 @@ class WeightedTriangles:
     """Signed squared orthoradius |p − ẑ|² − w for the given weights, eq. (2)."""
     shifted_orthoradius: np.ndarray
     """R̂ of the triangle with the minimum weight subtracted (eq. (5)–(6)); always ≥ 0."""
-    delta: np.ndarray
-    """Theorem 1: R − R̂ for the shifted triangle, (a − â)/(2 sin θ), eq. (29)."""
-    delta_unshifted: np.ndarray
+    radius_gap: np.ndarray
+    """Theorem 1: R − R̂ for the shifted triangle, (a − â)/(2 sin θ), eq. (29).
+
+    (Named ``delta`` in the command line's JSON; δ is also the paper's ball-radius factor.)"""
+    radius_gap_unshifted: np.ndarray
     """R − sqrt(orthoradius_sq) for the given weights (NaN where orthoradius_sq < 0)."""
     paper_literal: np.ndarray
-    """Eq. (32) exactly as printed, ``delta + s''_i`` (dimensionally inconsistent)."""
+    """Eq. (32) exactly as printed, ``radius_gap + s''_i`` (dimensionally inconsistent)."""
     k: np.ndarray
     """k = a² − â², eq. (31)."""
     edges: np.ndarray
@@ -46,7 +48,7 @@ class WeightedTriangles:
     """z, eq. (3); None when only edge lengths were given."""
     orthocenter: np.ndarray | None = None
     """ẑ, eq. (2), in the plane of the triangle; None when only edge lengths were given."""
-    delta_direct: np.ndarray | None = None
+    radius_gap_direct: np.ndarray | None = None
     """R − R̂ the textbook way: |z − p| − sqrt(|ẑ − p|² − w) from the two explicit centers.
-    An independent check on ``delta`` that loses digits to cancellation when R̂ ≈ R.
+    An independent check on ``radius_gap`` that loses digits to cancellation when R̂ ≈ R.
     None when only edge lengths were given."""

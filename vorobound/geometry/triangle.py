@@ -9,7 +9,7 @@ Accuracy: rows are first evaluated in float64. Rows whose rational stage is ill-
 (thin triangles, near-cancelling weight terms; see
 :func:`vorobound.geometry.invariants.condition_estimate`) are recomputed in extended precision
 and, if still ill-conditioned, with exact rational arithmetic, so the relative error of
-``delta`` stays near the float64 rounding level.
+``radius_gap`` stays near the float64 rounding level.
 """
 
 from __future__ import annotations
@@ -57,9 +57,9 @@ def _apex_first(per_vertex: np.ndarray, apex: tuple[np.ndarray, ...]) -> tuple[n
 _LENGTH_FIELDS = (
     "circumradius",
     "shifted_orthoradius",
-    "delta",
-    "delta_unshifted",
-    "delta_direct",
+    "radius_gap",
+    "radius_gap_unshifted",
+    "radius_gap_direct",
     "edges",
     "circumcenter",
     "orthocenter",
@@ -111,7 +111,7 @@ def _complete_rows(out, valid, weights, scale):
     # R − R̂_s = (R − R̂_t) + (R̂_t − R̂_s) and R̂_t² − R̂_s² = w_min (eq. (5)); R̂_s is not
     # real when its square is negative, and then neither is the difference.
     gap = np.where(rt + rs > 0, w_min / (rt + rs), np.where(rs_sq >= 0, 0.0, np.nan))
-    out["delta_unshifted"] = out["delta"] + gap
+    out["radius_gap_unshifted"] = out["radius_gap"] + gap
     out["edges"] = np.stack([a, b, c])
     for key in _LENGTH_FIELDS:
         if key in out:
@@ -119,7 +119,7 @@ def _complete_rows(out, valid, weights, scale):
     for key in _AREA_FIELDS:
         out[key] = out[key] * scale * scale
     w0, w1, w2 = weights
-    out["paper_literal"] = out["delta"] + np.minimum(np.minimum(w0, w1), w2)
+    out["paper_literal"] = out["radius_gap"] + np.minimum(np.minimum(w0, w1), w2)
     valid = valid & np.isfinite(out["circumradius"]) & np.isfinite(out["orthoradius_sq"])
     for value in out.values():
         if value.dtype.kind == "f":
@@ -151,7 +151,7 @@ def _points_chunk(
         # The textbook route: two radii from two explicit centers, then their difference.
         radius = np.sqrt((x * x).sum(axis=0))
         shifted = np.sqrt((xy * xy).sum(axis=0) - out["omega0"])
-        out["delta_direct"] = radius - shifted
+        out["radius_gap_direct"] = radius - shifted
     pair_sq = np.stack(
         [
             _dist_sq(points[1], points[2]),
@@ -368,7 +368,7 @@ def theorem1_from_edges(edges, weights) -> WeightedTriangles:
     Returns
     -------
     WeightedTriangles
-        Centers and ``delta_direct`` are None. Rows violating the triangle inequality or with a
+        Centers and ``radius_gap_direct`` are None. Rows violating the triangle inequality or with a
         non-positive edge are invalid (NaN).
 
     References

@@ -17,22 +17,26 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..bounds.params import Mode, SamplingParams
-from ..bounds.eps_star import solve_eps_star
-from .figure_data import BASELINE_EPS
+from ..bounds.eps_star import EpsStar, solve_eps_star
+from ..bounds.params import Mode, QualityParams, checked_lipschitz
+from ..constants import BASELINE_EPS
+from ..errors import InputError
+from ..progress import Progress
 from ..sampling.surfaces import Surface
 
 GUARANTEE = (
-    "Covered: with eps <= eps_star every guide triangle has R - R_hat <= (rho_f - 1)*delta*L_i, "
-    "so R <= rho_f*delta*L_i (the R - R_hat step of the VoroCrust quality analysis, eq. (54)-(55))"
-    ", over all triangles allowed by the constraint set named per mode. Not covered: the rest of "
-    "VoroCrust's proof (topology, approximation and other lemmas) may need its own, possibly "
-    "smaller, limit on eps; check those conditions separately."
+    "What eps <= eps_star gives: every guide triangle of the mode's constraint set has "
+    "R - R_hat <= (rho_f - 1)*delta*L_i, so R <= rho_f*delta*L_i (the R - R_hat step of the "
+    "VoroCrust quality analysis, eq. (54)-(55)), with the strength stated per mode: proven "
+    "(algebra in docs/errata.md or docs/tight.md), certified (an interval certificate, "
+    "`vorobound certify`), numerical (optimizer evidence only) or invalid (the printed chain). "
+    "Not covered: the rest of VoroCrust's proof (topology, approximation and other lemmas) may "
+    "need its own, possibly smaller, limit on eps; check those conditions separately."
 )
 CONSTRAINT_SETS = {
-    "paper": "the printed chain (33)-(53) (contains an invalid step, docs/errata.md E4)",
-    "rigorous": "the corrected chain (33)-(53): any guide triangle of an eps-sampling",
-    "tight": "exact supremum over guide triangles allowed by (33)-(36), R <= eps/(1-eps) L_i "
+    "paper": "the printed chain (33)-(53)",
+    "rigorous": "the corrected chain (33)-(53), valid for any guide triangle of an eps-sample",
+    "tight": "the supremum over guide triangles allowed by (33)-(36), R <= eps/(1-eps) L_i "
     "and pairwise sparsity",
 }
 
@@ -50,50 +54,74 @@ class ModeAdvice:
     reduction_vs_1_500: float
     """Sample count at ε = 1/500 divided by the count at ε* (same formula)."""
     constraint_set: str
+    """Which guide triangles the bound covers."""
+    claim: str
+    """Strength of ε*: proven, certified, numerical or invalid (:mod:`vorobound.bounds.claims`)."""
+    method: str
+    """How ε* was found (chain, closed form, optimizer)."""
 
 
 def covering_count(surface: Surface, eps: float) -> float:
     """∫ dA / (π ε² L²): fewest samples an ε-sample can have (see the module docstring)."""
-    return surface.inv_lfs_sq_integral / (math.pi * eps**2)
+    return _finite_count(surface.inv_lfs_sq_integral / (math.pi * eps**2), surface)
 
 
 def packing_count(surface: Surface, eps: float, sigma: float) -> float:
     """∫ dA / (π (σ ε L / 2)²): most samples a σ-sparse sample can have."""
-    return surface.inv_lfs_sq_integral / (math.pi * (sigma * eps / 2) ** 2)
+    return _finite_count(surface.inv_lfs_sq_integral / (math.pi * (sigma * eps / 2) ** 2), surface)
+
+
+def _finite_count(count: float, surface: Surface) -> float:
+    if not math.isfinite(count):
+        raise InputError(f"the sample count for {surface.name} overflows: no advice possible")
+    return count
+
+
+def solve_mode(
+    quality: QualityParams, mode: Mode | str, lipschitz: float | None, progress: Progress | None
+) -> EpsStar:
+    """ε* of one mode (the tight mode through :func:`vorobound.bounds.tight.solve_tight`)."""
+    mode = Mode(mode)
+    if mode is Mode.tight:
+        from ..bounds.tight import solve_tight
+
+        return solve_tight(quality, lipschitz=lipschitz, progress=progress)
+    return solve_eps_star(quality, mode)
 
 
 def advise(
-    params: SamplingParams,
+    quality: QualityParams,
     surface: Surface,
     modes: list[str],
     lipschitz: float | None = None,
-    progress: bool = False,
+    progress: Progress | None = None,
 ) -> list[ModeAdvice]:
     """Advice for each mode: ε*, ball radius, spacing and sample counts on ``surface``."""
+    lipschitz = checked_lipschitz(lipschitz)
+    for name, value in (("area", surface.area), ("integral of 1/L²", surface.inv_lfs_sq_integral)):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"{surface.name}: its {name} is not a positive finite number")
     out = []
-    for name in modes:
+    for name in dict.fromkeys(modes):  # each mode once, in the order given
         mode = Mode(name)
-        if mode is Mode.tight:
-            from ..bounds.tight import solve_tight
-
-            eps = solve_tight(params, lipschitz=lipschitz, progress=progress).eps_star
-            label = "tight" if lipschitz is None else f"tight λ={lipschitz:g}"
-            constraint = CONSTRAINT_SETS["tight"] + (
-                "" if lipschitz is None else f", plus {lipschitz:g}-Lipschitz L"
-            )
-        else:
-            eps = solve_eps_star(params, mode).eps_star
-            label, constraint = mode.value, CONSTRAINT_SETS[mode.value]
+        star = solve_mode(quality, mode, lipschitz, progress)
+        label, constraint = mode.value, CONSTRAINT_SETS[mode.value]
+        if mode is Mode.tight and lipschitz is not None:
+            label = f"tight λ={lipschitz:g}"
+            constraint += f", plus {lipschitz:g}-Lipschitz L"
+        eps = star.eps_star
         out.append(
             ModeAdvice(
                 mode=label,
                 eps_star=eps,
-                ball_radius=params.delta_ratio * eps * surface.lfs_min,
-                min_spacing=params.sigma * eps * surface.lfs_min,
+                ball_radius=quality.delta_ratio * eps * surface.lfs_min,
+                min_spacing=quality.sigma * eps * surface.lfs_min,
                 samples_low=covering_count(surface, eps),
-                samples_high=packing_count(surface, eps, params.sigma),
+                samples_high=packing_count(surface, eps, quality.sigma),
                 reduction_vs_1_500=(eps / BASELINE_EPS) ** 2,
                 constraint_set=constraint,
+                claim=star.claim,
+                method=star.method,
             )
         )
     return out

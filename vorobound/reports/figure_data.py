@@ -7,16 +7,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bounds.chain import chain_bounds
-from ..bounds.params import Mode, SamplingParams
 from ..bounds.eps_star import EpsStar, solve_eps_star
+from ..bounds.params import Mode, QualityParams
+from ..constants import BASELINE_EPS
+from ..progress import Counter, Progress
 
-BASELINE_EPS = 1 / 500
-"""The sampling density of the original VoroCrust analysis."""
+FIGURE3_POINTS = 400
+"""ε values on the Figure 3 curves."""
+FIGURE3_RANGE_FACTOR = 1.5
+"""Figure 3 spans ε up to this factor times the larger of ε* and 1/500."""
 
 
 @dataclass(frozen=True)
 class Figure3Data:
-    """Bound on |R − R̂| against ε for L_i = ``params.lfs`` (Figure 3, paper mode)."""
+    """Bound on |R − R̂| against ε for L_i = ``quality.lfs`` (Figure 3, paper mode)."""
 
     eps: np.ndarray
     bound_acute: np.ndarray
@@ -47,12 +51,14 @@ class ComparisonData:
     """(ρ_f − 1)·(δ/ε): the target divided by ε L_i, constant in ε."""
 
 
-def figure3_data(params: SamplingParams, mode: Mode | str = Mode.paper, points: int = 400):
+def figure3_data(
+    quality: QualityParams, mode: Mode | str = Mode.paper, points: int = FIGURE3_POINTS
+) -> Figure3Data:
     """Curves of Figure 3 on ε ∈ (0, 1.5·max(ε*, 1/500)], both θ cases, and the markers."""
-    star = solve_eps_star(params, mode)
-    top = 1.5 * max(star.eps_star, BASELINE_EPS)
+    star = solve_eps_star(quality, mode)
+    top = FIGURE3_RANGE_FACTOR * max(star.eps_star, BASELINE_EPS)
     eps = np.linspace(top / points, top, points)
-    chain = chain_bounds(params, mode, eps=eps)
+    chain = chain_bounds(quality.at(top), mode, eps=eps)
     return Figure3Data(
         eps=eps,
         bound_acute=chain.bound_acute,
@@ -68,29 +74,57 @@ COMPARISON_EPS = np.geomspace(1e-4, 0.1, 300)
 """ε grid of the comparison figure (closed-form chains)."""
 TIGHT_CURVE_POINTS = 7
 """Optimizations per tight curve (each is a global search, so the curve is sampled coarsely)."""
+TIGHT_CURVE_SPAN = (1 / 20, 3.0)
+"""The tight curve runs from ε*/20 to 3ε* (at most ``TIGHT_CURVE_EPS_MAX``)."""
+TIGHT_CURVE_EPS_MAX = 0.5
 
 
-def chain_curve(params: SamplingParams, mode: Mode | str, eps=COMPARISON_EPS) -> ModeCurve:
-    star = solve_eps_star(params, mode)
-    chain = chain_bounds(params, mode, eps=eps)
-    return ModeCurve(Mode(mode).value, eps, chain.bound / (eps * params.lfs), star.eps_star)
+def chain_curve(quality: QualityParams, mode: Mode | str, eps=COMPARISON_EPS) -> ModeCurve:
+    """bound(ε)/(ε L_i) of a chain on ``eps``, and its ε*."""
+    star = solve_eps_star(quality, mode)
+    chain = chain_bounds(quality.at(float(eps[0])), mode, eps=eps)
+    return ModeCurve(Mode(mode).value, eps, chain.bound / (eps * quality.lfs), star.eps_star)
 
 
 def tight_curve(
-    params: SamplingParams, star: EpsStar, lipschitz: float | None, step=None
+    quality: QualityParams,
+    star: EpsStar,
+    lipschitz: float | None,
+    progress: Progress | None = None,
 ) -> ModeCurve:
-    """Tight supremum / (ε L_i) at a few ε around ε* (``step`` is called once per point)."""
+    """Tight supremum / (ε L_i) at a few ε around ε*."""
     from ..bounds.tight import tight_supremum
 
-    eps = np.geomspace(star.eps_star / 20, min(3 * star.eps_star, 0.5), TIGHT_CURVE_POINTS)
+    low, high = TIGHT_CURVE_SPAN
+    eps = np.geomspace(
+        star.eps_star * low, min(high * star.eps_star, TIGHT_CURVE_EPS_MAX), TIGHT_CURVE_POINTS
+    )
+    name = "tight" if lipschitz is None else f"tight, λ = {lipschitz:g}"
+    counter = Counter(progress, f"{name} curve", len(eps))
     values = []
     for e in eps:
-        values.append(tight_supremum(params.with_eps(float(e)), lipschitz).supremum)
-        if step is not None:
-            step()
-    name = "tight" if lipschitz is None else f"tight, λ = {lipschitz:g}"
-    return ModeCurve(name, eps, np.array(values) / (eps * params.lfs), star.eps_star)
+        values.append(tight_supremum(quality.at(float(e)), lipschitz).supremum)
+        counter.step()
+    return ModeCurve(name, eps, np.array(values) / (eps * quality.lfs), star.eps_star)
 
 
-def comparison_data(curves: list[ModeCurve], params: SamplingParams) -> ComparisonData:
-    return ComparisonData(tuple(curves), (params.rho_f - 1) * params.delta_ratio)
+def comparison_data(curves: list[ModeCurve], quality: QualityParams) -> ComparisonData:
+    """The comparison figure's data: every mode's curve and the target over ε L_i."""
+    return ComparisonData(tuple(curves), (quality.rho_f - 1) * quality.delta_ratio)
+
+
+TIGHT_SETTINGS = (None, 1.0)
+"""Tight-mode variants shown: the paper's constraints, and with the 1-Lipschitz condition."""
+
+
+def figure_set_data(
+    quality: QualityParams, tight_stars: dict, progress: Progress | None = None
+) -> tuple[Figure3Data, ComparisonData]:
+    """The data of every figure: Figure 3 and the comparison of modes.
+
+    ``tight_stars`` maps λ (or None) to the tight ε* to draw; empty for no tight curves.
+    """
+    curves = [chain_curve(quality, mode) for mode in ("paper", "rigorous")]
+    for lipschitz, star in tight_stars.items():
+        curves.append(tight_curve(quality, star, lipschitz, progress))
+    return figure3_data(quality), comparison_data(curves, quality)

@@ -5,12 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..bounds.chain import chain_bounds
-from ..bounds.params import SamplingParams
 from ..bounds.eps_star import EpsStar, solve_eps_star
-from .figure_data import BASELINE_EPS
-
-PAPER_EPS = 0.0047
-"""The sampling density the paper reports (Section 4.1, Figure 3)."""
+from ..bounds.params import QualityParams
+from ..constants import BASELINE_EPS, PAPER_EPS
 
 
 @dataclass(frozen=True)
@@ -20,7 +17,7 @@ class ModeSummary:
     mode: str
     star: EpsStar
     bound_at_paper_eps: float
-    """Bound on R − R̂ at ε = 0.0047 (absolute, L_i = params.lfs)."""
+    """Bound on R − R̂ at ε = 0.0047 (absolute, L_i = quality.lfs)."""
     bound_at_baseline: float
     """Bound on R − R̂ at ε = 1/500."""
 
@@ -33,31 +30,32 @@ class ReproductionRow:
     """Mode name → this project's value."""
 
 
-def summarize_chain(params: SamplingParams, mode: str) -> ModeSummary:
-    chain = chain_bounds(params, mode, eps=[PAPER_EPS, BASELINE_EPS])
+def summarize_chain(quality: QualityParams, mode: str) -> ModeSummary:
+    """A chain's ε* and its bound at ε = 0.0047 and at ε = 1/500."""
+    chain = chain_bounds(quality.at(PAPER_EPS), mode, eps=[PAPER_EPS, BASELINE_EPS])
     return ModeSummary(
-        mode, solve_eps_star(params, mode), float(chain.bound[0]), float(chain.bound[1])
+        mode, solve_eps_star(quality, mode), float(chain.bound[0]), float(chain.bound[1])
     )
 
 
-def summarize_tight(params: SamplingParams, lipschitz: float | None, progress: bool) -> ModeSummary:
-    from ..bounds.tight import solve_tight, tight_supremum
+def summarize_tight(quality: QualityParams, lipschitz: float | None, star: EpsStar) -> ModeSummary:
+    """The tight mode's summary from its ε* and the tight bound at ε = 0.0047 and 1/500."""
+    from ..bounds.tight.method import tight_bound
 
-    star = solve_tight(params, lipschitz=lipschitz, progress=progress)
-    at = [tight_supremum(params.with_eps(e), lipschitz).supremum for e in (PAPER_EPS, BASELINE_EPS)]
+    at = [tight_bound(quality.at(e), lipschitz).value for e in (PAPER_EPS, BASELINE_EPS)]
     name = "tight" if lipschitz is None else f"tight λ={lipschitz:g}"
     return ModeSummary(name, star, at[0], at[1])
 
 
 def reproduction_rows(
-    params: SamplingParams, summaries: list[ModeSummary]
+    quality: QualityParams, summaries: list[ModeSummary]
 ) -> list[ReproductionRow]:
     """Each number the paper states (ε* = 0.0047 vs 1/500, |R − R̂| ≤ 0.76ε, ρ_f < 1.38)."""
 
     def per_mode(fn):
         return {s.mode: fn(s) for s in summaries}
 
-    ratio = params.delta_ratio
+    ratio = quality.delta_ratio
     return [
         ReproductionRow("largest admissible ε (ε*)", "0.0047", per_mode(lambda s: s.star.eps_star)),
         ReproductionRow(
@@ -68,16 +66,16 @@ def reproduction_rows(
         ReproductionRow(
             "bound on |R − R̂| / (ε L_i) at ε = 0.0047",
             "≤ 0.76",
-            per_mode(lambda s: s.bound_at_paper_eps / (PAPER_EPS * params.lfs)),
+            per_mode(lambda s: s.bound_at_paper_eps / (PAPER_EPS * quality.lfs)),
         ),
         ReproductionRow(
             "implied ρ_f = 1 + bound/(δ L_i) at ε = 0.0047",
             "< 1.38",
-            per_mode(lambda s: 1 + s.bound_at_paper_eps / (ratio * PAPER_EPS * params.lfs)),
+            per_mode(lambda s: 1 + s.bound_at_paper_eps / (ratio * PAPER_EPS * quality.lfs)),
         ),
         ReproductionRow(
             "bound on |R − R̂| / (ε L_i) at ε = 1/500",
             "(not stated)",
-            per_mode(lambda s: s.bound_at_baseline / (BASELINE_EPS * params.lfs)),
+            per_mode(lambda s: s.bound_at_baseline / (BASELINE_EPS * quality.lfs)),
         ),
     ]

@@ -1,177 +1,270 @@
-"""Parameter sweeps: bound curves over ε, or ε* tables over σ, ρ_f, δ/ε, λ and mode."""
+"""Parameter sweeps: ε* tables over σ, ρ_f, δ/ε, λ and mode, or bound curves over ε.
+
+Rows stream out in a fixed nested-loop order (mode, λ, σ, ρ_f, δ/ε[, ε]) and are computed in
+chunks, so memory stays bounded whatever the grid size: the chain modes evaluate
+``CHUNK_ROWS`` rows at a time (each row costs about ``BYTES_PER_CHAIN_ROW`` while its chunk is
+being solved), and the tight rows run one at a time per worker process. A grid is sized by
+arithmetic on its axes before anything is built.
+
+A row has an empty result only when its parameters admit no ε* (:class:`NoAdmissibleEps`);
+the row's ``note`` says why. Any other error stops the sweep.
+"""
 
 from __future__ import annotations
 
-import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..bounds.chain import chain_arrays
-from ..bounds.params import Mode, SamplingParams
-from ..bounds.eps_star import solve_eps_star_batch
-from ..errors import VoroboundError
+from ..bounds.claims import CHAIN_CLAIM
+from ..bounds.eps_star import STATUS_OK, STATUS_REASONS, solve_eps_star_batch
+from ..bounds.params import (
+    DELTA_RATIO_RANGE,
+    EPS_RANGE,
+    RHO_F_MAX,
+    SIGMA_RANGE,
+    Mode,
+    QualityParams,
+    checked_lipschitz,
+)
+from ..checks import checked_number
+from ..errors import InputError, NoAdmissibleEps
+from ..progress import Counter, Progress
 
-MAX_GRID_POINTS = 10_000_000
-"""Refuse grids larger than this (they would not fit in memory as tables)."""
-
-
-def parse_values(text: str, name: str) -> list[float]:
-    """``start:stop:num`` (inclusive, evenly spaced) or a comma list, as floats."""
-    text = text.strip()
-    try:
-        if ":" in text:
-            parts = text.split(":")
-            if len(parts) != 3:
-                raise ValueError
-            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
-            if num < 1 or not (math.isfinite(start) and math.isfinite(stop)):
-                raise ValueError
-            values = np.linspace(start, stop, num).tolist()
-        else:
-            values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise VoroboundError(
-            f"--{name}: expected start:stop:num or a comma list of numbers, got {text!r}"
-        ) from None
-    if not all(math.isfinite(v) for v in values):
-        raise VoroboundError(f"--{name}: values must be finite, got {text!r}")
-    return values
+MAX_GRID_ROWS = 100_000_000
+"""Largest grid a sweep accepts (rows stream out, so this limits time, not memory)."""
+CHUNK_ROWS = 2048
+"""Chain-mode rows solved together; memory ≈ CHUNK_ROWS × BYTES_PER_CHAIN_ROW."""
+BYTES_PER_CHAIN_ROW = 40 * 200 * 8
+"""About 40 arrays of the 200-point ε scan of :func:`solve_eps_star_batch`, per row."""
+TIGHT_SECONDS_PER_ROW = {"eps_star": 4.0, "bound": 1.0}
+"""Measured upper estimates of one optimizer row (ε* and one supremum) on one core."""
+MAX_TIGHT_SECONDS = 600.0
+"""Tight grids estimated to take longer are refused unless the caller allows them."""
 
 
 @dataclass(frozen=True)
-class SweepTable:
-    """A sweep's result: named columns and rows in deterministic (nested-loop) order."""
+class SweepRow:
+    """One row of a sweep (``eps``/``bound``/``target`` for bound curves, else ``eps_star``)."""
 
-    columns: tuple[str, ...]
-    rows: list[tuple]
+    mode: str
+    lipschitz: float | None
+    sigma: float
+    rho_f: float
+    delta_ratio: float
+    eps: float | None = None
+    bound: float | None = None
+    target: float | None = None
+    eps_star: float | None = None
+    claim: str = ""
+    """proven, numerical or invalid (:mod:`vorobound.bounds.claims`)."""
+    note: str = ""
+    """Why a result cell is empty (no admissible ε); empty otherwise."""
+
+
+EPS_STAR_COLUMNS = ("mode", "lipschitz", "sigma", "rho_f", "delta_ratio", "eps_star")
+CURVE_COLUMNS = ("mode", "lipschitz", "sigma", "rho_f", "delta_ratio", "eps", "bound", "target")
+TRAILING_COLUMNS = ("claim", "note")
+
+
+AXIS_RANGES = {
+    "sigma": (*SIGMA_RANGE, False),
+    "rho_f": (1.0, RHO_F_MAX, True),
+    "delta_ratio": (*DELTA_RATIO_RANGE, False),
+}
+"""The supported range of each swept parameter (those of :class:`QualityParams`)."""
+
+
+def _unique(values) -> tuple:
+    return tuple(dict.fromkeys(values))
 
 
 @dataclass(frozen=True)
 class SweepSpec:
-    sigma: list[float]
-    rho_f: list[float]
-    delta_ratio: list[float]
-    lipschitz: list[float | None]
-    modes: list[Mode]
-    eps: list[float] | None = None
+    """The axes of a sweep; duplicates are dropped and every value is checked on creation."""
+
+    sigma: tuple[float, ...]
+    rho_f: tuple[float, ...]
+    delta_ratio: tuple[float, ...]
+    lipschitz: tuple[float | None, ...]
+    modes: tuple[Mode, ...]
+    eps: tuple[float, ...] | None = None
     lfs: float = 1.0
 
-    def combos(self):
-        """(mode, λ, σ, ρ_f, δ/ε) in nested-loop order; λ only varies for the tight mode."""
-        for mode in self.modes:
-            lams = self.lipschitz if mode is Mode.tight else [None]
-            for lam, sigma, rho_f, ratio in itertools.product(
-                lams, self.sigma, self.rho_f, self.delta_ratio
-            ):
-                yield mode, lam, sigma, rho_f, ratio
-
-
-def _validate(spec: SweepSpec) -> None:
-    combos = list(spec.combos())
-    for _, lam, sigma, rho_f, ratio in combos:
-        SamplingParams(0.5, sigma, ratio, spec.lfs, rho_f)  # raises on a bad value
-        if lam is not None and lam < 0:
-            raise VoroboundError(f"--lipschitz must be non-negative, got {lam}")
-    for e in spec.eps or []:
-        if not 0 < e < 1:
-            raise VoroboundError(f"--eps values must lie in (0, 1), got {e}")
-    size = len(combos) * (len(spec.eps) if spec.eps else 1)
-    if size > MAX_GRID_POINTS:
-        raise VoroboundError(f"the grid has {size} points; at most {MAX_GRID_POINTS} allowed")
-
-
-def _tight_value(args) -> float:
-    """One tight row (module-level so that worker processes can run it)."""
-    eps, lam, sigma, rho_f, ratio, lfs = args
-    if eps is None:
-        from ..bounds.tight import solve_tight
-
-        params = SamplingParams(0.5, sigma, ratio, lfs, rho_f)
-        return solve_tight(params, lipschitz=lam).eps_star
-    from ..bounds.tight import tight_supremum
-
-    return tight_supremum(SamplingParams(eps, sigma, ratio, lfs, rho_f), lipschitz=lam).supremum
-
-
-def run_sweep(spec: SweepSpec, jobs: int = 1, step: Callable[[], None] | None = None) -> SweepTable:
-    """Evaluate the grid. Closed-form modes are vectorized; tight rows run on ``jobs`` processes.
-
-    ``step`` is called once per finished tight row (for a progress bar).
-    """
-    _validate(spec)
-    with_eps = spec.eps is not None
-    columns = ("mode", "lipschitz", "sigma", "rho_f", "delta_ratio")
-    columns += ("eps", "bound", "target") if with_eps else ("eps_star",)
-    rows: list[tuple] = []
-    tight_jobs = []
-    for mode, lam, sigma, rho_f, ratio in spec.combos():
-        key = (mode.value, lam, sigma, rho_f, ratio)
-        if mode is Mode.tight:
-            for e in spec.eps if with_eps else [None]:
-                tight_jobs.append((len(rows), (e, lam, sigma, rho_f, ratio, spec.lfs)))
-                rows.append(key + ((e, None, None) if with_eps else (None,)))
-        elif with_eps:
-            eps = np.asarray(spec.eps)
-            chain = chain_arrays(eps, sigma, ratio, spec.lfs, rho_f, mode)
-            rows.extend(
-                key + (float(e), float(b), float(t))
-                for e, b, t in zip(eps, chain.bound, chain.target, strict=True)
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "modes", _unique(Mode(m) for m in self.modes))
+        for name in ("sigma", "rho_f", "delta_ratio", "lipschitz", "modes"):
+            if not getattr(self, name):
+                raise InputError(f"the sweep's {name} axis is empty")
+        for name, (low, high, open_low) in AXIS_RANGES.items():
+            values = getattr(self, name)
+            set_(
+                self,
+                name,
+                _unique(checked_number(v, name, low, high, open_low=open_low) for v in values),
             )
+        set_(self, "lipschitz", _unique(checked_lipschitz(lam) for lam in self.lipschitz))
+        set_(self, "lfs", QualityParams(lfs=self.lfs).lfs)
+        if self.eps is not None:
+            set_(self, "eps", _unique(checked_number(e, "eps", *EPS_RANGE) for e in self.eps))
+        if Mode.tight not in self.modes and self.lipschitz != (None,):
+            raise InputError("a Lipschitz constant applies to the tight mode only")
+
+    @property
+    def per_mode(self) -> int:
+        """Rows per chain mode: |σ|·|ρ_f|·|δ/ε|·|ε|."""
+        return len(self.sigma) * len(self.rho_f) * len(self.delta_ratio) * len(self.eps or (0,))
+
+    @property
+    def tight_rows(self) -> int:
+        return self.per_mode * len(self.lipschitz) if Mode.tight in self.modes else 0
+
+    @property
+    def rows(self) -> int:
+        """Rows of the whole sweep (arithmetic on the axis lengths; nothing is built)."""
+        chains = sum(1 for m in self.modes if m is not Mode.tight)
+        return chains * self.per_mode + self.tight_rows
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        return (CURVE_COLUMNS if self.eps is not None else EPS_STAR_COLUMNS) + TRAILING_COLUMNS
+
+    def estimated_tight_seconds(self, workers: int) -> float:
+        """Estimated wall time of the tight rows on ``workers`` processes (optimizer rows)."""
+        per_row = TIGHT_SECONDS_PER_ROW["bound" if self.eps is not None else "eps_star"]
+        return self.tight_rows * per_row / max(workers, 1)
+
+
+def check_size(
+    spec: SweepSpec, workers: int, max_rows: int = MAX_GRID_ROWS, allow_long: bool = False
+) -> None:
+    """Refuse a grid with more than ``max_rows`` rows, or tight rows estimated to take longer
+    than ``MAX_TIGHT_SECONDS`` unless ``allow_long``."""
+    if spec.rows > max_rows:
+        raise InputError(f"the sweep has {spec.rows:,} rows; at most {max_rows:,} are allowed")
+    seconds = spec.estimated_tight_seconds(workers)
+    if seconds > MAX_TIGHT_SECONDS and not allow_long:
+        raise InputError(
+            f"the {spec.tight_rows:,} tight rows would take about {_duration(seconds)} on "
+            f"{workers} process(es); allow it explicitly or use a smaller grid"
+        )
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def iter_sweep(
+    spec: SweepSpec, jobs: int = 1, progress: Progress | None = None
+) -> Iterator[SweepRow]:
+    """The sweep's rows in order, computed chunk by chunk (see the module docstring).
+
+    Tight rows run on ``jobs`` worker processes (capped by the rows and the CPUs); ``progress``
+    is told of each finished tight row.
+    """
+    for mode in spec.modes:
+        if mode is Mode.tight:
+            yield from _tight_rows(spec, jobs, progress)
         else:
-            rows.append(key + (None,))
-    if not with_eps:
-        _fill_closed_form_eps_star(rows)
-    if tight_jobs:
-        values = _run_tight(tight_jobs, jobs, step)
-        for (index, args), value in zip(tight_jobs, values, strict=True):
-            row = rows[index]
-            if with_eps:
-                params = SamplingParams(args[0], args[2], args[4], args[5], args[3])
-                rows[index] = row[:5] + (args[0], value, params.target)
-            else:
-                rows[index] = row[:5] + (value,)
-    return SweepTable(columns, rows)
+            yield from _chain_rows(spec, mode)
 
 
-def _fill_closed_form_eps_star(rows: list[tuple]) -> None:
-    for mode in (Mode.paper, Mode.rigorous):
-        index = [i for i, r in enumerate(rows) if r[0] == mode.value]
-        if not index:
-            continue
-        sigma = np.array([rows[i][2] for i in index])
-        rho_f = np.array([rows[i][3] for i in index])
-        ratio = np.array([rows[i][4] for i in index])
-        stars = solve_eps_star_batch(sigma, ratio, rho_f, mode)
-        for i, value in zip(index, stars, strict=True):
-            rows[i] = rows[i][:5] + (None if np.isnan(value) else float(value),)
+def _chain_rows(spec: SweepSpec, mode: Mode) -> Iterator[SweepRow]:
+    axes = [np.asarray(spec.sigma), np.asarray(spec.rho_f), np.asarray(spec.delta_ratio)]
+    if spec.eps is not None:
+        axes.append(np.asarray(spec.eps))
+    shape = tuple(len(a) for a in axes)
+    total = math.prod(shape)
+    claim = CHAIN_CLAIM[mode.value]
+    for start in range(0, total, CHUNK_ROWS):
+        index = np.unravel_index(np.arange(start, min(start + CHUNK_ROWS, total)), shape)
+        sigma, rho_f, ratio = (axis[i] for axis, i in zip(axes[:3], index[:3], strict=True))
+        if spec.eps is None:
+            stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode)
+            for s, q, r, star, code in zip(sigma, rho_f, ratio, stars, status, strict=True):
+                ok = code == STATUS_OK
+                yield SweepRow(
+                    mode.value,
+                    None,
+                    float(s),
+                    float(q),
+                    float(r),
+                    eps_star=float(star) if ok else None,
+                    claim=claim,
+                    note="" if ok else STATUS_REASONS[int(code)],
+                )
+        else:
+            eps = axes[3][index[3]]
+            with np.errstate(invalid="ignore"):
+                chain = chain_arrays(eps, sigma, ratio, spec.lfs, rho_f, mode)
+            for s, q, r, e, b, t in zip(
+                sigma, rho_f, ratio, eps, chain.bound, chain.target, strict=True
+            ):
+                defined = bool(np.isfinite(b))
+                yield SweepRow(
+                    mode.value,
+                    None,
+                    float(s),
+                    float(q),
+                    float(r),
+                    eps=float(e),
+                    bound=float(b) if defined else None,
+                    target=float(t),
+                    claim=claim,
+                    note="" if defined else "the chain is not defined at this eps",
+                )
 
 
-def _run_tight(tight_jobs, jobs: int, step) -> list[float]:
-    args = [a for _, a in tight_jobs]
-    if jobs <= 1:
-        out = []
-        for a in args:
-            out.append(_safe_tight(a))
-            if step:
-                step()
-        return out
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        out = []
-        for value in pool.map(_safe_tight, args):
-            out.append(value)
-            if step:
-                step()
-        return out
+def _tight_tasks(spec: SweepSpec) -> Iterator[tuple]:
+    for lam in spec.lipschitz:
+        for sigma in spec.sigma:
+            for rho_f in spec.rho_f:
+                for ratio in spec.delta_ratio:
+                    for eps in spec.eps if spec.eps is not None else (None,):
+                        yield (eps, lam, sigma, rho_f, ratio, spec.lfs)
 
 
-def _safe_tight(args) -> float | None:
-    """A tight row; None when that parameter set has no admissible ε (the row says so)."""
+def tight_row(task: tuple) -> SweepRow:
+    """One tight row (module level, so worker processes can run it)."""
+    from ..bounds.tight.method import tight_bound, tight_eps_star
+
+    eps, lam, sigma, rho_f, ratio, lfs = task
+    quality = QualityParams(sigma, ratio, rho_f, lfs)
+    head = ("tight", lam, sigma, rho_f, ratio)
+    if eps is not None:
+        params = quality.at(eps)
+        try:
+            bound = tight_bound(params, lam)
+        except InputError as exc:  # an empty constraint set at this ε
+            return SweepRow(*head, eps=eps, target=params.target, note=str(exc))
+        return SweepRow(*head, eps=eps, bound=bound.value, target=params.target, claim=bound.claim)
     try:
-        return _tight_value(args)
-    except VoroboundError:
-        return None
+        star = tight_eps_star(quality, lam)
+    except NoAdmissibleEps as exc:
+        return SweepRow(*head, note=str(exc))
+    return SweepRow(*head, eps_star=star.eps_star, claim=star.claim)
+
+
+def _tight_rows(spec: SweepSpec, jobs: int, progress: Progress | None) -> Iterator[SweepRow]:
+    from ..parallel import process_pool, usable_workers
+
+    counter = Counter(progress, "tight rows", spec.tight_rows)
+    workers = usable_workers(jobs, spec.tight_rows)
+    if workers == 1:
+        for task in _tight_tasks(spec):
+            row = tight_row(task)
+            counter.step()
+            yield row
+        return
+    with process_pool(workers) as pool:
+        for row in pool.map(tight_row, _tight_tasks(spec)):
+            counter.step()
+            yield row

@@ -9,8 +9,12 @@ import numpy as np
 from ..bounds.audit import audit_chain, exact_quantities
 from ..bounds.chain import chain_bounds
 from ..bounds.configurations import sample_feasible
-from ..bounds.params import SamplingParams
-from ..errors import VoroboundError
+from ..bounds.params import SamplingParams, checked_lipschitz
+from ..checks import checked_count, checked_seed
+from ..errors import InputError
+
+MAX_SAMPLES = 2_000_000
+"""Most configurations one validation draws (about 1 kB each while they are evaluated)."""
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,7 @@ class ValidationReport:
     """Equation label, e.g. "(49)" → how the printed step fared."""
     modes: dict[str, float]
     """Mode → largest observed (R − R̂)/bound; above 1 means that bound was exceeded."""
-    max_delta: float
+    max_radius_gap: float
     """Largest observed R − R̂."""
 
 
@@ -63,13 +67,12 @@ def validate(
     ----------
     Eq. (33)–(53).
     """
-    if samples < 1:
-        raise VoroboundError(f"samples must be at least 1, got {samples}")
-    if lipschitz is not None and not lipschitz >= 0:
-        raise VoroboundError(f"lipschitz must be non-negative, got {lipschitz}")
+    samples = checked_count(samples, "samples", 1, MAX_SAMPLES)
+    seed = checked_seed(seed)
+    lipschitz = checked_lipschitz(lipschitz)
     tri = sample_feasible(params, samples, np.random.default_rng(seed), lipschitz=lipschitz)
     if len(tri) < samples:
-        raise VoroboundError(
+        raise InputError(
             f"found only {len(tri)} feasible configurations of {samples}; the constraints "
             "leave (almost) no room at these parameters"
         )
@@ -83,13 +86,12 @@ def validate(
             merged[audit.label] = LabelAudit(
                 seen.violations + audit.violations, float(worst), seen.checked + audit.checked
             )
-    delta = exact_quantities(tri, params)["delta"]
-    max_delta = float(delta.max())
+    max_gap = float(exact_quantities(tri, params).radius_gap.max())
     modes = {
-        mode: max_delta / float(chain_bounds(params, mode).bound) for mode in ("paper", "rigorous")
+        mode: max_gap / float(chain_bounds(params, mode).bound) for mode in ("paper", "rigorous")
     }
     if tight:
         from ..bounds.tight import tight_supremum
 
-        modes["tight"] = max_delta / tight_supremum(params, lipschitz=lipschitz).supremum
-    return ValidationReport(params, samples, seed, lipschitz, merged, modes, max_delta)
+        modes["tight"] = max_gap / tight_supremum(params, lipschitz=lipschitz).supremum
+    return ValidationReport(params, samples, seed, lipschitz, merged, modes, max_gap)

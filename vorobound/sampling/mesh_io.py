@@ -45,7 +45,9 @@ def quiet_meshio(call, path: Path, what: str):
             return call()
     except SystemExit:
         said = " ".join(sink.getvalue().split())
-        raise ReadError(f"cannot read {what} {path}: {said or 'meshio could not read it'}") from None
+        raise ReadError(
+            f"cannot read {what} {path}: {said or 'meshio could not read it'}"
+        ) from None
     except MemoryError:
         raise ReadError(f"cannot read {what} {path}: it does not fit in memory") from None
     except Exception as exc:  # meshio and its format readers raise many types

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..checks import checked_seed
 from ..errors import InputError
 from ..geometry.simplex import nearest_vertex_distances, simplex_radii
 
@@ -68,6 +69,52 @@ SAME_OPTIMUM_RTOL = 1e-9
 
 
 @dataclass(frozen=True)
+class ChengMaximizer:
+    """A weighted simplex (vertex 0 at the origin, vertex 1 at e₁) and its radii."""
+
+    points: list[list[float]]
+    weights: list[float]
+    weight_fractions: list[float]
+    """Each weight over its upper bound α² N(s)²."""
+    nearest_distances: list[float]
+    """N(s) of each vertex."""
+    circumradius: float
+    orthoradius: float
+    ratio: float
+    """R/R̂."""
+
+
+@dataclass(frozen=True)
+class ChengEvidence:
+    """How a numerical supremum of R/R̂ was obtained."""
+
+    seed: int
+    global_search_value: float | None
+    """Best R/R̂ of differential evolution (before polishing)."""
+    global_search_evaluations: int
+    local_optima: tuple[float, ...]
+    """R/R̂ after each local polish, best first."""
+    local_spread: float | None
+    """Best minus worst local optimum."""
+    reaching_best: int
+    """Polishes within ``SAME_OPTIMUM_RTOL`` of the best."""
+    random_sample_size: int
+    random_sample_max: float | None
+    regular_simplex_ratio: float
+    """R/R̂ of the regular simplex with every weight at its bound."""
+    max_by_flatness_floor: dict[str, float]
+    """Best R/R̂ as the flatness floor h shrinks."""
+    growth_over_floors: float | None
+    """Best at the smallest floor over best at the largest (≈ 1000 for a 1/h divergence)."""
+    unbounded: bool
+    reason: str = ""
+    methods: tuple[str, ...] = (
+        "scipy.optimize.differential_evolution",
+        f"scipy.optimize.minimize({POLISH_METHOD})",
+    )
+
+
+@dataclass(frozen=True)
 class ChengResult:
     """Numerical supremum of R/R̂ under the weight condition w_s ∈ [0, α² N(s)²]."""
 
@@ -81,12 +128,10 @@ class ChengResult:
     """1/sqrt(1 − 3α²): the constant Cheng et al. conjecture."""
     numeric_sup: float
     """Largest R/R̂ found; ``math.inf`` when the search shows a 1/h divergence."""
-    maximizer: dict
-    """Best configuration found at the smallest flatness floor: points, weights,
-    weight_fractions, nearest_distances, circumradius, orthoradius, ratio."""
-    evidence: dict
-    """How the number was obtained: global-search value, local optima and their spread,
-    random-sample maximum, regular-simplex ratio, maximum against the flatness floor."""
+    maximizer: ChengMaximizer
+    """Best configuration found at the smallest flatness floor."""
+    evidence: ChengEvidence
+    """How the number was obtained (numerical evidence, no proof)."""
 
 
 def _checked_alpha(alpha, dim) -> float:
@@ -216,45 +261,38 @@ def _search(alpha: float, dim: int, seed: int):
         by_floor[floor] = best_value
 
     values = np.array([v for v, _ in optima])
-    evidence = {
-        "global_search": {
-            "method": "scipy.optimize.differential_evolution",
-            "seed": seed,
-            "value": -float(global_run.fun),
-            "evaluations": int(global_run.nfev),
-        },
-        "local_polish": {
-            "method": f"scipy.optimize.minimize({POLISH_METHOD})",
-            "starts": len(starts),
-            "optima": sorted((float(v) for v in values), reverse=True),
-            "spread": float(values.max() - values.min()),
-            "reaching_best": int(np.sum(values >= values.max() * (1 - SAME_OPTIMUM_RTOL))),
-        },
-        "random_sample": {
-            "size": int(sample.shape[0]),
-            "seed": seed,
-            "max": float(sample_ratio.max()),
-        },
-        "regular_simplex_max_weights": float(_ratio(_regular_simplex(dim)[None], dim, alpha)[0]),
-        "max_by_flatness_floor": {f"{f:.0e}": float(v) for f, v in by_floor.items()},
-    }
+    growth = by_floor[FLATNESS_FLOORS[-1]] / by_floor[FLATNESS_FLOORS[0]]
+    evidence = ChengEvidence(
+        seed=seed,
+        global_search_value=-float(global_run.fun),
+        global_search_evaluations=int(global_run.nfev),
+        local_optima=tuple(sorted((float(v) for v in values), reverse=True)),
+        local_spread=float(values.max() - values.min()),
+        reaching_best=int(np.sum(values >= values.max() * (1 - SAME_OPTIMUM_RTOL))),
+        random_sample_size=int(sample.shape[0]),
+        random_sample_max=float(sample_ratio.max()),
+        regular_simplex_ratio=float(_ratio(_regular_simplex(dim)[None], dim, alpha)[0]),
+        max_by_flatness_floor={f"{f:.0e}": float(v) for f, v in by_floor.items()},
+        growth_over_floors=float(growth),
+        unbounded=bool(growth >= UNBOUNDED_GROWTH),
+    )
     return best_x, by_floor, evidence
 
 
-def _maximizer_dict(x: np.ndarray, dim: int, alpha: float) -> dict:
+def _maximizer(x: np.ndarray, dim: int, alpha: float) -> ChengMaximizer:
     points, weights, fractions = _configurations(x[None], dim, alpha)
     radii = simplex_radii(points, weights)
     circumradius = float(radii.circumradius[0])
     orthoradius = math.sqrt(float(radii.orthoradius_sq[0]))
-    return {
-        "points": points[0].tolist(),
-        "weights": weights[0].tolist(),
-        "weight_fractions": fractions[0].tolist(),
-        "nearest_distances": nearest_vertex_distances(points[0]).tolist(),
-        "circumradius": circumradius,
-        "orthoradius": orthoradius,
-        "ratio": circumradius / orthoradius,
-    }
+    return ChengMaximizer(
+        points=points[0].tolist(),
+        weights=weights[0].tolist(),
+        weight_fractions=fractions[0].tolist(),
+        nearest_distances=nearest_vertex_distances(points[0]).tolist(),
+        circumradius=circumradius,
+        orthoradius=orthoradius,
+        ratio=circumradius / orthoradius,
+    )
 
 
 def cheng_constants(alpha: float, dim: int = 2, seed: int = 0) -> ChengResult:
@@ -280,6 +318,7 @@ def cheng_constants(alpha: float, dim: int = 2, seed: int = 0) -> ChengResult:
     Section 1 (Cheng, Dey and Shewchuk's bound and conjecture); eq. (2)–(3).
     """
     alpha = _checked_alpha(alpha, dim)
+    seed = checked_seed(seed)
     c_rad = 1 / math.sqrt(1 - 4 * alpha**2)
     c_conjectured = 1 / math.sqrt(1 - 3 * alpha**2)
     if alpha <= 0:
@@ -291,24 +330,31 @@ def cheng_constants(alpha: float, dim: int = 2, seed: int = 0) -> ChengResult:
             c_rad=c_rad,
             c_conjectured=c_conjectured,
             numeric_sup=1.0,
-            maximizer=_maximizer_dict(regular, dim, alpha),
-            evidence={
-                "reason": "alpha = 0 forces all weights to 0, hence R = R̂",
-                "unbounded": False,
-            },
+            maximizer=_maximizer(regular, dim, alpha),
+            evidence=ChengEvidence(
+                seed=seed,
+                global_search_value=None,
+                global_search_evaluations=0,
+                local_optima=(),
+                local_spread=None,
+                reaching_best=0,
+                random_sample_size=0,
+                random_sample_max=None,
+                regular_simplex_ratio=1.0,
+                max_by_flatness_floor={},
+                growth_over_floors=None,
+                unbounded=False,
+                reason="alpha = 0 forces all weights to 0, hence R = R̂",
+            ),
         )
     best_x, by_floor, evidence = _search(alpha, dim, seed)
-    growth = by_floor[FLATNESS_FLOORS[-1]] / by_floor[FLATNESS_FLOORS[0]]
-    unbounded = growth >= UNBOUNDED_GROWTH
-    evidence["growth_over_floors"] = float(growth)
-    evidence["unbounded"] = bool(unbounded)
-    numeric_sup = math.inf if unbounded else max(by_floor.values())
+    numeric_sup = math.inf if evidence.unbounded else max(by_floor.values())
     return ChengResult(
         alpha=alpha,
         dim=dim,
         c_rad=c_rad,
         c_conjectured=c_conjectured,
         numeric_sup=numeric_sup,
-        maximizer=_maximizer_dict(best_x, dim, alpha),
+        maximizer=_maximizer(best_x, dim, alpha),
         evidence=evidence,
     )

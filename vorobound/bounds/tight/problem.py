@@ -1,10 +1,10 @@
 """The tight bound's problem: R − R̂ and the feasible guide triangles in normalized coordinates.
 
 The chain (33)–(53) bounds each term of (29) separately; the tight bound maximizes Theorem 1's
-R − R̂ (``GuideTriangles.delta``) over the whole constraint set of
-:mod:`vorobound.bounds.feasible`, in normalized coordinates
+R − R̂ (``GuideTriangles.radius_gap``) over the whole constraint set of
+:mod:`vorobound.bounds.constraints`, in normalized coordinates
 
-    x = (b/(εL_i), c/(εL_i), θ, s_j, s_k),   L_j = L_i(1 + s_j·2ε/(1−ε)), s_j, s_k ∈ [0, 1],
+    x = (b/(εL_i), c/(εL_i), θ, s_j, s_k),   L_j = L_i(1 + s_j·2ε/(1−ε)·min(1, λ)), s ∈ [0, 1],
 
 in which the feasible set barely changes with ε.
 """
@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import VoroboundError
-from ..configurations import GuideTriangles, feasible_mask
-from ..params import SamplingParams
+from ...errors import InputError
+from .. import constraints
+from ..configurations import GuideConfiguration, GuideTriangles
+from ..params import SamplingParams, checked_lipschitz
 
 PROJECTION_STEPS = 6
 """Newton steps onto active constraints (quadratic convergence: three or four suffice)."""
@@ -34,7 +35,7 @@ ACTIVE_ATOL = 1e-9
 
 @dataclass(frozen=True)
 class Problem:
-    """The constraint set of :mod:`vorobound.bounds.feasible` in normalized coordinates.
+    """The constraint set of :mod:`vorobound.bounds.constraints` in normalized coordinates.
 
     Coordinates are (5, ...) arrays with the batch last.
     """
@@ -43,26 +44,37 @@ class Problem:
     lipschitz: float | None
 
     @property
+    def lfs_scale(self) -> float:
+        """min(1, λ): the Lipschitz conditions cap L − L_i at λ·2ε/(1−ε)·L_i (1 without λ)."""
+        return 1.0 if self.lipschitz is None else min(1.0, self.lipschitz)
+
+    @property
     def lfs_span(self) -> float:
-        """(L_max − L_i)/L_i = 2ε/(1−ε), eq. (33)."""
-        return 2 * self.params.eps / (1 - self.params.eps)
+        """(L_max − L_i)/L_i for s = 1: 2ε/(1−ε), eq. (33), times :attr:`lfs_scale`.
+
+        Scaling the span by λ < 1 keeps s of order one however small λ is, so finite
+        differences and the optimizer's tolerances resolve the L direction.
+        """
+        return 2 * self.params.eps / (1 - self.params.eps) * self.lfs_scale
 
     @property
     def unit(self) -> float:
-        """δ²L_i: R − R̂ over it is of order one at every ε (weights are O(δ²L_i·ε), eq. (37))."""
-        return self.params.delta**2 * self.params.lfs
+        """δ²L_i·min(1, λ): R − R̂ over it is of order one at every ε and λ (weights are
+        O(δ²L_i·λε), eq. (37))."""
+        return self.params.delta**2 * self.params.lfs * self.lfs_scale
 
     def box(self) -> tuple[np.ndarray, np.ndarray]:
-        """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ σ(1−ε)/2 (48)."""
+        """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ k_sin (48)."""
         eps, sigma = self.params.eps, self.params.sigma
-        k_sin = sigma * (1 - eps) / 2
+        k_sin = constraints.k_sin(eps, sigma)
         if k_sin >= 1:  # then also σεL_i ≥ 2ε/(1−ε)·L_i: no edge length is allowed
-            raise VoroboundError(f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g}")
+            raise InputError(f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g}")
         theta_lo = np.arcsin(k_sin)
         # An obtuse θ leaves two acute angles, each ≥ arcsin(k_sin).
         theta_hi = max(np.pi / 2, np.pi - 2 * theta_lo)
+        edge_hi = 2 / (1 - eps)  # (34)–(35) over εL_i
         lo = np.array([sigma, sigma, theta_lo, 0.0, 0.0])
-        hi = np.array([2 / (1 - eps), 2 / (1 - eps), theta_hi, 1.0, 1.0])
+        hi = np.array([edge_hi, edge_hi, theta_hi, 1.0, 1.0])
         return lo, hi
 
     def triangles(self, x) -> GuideTriangles:
@@ -78,33 +90,58 @@ class Problem:
         s_j, s_k = (tri.lfs_j - lfs) / span, (tri.lfs_k - lfs) / span
         return np.stack([tri.b / scale, tri.c / scale, tri.theta, s_j, s_k])
 
+    def scaled(self, x) -> constraints.ScaledConfiguration:
+        """The configuration at ``x`` in the units of the constraint set."""
+        u_b, u_c, theta, s_j, s_k = x
+        per_s = self.lfs_span / self.params.eps
+        return constraints.ScaledConfiguration(
+            edge_b=u_b,
+            edge_c=u_c,
+            edge_a=_side_a(x),
+            sin_theta=np.sin(theta),
+            excess_j=per_s * s_j,
+            excess_k=per_s * s_k,
+        )
+
+    def _coupled(self) -> tuple[constraints.Constraint, ...]:
+        """The constraints that are not coordinate bounds (those of (33)–(35) are the box).
+
+        With λ = 0 the box already fixes L_j = L_k = L_i, so no Lipschitz condition remains.
+        """
+        limits = constraints.ConstraintParams(self.params.eps, self.params.sigma, self.lipschitz)
+        boxed = {"lfs_j_min", "lfs_j_max", "lfs_k_min", "lfs_k_max"}
+        boxed |= {"b_min", "b_max", "c_min", "c_max"}
+        return tuple(
+            c
+            for c in constraints.active_constraints(limits)
+            if c.name not in boxed and not (c.lipschitz and self.lipschitz == 0)
+        )
+
     def slacks(self, x) -> np.ndarray:
-        """Nonlinear constraints as slacks ≥ 0 (names in :meth:`slack_names`), eq. (36), H3."""
-        eps, sigma = self.params.eps, self.params.sigma
-        u_b, u_c, _, s_j, s_k = x
-        a = _side_a(x)
-        rows = [
-            2 * (1 + eps) / (1 - eps) ** 2 - a,
-            # Not smooth where s_j = s_k, which matters only if it is active there.
-            a - sigma * (1 + self.lfs_span * np.minimum(s_j, s_k)),
-            self.radius_slack(x),
-        ]
-        if self.lipschitz is not None:
-            lam, per_unit = self.lipschitz, 2 / (1 - eps)
-            rows += [lam * u_c - per_unit * s_j, lam * u_b - per_unit * s_k]
-            rows += [lam * a - per_unit * (s_k - s_j), lam * a - per_unit * (s_j - s_k)]
+        """The coupled constraints as slacks ≥ 0 (names in :meth:`slack_names`): eq. (36), H3
+        and the Lipschitz conditions (those divided by min(1, λ), so all are of order one)."""
+        limits = constraints.ConstraintParams(self.params.eps, self.params.sigma, self.lipschitz)
+        cfg = self.scaled(x)
+        rows = []
+        for constraint in self._coupled():
+            small, large = constraint.sides(cfg, limits, np)
+            slack = large - small
+            rows.append(slack / self.lfs_scale if constraint.lipschitz else slack)
         return np.array(rows)
 
     def slack_names(self) -> list[str]:
-        names = ["a = 2ε(1+ε)/(1−ε)²·L_i (36)", "a = σε·min(L_j, L_k) (36)"]
-        names += ["R = ε/(1−ε)·L_i (H3)"]
-        if self.lipschitz is not None:
-            names += ["L_j − L_i = λc", "L_k − L_i = λb", "L_k − L_j = λa", "L_j − L_k = λa"]
+        """Each coupled constraint as the equation it becomes when active, e.g. "R = … (H3)"."""
+        names = []
+        for c in self._coupled():
+            equal = c.statement.replace("≤", "=").replace("≥", "=")
+            names.append(f"{equal} {c.equation if c.equation.startswith('(') else f'({c.equation})'}")
         return names
 
     def radius_slack(self, x) -> np.ndarray:
         """R ≤ ε/(1−ε)·L_i as 2 sin θ/(1−ε) − a/(εL_i) ≥ 0 (times 2 sin θ > 0), property H3."""
-        return 2 * np.sin(x[2]) / (1 - self.params.eps) - _side_a(x)
+        limits = constraints.ConstraintParams(self.params.eps, self.params.sigma, self.lipschitz)
+        small, large = constraints.BY_NAME["circumradius_max"].sides(self.scaled(x), limits, np)
+        return large - small
 
     def plateau_equations(self, x) -> np.ndarray:
         """Zero where R = ε/(1−ε)·L_i and R̂ = 0 (w_B = c², w_C = b², the orthocenter is A)."""
@@ -121,25 +158,29 @@ class Problem:
     def active(self, x: np.ndarray) -> list[str]:
         """Names of the constraints holding with equality at ``x`` (θ bounds are implied)."""
         lo, hi = self.box()
+        cap = "(33)" if self.lfs_scale == 1 else "(Lipschitz cap λ·2ε/(1−ε))"
         names_lo = ("b = σεL_i (35)", "c = σεL_i (34)", "", "L_j = L_i", "L_k = L_i")
         names_hi = ("b = 2ε/(1−ε)·L_i (35)", "c = 2ε/(1−ε)·L_i (34)", "")
-        names_hi += ("L_j = (1+ε)/(1−ε)·L_i (33)", "L_k = (1+ε)/(1−ε)·L_i (33)")
+        names_hi += (f"L_j at its cap {cap}", f"L_k at its cap {cap}")
         pairs = list(zip(names_lo, x - lo, strict=True))
         pairs += list(zip(names_hi, hi - x, strict=True))
         pairs += list(zip(self.slack_names(), self.slacks(x), strict=True))
         pairs += [("R̂ = 0 (w_B = c², w_C = b²)", np.abs(self.plateau_equations(x)[1:]).max())]
         return [name for name, slack in pairs if name and abs(slack) <= ACTIVE_ATOL]
 
-    def scaled_delta(self, x) -> np.ndarray:
-        """(R − R̂)/(δ²L_i) at the coordinates ``x``, eq. (29)."""
-        return self.triangles(x).delta(self.params) / self.unit
+    def scaled_gap(self, x) -> np.ndarray:
+        """(R − R̂)/unit at the coordinates ``x``, eq. (29)."""
+        return self.triangles(x).radius_gap(self.params) / self.unit
 
     def ratio(self, scaled: float) -> float:
         """A scaled R − R̂ as a fraction of the target (ρ_f − 1)δL_i, eq. (55)."""
         return scaled * self.unit / self.params.target
 
     def feasible(self, x) -> np.ndarray:
-        return feasible_mask(self.triangles(x), self.params, self.lipschitz)
+        """True where ``x`` lies in the constraint set (θ in (0, π) and every constraint)."""
+        limits = constraints.ConstraintParams(self.params.eps, self.params.sigma, self.lipschitz)
+        inside = (x[2] > 0) & (x[2] < np.pi)
+        return np.atleast_1d(inside & constraints.feasible(self.scaled(x), limits))
 
 
 def _side_a(x) -> np.ndarray:
@@ -193,34 +234,30 @@ def onto_plateau(problem: Problem, x: np.ndarray) -> np.ndarray | None:
     R − R̂ ≤ R ≤ ε/(1−ε)·L_i for every feasible triangle, so such a point is a global maximizer.
     """
     tri = problem.triangles(x)
-    if not tri.delta(problem.params)[0] >= (1 - PLATEAU_TRIGGER) * tri.circumradius[0]:
+    if not tri.radius_gap(problem.params)[0] >= (1 - PLATEAU_TRIGGER) * tri.circumradius[0]:
         return None
     with np.errstate(all="ignore"):
         y = project(problem, x, problem.plateau_equations)
     r_max = problem.params.eps / (1 - problem.params.eps) * problem.params.lfs / problem.unit
-    reached = problem.scaled_delta(y)[0] >= r_max * (1 - AGREE_RTOL)
+    reached = problem.scaled_gap(y)[0] >= r_max * (1 - AGREE_RTOL)
     return y if reached and problem.feasible(y)[0] else None
 
 
-def describe(problem: Problem, x: np.ndarray) -> dict:
-    """The configuration at ``x`` as plain floats, in the paper's order L_j ≤ L_k.
+def describe(problem: Problem, x: np.ndarray) -> GuideConfiguration:
+    """The configuration at ``x``, in the paper's order L_j ≤ L_k.
 
     Reflecting the triangle in the bisector of θ swaps (c, L_j) with (b, L_k) and preserves
     R − R̂ and every constraint.
     """
     if x[3] > x[4]:
         x = x[[1, 0, 2, 4, 3]]
-    tri = problem.triangles(x)
-    w_b, w_c = tri.weights(problem.params)
-    fields = {"b": tri.b, "c": tri.c, "theta": tri.theta, "lfs_j": tri.lfs_j}
-    fields |= {"lfs_k": tri.lfs_k, "a": tri.a, "circumradius": tri.circumradius}
-    fields |= {"w_b": w_b, "w_c": w_c}
-    return {key: float(value[0]) for key, value in fields.items()}
+    return GuideConfiguration.of(problem.triangles(x), problem.params)
 
 
 def checked_problem(params: SamplingParams, lipschitz: float | None) -> Problem:
-    if lipschitz is not None and not (np.isfinite(lipschitz) and lipschitz >= 0):
-        raise VoroboundError(f"lipschitz must be a finite number >= 0, got {lipschitz!r}")
-    problem = Problem(params, lipschitz)
+    """The problem for ``params`` and ``lipschitz``; raises if λ is invalid or the set is empty."""
+    if not isinstance(params, SamplingParams):
+        raise InputError(f"params must be SamplingParams, got {type(params).__name__}")
+    problem = Problem(params, checked_lipschitz(lipschitz))
     problem.box()
     return problem

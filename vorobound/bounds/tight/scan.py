@@ -1,8 +1,10 @@
-"""The tight bound: the exact supremum of R − R̂ over every feasible guide triangle.
+"""The tight bound found numerically: the supremum of R − R̂ over every feasible guide triangle
+by global optimization, and the ε* it gives.
 
-R − R̂ of eq. (29) and the constraint set (33)–(37), H3 are stated in
+R − R̂ of eq. (29) and the constraint set of :mod:`vorobound.bounds.constraints` are stated in
 :mod:`vorobound.bounds.tight.problem` and optimized by :mod:`vorobound.bounds.tight.search`;
-this module reports the extremes and finds the tight ε*.
+this module reports the extremes and finds the tight ε*. The result is numerical (strong
+evidence, no proof); docs/tight.md says where the closed form proves it.
 
 Structure of the optimum, measured for σ = 3/4, δ = 2ε, ρ_f = 1.38 (evidence at ε = 0.0047:
 all 8 polishes reach the same supremum, spread < 1e-15 relative; differential evolution with
@@ -20,7 +22,7 @@ sample's best being 0.83 of it; the closed-form vertex below matches to 1e-15):
   ε ≥ 0.0907 with λ = 1, the weights can put the orthocenter on A, R̂ = 0, and the supremum
   is the trivial bound R ≤ ε/(1−ε)·L_i, attained on a two-dimensional family (w_B = c²,
   w_C = b², R maximal). R − R̂ is not smooth there, so a polish that approaches R̂ = 0 is
-  finished by Newton steps onto that family, which certify the value.
+  finished by Newton steps onto that family, which reach the value.
 * The infimum (−0.134 of the target at ε = 0.0047, no λ) has θ = arcsin(σ(1−ε)/2),
   b = σεL_i, L_j = L_i, L_k maximal, a = σεL_j and R maximal. Other local minima exist
   (e.g. R − R̂ = 0 at L_j = L_k = L_i), which the random starts find.
@@ -29,17 +31,18 @@ sample's best being 0.83 of it; the closed-form vertex below matches to 1e-15):
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..configurations import sample_feasible
-from ..params import SamplingParams
-from ..eps_star import EpsStar, find_eps_star
+from ...progress import Progress, silent
+from ..claims import NUMERICAL
+from ..configurations import GuideConfiguration, sample_feasible
+from ..eps_star import EpsStar, NoCrossing, check_not_empty, find_eps_star
+from ..params import QualityParams, SamplingParams, checked_lipschitz
 from .problem import AGREE_RTOL, Problem, checked_problem, describe
-from .search import best_feasible, best_of_sample, extremum, polish
+from .search import SearchEvidence, best_feasible, best_of_sample, extremum, polish
 
 DENSE_SAMPLES = 20_000
 """Feasible configurations sampled (half biased to the boundaries) as evidence and as starts."""
@@ -55,17 +58,18 @@ VERIFY_ROUNDS = 3
 
 @dataclass(frozen=True)
 class TightResult:
-    """Extremes of R − R̂ over the feasible guide triangles at one ε."""
+    """Extremes of R − R̂ over the feasible guide triangles at one ε (numerical optimization)."""
 
     supremum: float
     """max R − R̂ of eq. (29), without the chain (33)–(53)."""
     infimum: float
     """min R − R̂."""
-    maximizer: dict
-    """b, c, theta, lfs_j, lfs_k, a, circumradius, w_b, w_c (eq. (37)) of the worst triangle."""
-    minimizer: dict
-    evidence: dict
-    """Why the optimum is believed global: optima from several starts, a dense sample."""
+    maximizer: GuideConfiguration
+    """The worst guide triangle."""
+    minimizer: GuideConfiguration
+    evidence: SearchEvidence
+    """Why the supremum is believed global: optima from several starts, a dense sample."""
+    infimum_evidence: SearchEvidence
     eps: float
     lipschitz: float | None
 
@@ -101,31 +105,50 @@ def tight_supremum(
     Eq. (29), (33)–(37), property H3 of Section 4.1.
     """
     problem = checked_problem(params, lipschitz)
+    lipschitz = problem.lipschitz
+    if lipschitz == 0:
+        return _constant_lfs_result(problem)
     rng = np.random.default_rng(seed)
     tri = sample_feasible(params, dense_samples, rng, lipschitz)
     sample = problem.coordinates(tri)
-    x_max, sup, evidence, dense_max = extremum(problem, 1.0, sample, rng, de_maxiter)
-    x_min, inf, inf_evidence, dense_min = extremum(problem, -1.0, sample, rng, de_maxiter)
-    evidence |= {"methods": ["differential_evolution", "SLSQP", "Newton projection"]}
-    evidence |= {"dense_samples": len(tri), "dense_sample_max": dense_max}
-    evidence["infimum"] = inf_evidence | {"dense_sample_min": dense_min}
+    x_max, sup, evidence = extremum(problem, 1.0, sample, rng, de_maxiter)
+    x_min, inf, inf_evidence = extremum(problem, -1.0, sample, rng, de_maxiter)
     return TightResult(
         supremum=sup * problem.unit,
         infimum=inf * problem.unit,
         maximizer=describe(problem, x_max),
         minimizer=describe(problem, x_min),
         evidence=evidence,
+        infimum_evidence=inf_evidence,
         eps=params.eps,
         lipschitz=lipschitz,
     )
+
+
+def _constant_lfs_result(problem: Problem) -> TightResult:
+    """λ = 0 makes L constant, so every weight is equal and R̂ = R: R − R̂ = 0 exactly."""
+    x = np.array([problem.params.sigma, problem.params.sigma, np.pi / 2, 0.0, 0.0])
+    config = describe(problem, x)
+    evidence = SearchEvidence(
+        starts=0,
+        agreeing_starts=0,
+        spread_of_local_optima=None,
+        other_local_optima=(),
+        global_search_value=0.0,
+        active_constraints=("L_j = L_k = L_i (λ = 0)",),
+        dense_samples=0,
+        dense_sample_extreme=None,
+        methods=("exact: equal weights give R̂ = R",),
+    )
+    return TightResult(0.0, 0.0, config, config, evidence, evidence, problem.params.eps, 0.0)
 
 
 class _WarmScan:
     """ε ↦ sup(R − R̂)/target, polishing from the last maximizer, known global ones and the
     best points of a small sample (which catch a change of the maximizer's structure)."""
 
-    def __init__(self, params, lipschitz, pool: list[np.ndarray], seed: int, advance: Callable):
-        self.params, self.lipschitz, self.seed = params, lipschitz, seed
+    def __init__(self, quality, lipschitz, pool: list[np.ndarray], seed: int, advance: Callable):
+        self.quality, self.lipschitz, self.seed = quality, lipschitz, seed
         self.pool, self.last = pool, pool[-1]
         self.advance = advance
         self.found: dict[float, tuple[np.ndarray, float]] = {}
@@ -134,7 +157,7 @@ class _WarmScan:
     def ratio(self, eps: float) -> float:
         eps = float(eps)
         if eps not in self.found:
-            problem = Problem(self.params.with_eps(eps), self.lipschitz)
+            problem = Problem(self.quality.at(eps), self.lipschitz)
             rng = np.random.default_rng(self.seed)
             tri = sample_feasible(problem.params, SCAN_SAMPLES, rng, self.lipschitz)
             sample = problem.coordinates(tri)
@@ -161,16 +184,16 @@ class _WarmScan:
 
 
 def solve_tight(
-    params: SamplingParams,
+    quality: QualityParams,
     lipschitz: float | None = None,
-    progress: bool = False,
+    progress: Progress | None = None,
     seed: int = 0,
     *,
     dense_samples: int = DENSE_SAMPLES,
     de_maxiter: int = DE_MAXITER,
     grid: np.ndarray = TIGHT_SCAN_GRID,
 ) -> EpsStar:
-    """Largest ε whose tight bound sup(R − R̂) stays within (ρ_f − 1)·δ·L_i.
+    """Largest ε whose numerical tight bound sup(R − R̂) stays within (ρ_f − 1)·δ·L_i.
 
     Scans ``grid`` upwards, warm-starting each ε from the previous maximizer, up to the
     first crossing; refines it with brentq (:func:`vorobound.bounds.eps_star.find_eps_star`);
@@ -179,12 +202,12 @@ def solve_tight(
 
     Parameters
     ----------
-    params : SamplingParams
-        σ, δ/ε, L_i and ρ_f (its ε is ignored).
+    quality : QualityParams
+        σ, δ/ε, ρ_f and L_i.
     lipschitz : float, optional
         λ of the Lipschitz conditions, as in :func:`tight_supremum`.
-    progress : bool
-        Show a progress bar on stderr.
+    progress : Progress, optional
+        Called with ("scanning ε", done, total), ("refining ε*", ...) and ("global search", ...).
     seed, dense_samples, de_maxiter : int
         As in :func:`tight_supremum`, for the global searches.
     grid : array_like
@@ -193,67 +216,62 @@ def solve_tight(
     Returns
     -------
     EpsStar
-        Mode ``"tight"``, with the maximizer at ε* and the residual of the search there.
+        Mode ``"tight"``, method ``"optimizer"``, with the maximizer at ε* and the residual
+        of the search there.
 
     References
     ----------
     Eq. (29), (33)–(37), (54)–(55).
     """
+    check_not_empty(quality, "tight")
+    lipschitz = checked_lipschitz(lipschitz)
+    if lipschitz == 0:
+        raise NoCrossing(
+            "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide triangle: "
+            "the tight bound never reaches the target (no crossing), so no eps*"
+        )
     grid = np.asarray(grid, dtype=float)
-    checked_problem(params.with_eps(float(grid[0])), lipschitz)
+    checked_problem(quality.at(float(grid[0])), lipschitz)
+    report = progress or silent
+    counts: dict[str, int] = {}
+
+    def advance(phase: str) -> None:
+        counts[phase] = counts.get(phase, 0) + 1
+        report(phase, counts[phase], len(grid) if phase == "scanning ε" else None)
 
     def global_max(eps: float) -> tuple[np.ndarray, float]:
         """Maximizer and sup(R − R̂)/target at ``eps`` by the full search."""
         advance("global search")
-        problem = Problem(params.with_eps(eps), lipschitz)
+        problem = Problem(quality.at(eps), lipschitz)
         rng = np.random.default_rng(seed)
         sample = problem.coordinates(sample_feasible(problem.params, dense_samples, rng, lipschitz))
-        x, value, _, _ = extremum(problem, 1.0, sample, rng, de_maxiter)
+        x, value, _ = extremum(problem, 1.0, sample, rng, de_maxiter)
         return x, problem.ratio(value)
 
-    with _progress_bar(progress, len(grid)) as advance:
-        pool = [global_max(float(grid[0]))[0]]
-        for _ in range(VERIFY_ROUNDS):
-            scan = _WarmScan(params, lipschitz, pool, seed, advance)
-            stop = scan.first_crossing(grid)
-            bracket = grid[max(stop - 1, 0) : stop + 1]
-            result = find_eps_star(scan.gap, "tight", params, grid=bracket)
-            scanned = scan.found[result.eps_star]
-            x_root, at_root = global_max(result.eps_star)
-            x_low, at_low = global_max(result.bracket[0])
-            if at_root <= scanned[1] + AGREE_RTOL * abs(scanned[1]) and at_low <= 1:
-                break
-            pool += [x_root, x_low]
-        else:
-            warnings.warn(
-                "global searches kept beating the warm-started scan: the tight eps* may be off",
-                RuntimeWarning,
-                stacklevel=2,
-            )
+    pool = [global_max(float(grid[0]))[0]]
+    for _ in range(VERIFY_ROUNDS):
+        scan = _WarmScan(quality, lipschitz, pool, seed, advance)
+        stop = scan.first_crossing(grid)
+        bracket = grid[max(stop - 1, 0) : stop + 1]
+        result = find_eps_star(
+            scan.gap, "tight", quality, NUMERICAL, grid=bracket, method="optimizer"
+        )
+        scanned = scan.found[result.eps_star]
+        x_root, at_root = global_max(result.eps_star)
+        x_low, at_low = global_max(result.bracket[0])
+        if at_root <= scanned[1] + AGREE_RTOL * abs(scanned[1]) and at_low <= 1:
+            break
+        pool += [x_root, x_low]
+    else:
+        warnings.warn(
+            "global searches kept beating the warm-started scan: the tight eps* may be off",
+            RuntimeWarning,
+            stacklevel=2,
+        )
     x_best, best = max([scanned, (x_root, at_root)], key=lambda pair: pair[1])
     return replace(
         result,
         residual=float(best - 1),
         maximizer=describe(Problem(result.params, lipschitz), x_best),
+        lipschitz=lipschitz,
     )
-
-
-@contextmanager
-def _progress_bar(enabled: bool, scan_points: int) -> Iterator[Callable[[str], None]]:
-    """Yield ``advance(phase)``: a rich progress bar on stderr if enabled, else a no-op."""
-    if not enabled:
-        yield lambda phase: None
-        return
-    from rich.console import Console
-    from rich.progress import Progress
-
-    with Progress(console=Console(stderr=True), transient=True) as bar:
-        tasks: dict[str, int] = {}
-
-        def advance(phase: str) -> None:
-            if phase not in tasks:
-                total = scan_points if phase == "scanning ε" else None
-                tasks[phase] = bar.add_task(phase, total=total)
-            bar.advance(tasks[phase])
-
-        yield advance

@@ -7,10 +7,11 @@ dense feasible sample, and a point is reported only if ``feasible_mask`` accepts
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import VoroboundError
+from ...errors import InputError
 from .problem import AGREE_RTOL, Problem, onto_plateau, project, with_jacobian
 
 DE_POPSIZE = 12
@@ -32,7 +33,7 @@ def _slsqp(problem: Problem, x0: np.ndarray, sign: float, maxiter: int):
 
     lo, hi = problem.box()
     result = minimize(
-        lambda x: with_jacobian(lambda p: -sign * problem.scaled_delta(p), x, lo, hi),
+        lambda x: with_jacobian(lambda p: -sign * problem.scaled_gap(p), x, lo, hi),
         np.clip(x0, lo, hi),
         jac=True,
         method="SLSQP",
@@ -65,7 +66,7 @@ def _global_search(problem: Problem, sign: float, seed: int, maxiter: int) -> np
 
     lo, hi = problem.box()
     result = differential_evolution(
-        lambda x: -sign * problem.scaled_delta(x),
+        lambda x: -sign * problem.scaled_gap(x),
         list(zip(lo, hi, strict=True)),
         constraints=NonlinearConstraint(problem.slacks, 0, np.inf),
         vectorized=True,
@@ -82,10 +83,10 @@ def _global_search(problem: Problem, sign: float, seed: int, maxiter: int) -> np
 def best_feasible(problem: Problem, candidates: list[np.ndarray], sign: float):
     """(coordinates, scaled R − R̂) of the best feasible candidate; raises if there is none."""
     points = np.column_stack(candidates)
-    values = np.where(problem.feasible(points), sign * problem.scaled_delta(points), -np.inf)
+    values = np.where(problem.feasible(points), sign * problem.scaled_gap(points), -np.inf)
     best = int(np.argmax(values))
     if not np.isfinite(values[best]):
-        raise VoroboundError(
+        raise InputError(
             f"found no feasible guide triangle at eps={problem.params.eps:g} "
             f"(sigma={problem.params.sigma:g}): the constraint set may be empty"
         )
@@ -94,15 +95,37 @@ def best_feasible(problem: Problem, candidates: list[np.ndarray], sign: float):
 
 def best_of_sample(problem: Problem, sample: np.ndarray, sign: float, count: int):
     """Indices of the ``count`` best sample points and the signed scaled values of all."""
-    values = sign * problem.scaled_delta(sample) if sample.shape[1] else np.empty(0)
+    values = sign * problem.scaled_gap(sample) if sample.shape[1] else np.empty(0)
     return np.argsort(-values)[:count], values
+
+
+@dataclass(frozen=True)
+class SearchEvidence:
+    """Why the optimum that :func:`extremum` returns is believed global (numerical evidence)."""
+
+    starts: int
+    """Local polishes run (from the global search and from sample points)."""
+    agreeing_starts: int
+    """Polishes that reached the reported optimum (within ``AGREE_RTOL``)."""
+    spread_of_local_optima: float | None
+    """Relative spread of the agreeing polishes."""
+    other_local_optima: tuple[float, ...]
+    """Values of R − R̂ at the other local optima found."""
+    global_search_value: float
+    """R − R̂ where differential evolution stopped (before polishing)."""
+    active_constraints: tuple[str, ...]
+    """Constraints holding with equality at the optimum."""
+    dense_samples: int
+    """Feasible configurations sampled as evidence and starts."""
+    dense_sample_extreme: float | None
+    """The sample's best R − R̂ (never beyond the optimum, or a warning is raised)."""
+    methods: tuple[str, ...] = ("differential_evolution", "SLSQP", "Newton projection")
 
 
 def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: int):
     """Global search, then polishes from its result and from sample points.
 
-    Returns the best feasible point, its scaled R − R̂, the evidence (values of R − R̂) and
-    the sample's extreme R − R̂.
+    Returns the best feasible point, its scaled R − R̂ and the :class:`SearchEvidence`.
     """
     de_x = _global_search(problem, sign, int(rng.integers(2**31)), maxiter)
     picks, sample_values = best_of_sample(problem, sample, sign, BEST_SAMPLE_STARTS)
@@ -113,7 +136,7 @@ def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: in
     x, value = best_feasible(problem, polished + [de_x], sign)
     unit, scale = problem.unit, max(abs(value), np.finfo(float).tiny)
     local = np.column_stack(polished)
-    local = sign * problem.scaled_delta(local)[problem.feasible(local)]
+    local = sign * problem.scaled_gap(local)[problem.feasible(local)]
     agree = local >= sign * value - AGREE_RTOL * scale
     dense = float(sign * sample_values.max() * unit) if sample_values.size else None
     if dense is not None and sign * (dense / unit - value) > AGREE_RTOL * scale:
@@ -123,12 +146,14 @@ def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: in
             RuntimeWarning,
             stacklevel=3,
         )
-    evidence = {
-        "starts": len(starts),
-        "agreeing_starts": int(agree.sum()),
-        "spread_of_local_optima": float(np.ptp(local[agree]) / scale) if agree.any() else None,
-        "other_local_optima": sorted({float(f"{sign * v * unit:.12g}") for v in local[~agree]}),
-        "global_search_value": float(problem.scaled_delta(de_x)[0] * unit),
-        "active_constraints": problem.active(x),
-    }
-    return x, value, evidence, dense
+    evidence = SearchEvidence(
+        starts=len(starts),
+        agreeing_starts=int(agree.sum()),
+        spread_of_local_optima=float(np.ptp(local[agree]) / scale) if agree.any() else None,
+        other_local_optima=tuple(sorted({float(f"{sign * v * unit:.12g}") for v in local[~agree]})),
+        global_search_value=float(problem.scaled_gap(de_x)[0] * unit),
+        active_constraints=tuple(problem.active(x)),
+        dense_samples=int(sample.shape[1]),
+        dense_sample_extreme=dense,
+    )
+    return x, value, evidence

@@ -1,0 +1,45 @@
+"""Checks of user-given values shared by every layer: real numbers in a range, seeds, counts.
+
+Each returns the value in a plain Python type or raises :class:`~vorobound.errors.InputError`
+with one line that names the value and the accepted range.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+from .errors import InputError
+
+SEED_MAX = 2**63 - 1
+"""Largest accepted random seed (seeds stay printable as int64 in outputs)."""
+
+
+def checked_number(value, name: str, low: float, high: float, *, open_low: bool = False) -> float:
+    """``value`` as a float if it is a real number in [low, high] (or (low, high]); else raise."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be a real number, got {value!r}")
+    number = float(value)
+    inside = (low < number if open_low else low <= number) and number <= high
+    if not (math.isfinite(number) and inside):
+        bracket = "(" if open_low else "["
+        raise InputError(
+            f"{name} must lie in {bracket}{low:g}, {high:g}] (the supported range), got {value!r}"
+        )
+    return number
+
+
+def checked_count(value, name: str, low: int, high: int) -> int:
+    """``value`` as an int in [low, high]; else raise."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Integral)
+        or not low <= value <= high
+    ):
+        raise InputError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+    return int(value)
+
+
+def checked_seed(seed) -> int:
+    """``seed`` as an int in [0, 2⁶³ − 1]; raise InputError otherwise."""
+    return checked_count(seed, "seed", 0, SEED_MAX)

@@ -1,0 +1,157 @@
+"""Options shared by the commands, and parsing of the values users type.
+
+Every message that names a command-line flag lives in ``cli/``; the library below speaks of
+parameters by name only.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from enum import Enum
+from typing import Annotated
+
+import typer
+
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..errors import InputError
+
+
+class ModeChoice(str, Enum):
+    paper = "paper"
+    rigorous = "rigorous"
+    tight = "tight"
+
+
+class MethodChoice(str, Enum):
+    auto = "auto"
+    optimize = "optimize"
+
+
+TightMethodOpt = Annotated[
+    MethodChoice,
+    typer.Option(
+        "--method",
+        help="Tight mode: auto (the closed form where docs/tight.md proves it, else the "
+        "optimizer) or optimize (always the numerical optimizer, the independent check).",
+    ),
+]
+
+MODE_HELP = (
+    "paper: the printed chain (33)–(53), invalid (docs/errata.md E4); rigorous: the corrected "
+    "chain, proven; tight: the supremum over the constraint set (docs/tight.md says where it is "
+    "proven and where it is numerical)."
+)
+
+Eps = Annotated[float, typer.Option("--eps", help="Sampling density ε, 0 < ε < 1.")]
+Sigma = Annotated[float, typer.Option("--sigma", help=f"Sparsity σ (paper: {PAPER_SIGMA:g}).")]
+DeltaRatio = Annotated[
+    float,
+    typer.Option(
+        "--delta-ratio",
+        help=f"Ball radius over ε, δ/ε (paper: {PAPER_DELTA_RATIO:g}, δ = 2ε).",
+    ),
+]
+Lfs = Annotated[float, typer.Option("--lfs", help="Local feature size L_i (paper: 1).")]
+RhoF = Annotated[
+    float,
+    typer.Option(
+        "--rho-f", help=f"Quality constant ρ_f > 1 in R ≤ ρ_f δ L_i (paper: {PAPER_RHO_F:g})."
+    ),
+]
+ModeOpt = Annotated[ModeChoice, typer.Option("--mode", help=MODE_HELP)]
+Lipschitz = Annotated[
+    float | None,
+    typer.Option(
+        "--lipschitz",
+        help="Tight mode only: add |L_x − L_y| ≤ λ|p_x − p_y| for each pair (λ = 1: local "
+        "feature size; sizing fields often use 0.1–0.3).",
+    ),
+]
+Json = Annotated[bool, typer.Option("--json", help="Print one JSON object (for programs).")]
+Seed = Annotated[int, typer.Option("--seed", help="Random seed, 0 ≤ seed < 2⁶³ (deterministic).")]
+
+
+def quality_params(sigma: float, delta_ratio: float, rho_f: float, lfs: float = 1.0):
+    """The validated ε-free parameters (InputError names the parameter and its range)."""
+    from ..bounds.params import QualityParams
+
+    return QualityParams(sigma=sigma, delta_ratio=delta_ratio, rho_f=rho_f, lfs=lfs)
+
+
+def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> dict:
+    """The parameters as JSON: σ, δ/ε, ρ_f (and L_i, and ε when given)."""
+    out = {"eps": eps, "sigma": quality.sigma, "delta_ratio": quality.delta_ratio}
+    if include_lfs:
+        out["lfs"] = quality.lfs
+    out["rho_f"] = quality.rho_f
+    return out
+
+
+def parse_modes(text: str) -> list[str]:
+    """``--mode`` as a comma list of paper, rigorous, tight (duplicates dropped, order kept)."""
+    names = [m.strip() for m in text.split(",")]
+    bad = [m for m in names if m not in ModeChoice.__members__]
+    if bad or not names:
+        raise InputError(f"--mode: expected paper, rigorous or tight, got {text!r}")
+    return list(dict.fromkeys(names))
+
+
+def parse_numbers(text: str, what: str, count: int | Sequence[int]) -> list[float]:
+    """Parse ``"x,y[,z]"`` into finite floats, checking how many there are."""
+    parts = [p.strip() for p in text.split(",")]
+    allowed = (count,) if isinstance(count, int) else tuple(count)
+    if len(parts) not in allowed:
+        want = " or ".join(str(c) for c in allowed)
+        raise InputError(f"{what} needs {want} comma-separated numbers, got {text!r}")
+    values = []
+    for part in parts:
+        try:
+            value = float(part)
+        except ValueError:
+            raise InputError(f"{what}: {part!r} is not a number") from None
+        if not math.isfinite(value):
+            raise InputError(f"{what}: {part!r} is not a finite number")
+        values.append(value)
+    return values
+
+
+MAX_RANGE_POINTS = 1_000_000
+"""Most values one ``start:stop:num`` range may produce (checked before it is built)."""
+
+
+def parse_values(text: str, flag: str, allow_none: bool = False) -> list[float | None]:
+    """``start:stop:num`` (inclusive, evenly spaced) or a comma list, as floats.
+
+    With ``allow_none``, the word ``none`` in a comma list stands for "no value" (the tight
+    mode's "no Lipschitz condition").
+    """
+    text = text.strip()
+    usage = f"{flag}: expected start:stop:num or a comma list of numbers, got {text!r}"
+    if ":" in text:
+        parts = text.split(":")
+        try:
+            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+        except (ValueError, IndexError):
+            raise InputError(usage) from None
+        if len(parts) != 3 or not (math.isfinite(start) and math.isfinite(stop)):
+            raise InputError(usage)
+        if not 1 <= num <= MAX_RANGE_POINTS:
+            raise InputError(f"{flag}: the number of points must be in [1, {MAX_RANGE_POINTS:,}]")
+        import numpy as np
+
+        values: list[float | None] = np.linspace(start, stop, num).tolist()
+    else:
+        values = []
+        for item in text.split(","):
+            item = item.strip()
+            if allow_none and item.lower() == "none":
+                values.append(None)
+                continue
+            try:
+                values.append(float(item))
+            except ValueError:
+                raise InputError(usage) from None
+    if not all(v is None or math.isfinite(v) for v in values):
+        raise InputError(f"{flag}: values must be finite, got {text!r}")
+    return values

@@ -1,0 +1,49 @@
+"""The command line's progress bars: a rich display driven by the library's progress callback.
+
+Library code reports ``(task, done, total)`` through :data:`vorobound.progress.Progress`; this
+module is the only place that draws it (on stderr, so stdout stays clean for ``--json``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+
+from ..progress import Progress, silent
+
+
+@contextlib.contextmanager
+def progress_bar(enabled: bool = True) -> Iterator[Progress]:
+    """Yield a :data:`Progress` callback that draws one bar per task on stderr (or does nothing).
+
+    The bars disappear when the block ends (``transient``), leaving only the command's output.
+    """
+    if not enabled:
+        yield silent
+        return
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        TextColumn,
+        TimeElapsedColumn,
+    )
+    from rich.progress import (
+        Progress as RichProgress,
+    )
+
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+    )
+    with RichProgress(*columns, console=Console(stderr=True), transient=True) as bar:
+        tasks: dict[str, int] = {}
+
+        def report(task: str, done: int, total: int | None) -> None:
+            if task not in tasks:
+                tasks[task] = bar.add_task(task, total=total)
+            bar.update(tasks[task], completed=done, total=total)
+
+        yield report

@@ -1,0 +1,57 @@
+"""``vorobound reproduce``: every number the paper states beside this project's values."""
+
+from __future__ import annotations
+
+from .figure_cmd import DEFAULT_OUT, NoTight, Out, tight_stars, write_figures
+from .options import DeltaRatio, Json, Lfs, RhoF, Sigma, params_dict, quality_params
+from .progress import progress_bar
+from .render import fmt, print_json, print_table
+
+
+def reproduce(
+    out: Out = DEFAULT_OUT,
+    sigma: Sigma = 0.75,
+    delta_ratio: DeltaRatio = 2.0,
+    lfs: Lfs = 1.0,
+    rho_f: RhoF = 1.38,
+    no_tight: NoTight = False,
+    as_json: Json = False,
+) -> None:
+    """Every number the paper states beside this project's value for each mode; writes figures.
+
+    Modes: paper (the printed chain: invalid), rigorous (the corrected chain: proven), tight
+    (the supremum over the constraint set) and tight with the 1-Lipschitz condition (λ = 1).
+    """
+    from ..reports.reproduce import reproduction_rows, summarize_chain, summarize_tight
+
+    quality = quality_params(sigma, delta_ratio, rho_f, lfs)
+    with progress_bar(not as_json) as progress:
+        summaries = [summarize_chain(quality, mode) for mode in ("paper", "rigorous")]
+        stars = {}
+        if not no_tight:
+            stars = tight_stars(quality, progress)
+            summaries += [summarize_tight(quality, lam, star) for lam, star in stars.items()]
+        rows = reproduction_rows(quality, summaries)
+        paths = write_figures(quality, out, "png", stars, progress)
+    if as_json:
+        print_json(
+            {
+                "params": params_dict(quality),
+                "eps_star": {s.mode: s.star.eps_star for s in summaries},
+                "claims": {s.mode: s.star.claim for s in summaries},
+                "rows": [
+                    {"quantity": r.quantity, "paper": r.paper, "values": r.values} for r in rows
+                ],
+                "figures": [str(p) for p in paths],
+            }
+        )
+        return
+    modes = [s.mode for s in summaries]
+    print_table(
+        "The paper's claims and this project's values",
+        ("quantity", "paper says", *modes),
+        [(r.quantity, r.paper, *(fmt(r.values[m], 5) for m in modes)) for r in rows],
+    )
+    print("claims: " + ", ".join(f"{s.mode}: {s.star.claim}" for s in summaries))
+    for path in paths:
+        print(f"wrote {path}")

@@ -1,0 +1,61 @@
+"""Worker processes that never outlive their parent.
+
+Pools start workers with the ``spawn`` method (no inherited threads or locks), each worker
+asks the kernel to kill it when its parent dies (Linux ``PR_SET_PDEATHSIG``), and leaving the
+pool's block on an exception (Ctrl-C included) terminates the workers at once instead of
+waiting for their current task.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import multiprocessing
+import os
+import signal
+import sys
+from collections.abc import Iterator
+from concurrent.futures import ProcessPoolExecutor
+
+PR_SET_PDEATHSIG = 1
+"""prctl option: the signal a process receives when its parent exits (Linux)."""
+
+
+def _die_with_parent(parent: int) -> None:
+    """Worker initializer: SIGKILL when the parent exits; ignore Ctrl-C (the parent handles it)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() != parent:  # the parent died before the request took effect
+        os._exit(1)
+
+
+def usable_workers(requested: int, tasks: int) -> int:
+    """Workers worth starting: at most the tasks and the CPUs, at least one."""
+    return max(1, min(requested, tasks, os.cpu_count() or 1))
+
+
+@contextlib.contextmanager
+def process_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
+    """A process pool whose workers die with this process and stop at once on an exception."""
+    pool = ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_die_with_parent,
+        initargs=(os.getpid(),),
+    )
+    try:
+        yield pool
+    except BaseException:
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            with contextlib.suppress(Exception):
+                process.kill()
+        for process in processes:
+            with contextlib.suppress(Exception):
+                process.join(timeout=5)
+        raise
+    pool.shutdown(wait=True)
