@@ -26,11 +26,11 @@ RIGOROUS_EPS_STAR = 0.0058164  # vorobound solve --mode rigorous, paper paramete
 def _vertex(params: SamplingParams, lipschitz: float | None) -> GuideTriangles:
     """The maximizer in closed form: b = c = σεL_i, R = ε/(1−ε)L_i, L_j = L_k maximal."""
     eps, sigma, lfs = params.eps, params.sigma, params.lfs
-    lfs_max = (1 + eps) / (1 - eps) * lfs
+    excess = 2 * eps / (1 - eps)  # L_max/L_i − 1, eq. (33)
     if lipschitz is not None:
-        lfs_max = min(lfs_max, lfs * (1 + lipschitz * sigma * eps))
+        excess = min(excess, lipschitz * sigma * eps)
     theta = 2 * np.arccos(sigma * (1 - eps) / 2)
-    return GuideTriangles.of(sigma * eps * lfs, sigma * eps * lfs, theta, lfs_max, lfs_max)
+    return GuideTriangles.of(sigma * eps * lfs, sigma * eps * lfs, theta, excess, excess)
 
 
 def _as_triangle(config) -> GuideTriangles:

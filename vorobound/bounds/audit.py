@@ -65,6 +65,7 @@ class ExactQuantities:
 def exact_quantities(tri: GuideTriangles, params: SamplingParams) -> ExactQuantities:
     """Edges, weights, k1, k2, k, θ and R − R̂ of actual configurations."""
     w_b, w_c = tri.weights(params)
+    lfs_j, lfs_k = tri.lfs(params)
     b, c, cos_t = tri.b, tri.c, np.cos(tri.theta)
     k1 = 2 * (w_b + w_c) - (w_b / c) ** 2 - (w_c / b) ** 2
     k2 = -2 * (c * w_c / b + b * w_b / c - w_b * w_c / (b * c))
@@ -80,8 +81,8 @@ def exact_quantities(tri: GuideTriangles, params: SamplingParams) -> ExactQuanti
         sin=np.sin(tri.theta),
         cos=cos_t,
         acute=tri.theta <= np.pi / 2,
-        lfs_j=tri.lfs_j,
-        lfs_k=tri.lfs_k,
+        lfs_j=lfs_j,
+        lfs_k=lfs_k,
         radius_gap=tri.radius_gap(params),
     )
 
@@ -172,7 +173,7 @@ def printed_step_counterexamples(params: SamplingParams) -> list[Counterexample]
     if k_sin >= 1:
         return []
     theta = 2 * np.arccos(k_sin) * (1 - COUNTEREXAMPLE_SHRINK)
-    tri = GuideTriangles.of(edge, edge, theta, lfs, lfs)
+    tri = GuideTriangles.of(edge, edge, theta, 0.0, 0.0)
     printed = chain_bounds(params, Mode.paper)
     found = []
     cos_t, sin_t = float(np.cos(theta)), float(np.sin(theta))

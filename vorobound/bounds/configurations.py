@@ -29,18 +29,25 @@ STEER_SPREAD = 1e-3
 
 @dataclass(frozen=True)
 class GuideTriangles:
-    """A batch of guide-triangle configurations (arrays of equal shape)."""
+    """A batch of guide-triangle configurations (arrays of equal shape).
+
+    L_j and L_k are stored relative to L_i, as ``excess = L/L_i − 1``: forming L_j − L_i from
+    absolute values would lose the digits of a tiny excess (small ε or small λ), and the
+    weights δ²L_i²·e(2 + e), eq. (37), need exactly those digits.
+    """
 
     b: np.ndarray
     c: np.ndarray
     theta: np.ndarray
-    lfs_j: np.ndarray
-    lfs_k: np.ndarray
+    excess_j: np.ndarray
+    """L_j/L_i − 1 ≥ 0."""
+    excess_k: np.ndarray
+    """L_k/L_i − 1 ≥ 0."""
 
     @classmethod
-    def of(cls, b, c, theta, lfs_j, lfs_k) -> GuideTriangles:
+    def of(cls, b, c, theta, excess_j, excess_k) -> GuideTriangles:
         arrays = np.broadcast_arrays(
-            *(np.asarray(x, dtype=float) for x in (b, c, theta, lfs_j, lfs_k))
+            *(np.asarray(x, dtype=float) for x in (b, c, theta, excess_j, excess_k))
         )
         return cls(*(np.atleast_1d(x).copy() for x in arrays))
 
@@ -49,7 +56,11 @@ class GuideTriangles:
 
     def take(self, index) -> GuideTriangles:
         return GuideTriangles(
-            self.b[index], self.c[index], self.theta[index], self.lfs_j[index], self.lfs_k[index]
+            self.b[index],
+            self.c[index],
+            self.theta[index],
+            self.excess_j[index],
+            self.excess_k[index],
         )
 
     @property
@@ -62,12 +73,16 @@ class GuideTriangles:
     def circumradius(self) -> np.ndarray:
         return self.a / (2 * np.sin(self.theta))
 
+    def lfs(self, params: SamplingParams) -> tuple[np.ndarray, np.ndarray]:
+        """(L_j, L_k) in absolute units."""
+        return params.lfs * (1 + self.excess_j), params.lfs * (1 + self.excess_k)
+
     def weights(self, params: SamplingParams) -> tuple[np.ndarray, np.ndarray]:
-        """(w_B, w_C) = δ²(L_j² − L_i²), δ²(L_k² − L_i²), eq. (37)."""
-        d2 = params.delta**2
-        lfs = params.lfs
-        return d2 * (self.lfs_j - lfs) * (self.lfs_j + lfs), d2 * (self.lfs_k - lfs) * (
-            self.lfs_k + lfs
+        """(w_B, w_C) = δ²(L_j² − L_i²), δ²(L_k² − L_i²) = δ²L_i²·e(2 + e), eq. (37)."""
+        scale = (params.delta * params.lfs) ** 2
+        return (
+            scale * self.excess_j * (2 + self.excess_j),
+            scale * self.excess_k * (2 + self.excess_k),
         )
 
     def points(self) -> np.ndarray:
@@ -90,15 +105,14 @@ class GuideTriangles:
 
     def scaled(self, params: SamplingParams) -> constraints.ScaledConfiguration:
         """The configurations in the units of the constraint set (lengths over εL_i)."""
-        return constraints.scale_configuration(
-            self.b,
-            self.c,
-            self.a,
-            np.sin(self.theta),
-            params.lfs,
-            self.lfs_j,
-            self.lfs_k,
-            params.eps,
+        unit = params.eps * params.lfs
+        return constraints.ScaledConfiguration(
+            edge_b=self.b / unit,
+            edge_c=self.c / unit,
+            edge_a=self.a / unit,
+            sin_theta=np.sin(self.theta),
+            excess_j=self.excess_j / params.eps,
+            excess_k=self.excess_k / params.eps,
         )
 
 
@@ -116,6 +130,10 @@ class GuideConfiguration:
     """L_j."""
     lfs_k: float
     """L_k."""
+    excess_j: float
+    """L_j/L_i − 1 (exact; L_j alone may round it away)."""
+    excess_k: float
+    """L_k/L_i − 1."""
     a: float
     """|p_j p_k|, eq. (7)."""
     circumradius: float
@@ -129,12 +147,15 @@ class GuideConfiguration:
     def of(cls, tri: GuideTriangles, params: SamplingParams, index: int = 0) -> GuideConfiguration:
         """Row ``index`` of a batch of configurations."""
         w_b, w_c = tri.weights(params)
+        lfs_j, lfs_k = tri.lfs(params)
         return cls(
             b=float(tri.b[index]),
             c=float(tri.c[index]),
             theta=float(tri.theta[index]),
-            lfs_j=float(tri.lfs_j[index]),
-            lfs_k=float(tri.lfs_k[index]),
+            lfs_j=float(lfs_j[index]),
+            lfs_k=float(lfs_k[index]),
+            excess_j=float(tri.excess_j[index]),
+            excess_k=float(tri.excess_k[index]),
             a=float(tri.a[index]),
             circumradius=float(tri.circumradius[index]),
             w_b=float(w_b[index]),
@@ -143,7 +164,7 @@ class GuideConfiguration:
 
     def triangles(self) -> GuideTriangles:
         """This configuration as a batch of one."""
-        return GuideTriangles.of(self.b, self.c, self.theta, self.lfs_j, self.lfs_k)
+        return GuideTriangles.of(self.b, self.c, self.theta, self.excess_j, self.excess_k)
 
 
 def feasible_mask(
@@ -170,23 +191,21 @@ def _candidates(
     theta = rng.uniform(0, np.pi, n)
     # L_j, L_k between L_i and their cap: (33), or the Lipschitz cap L_i + λ·edge when lower
     # (drawing below the cap keeps rejection efficient even for a tiny λ).
-    lfs_hi = constraints.lfs_max(eps) * lfs
-    cap_j, cap_k = np.full(n, lfs_hi), np.full(n, lfs_hi)
+    excess_hi = 2 * eps / (1 - eps)  # (33): (1+ε)/(1−ε) − 1
+    cap_j, cap_k = np.full(n, excess_hi), np.full(n, excess_hi)
     if lipschitz is not None:
-        cap_j, cap_k = (
-            np.minimum(cap_j, lfs + lipschitz * c),
-            np.minimum(cap_k, lfs + lipschitz * b),
-        )
-    lfs_j = lfs + (cap_j - lfs) * rng.random(n)
-    lfs_k = lfs + (cap_k - lfs) * rng.random(n)
+        cap_j = np.minimum(cap_j, lipschitz * c / lfs)
+        cap_k = np.minimum(cap_k, lipschitz * b / lfs)
+    excess_j = cap_j * rng.random(n)
+    excess_k = cap_k * rng.random(n)
     if biased:
         # Push each coordinate to an end of its range with probability 1/2 (either end), and
         # aim θ at the largest angle a short-edged triangle can have (the cases (49) misses).
         for arr, low, high in (
             (b, lo, hi),
             (c, lo, hi),
-            (lfs_j, lfs, cap_j),
-            (lfs_k, lfs, cap_k),
+            (excess_j, 0.0, cap_j),
+            (excess_k, 0.0, cap_k),
         ):
             high = np.broadcast_to(high, arr.shape)
             pick = rng.random(n)
@@ -197,7 +216,7 @@ def _candidates(
         theta_far = np.pi - 2 * np.arcsin(k_sin)
         steer = rng.random(n) < STEER_SHARE
         theta[steer] = theta_far * (1 - np.abs(rng.normal(0, STEER_SPREAD, steer.sum())))
-    return GuideTriangles.of(b, c, theta, lfs_j, lfs_k)
+    return GuideTriangles.of(b, c, theta, excess_j, excess_k)
 
 
 def sample_feasible(
@@ -233,7 +252,7 @@ def sample_feasible(
     merged = GuideTriangles(
         *(
             np.concatenate([getattr(k, f) for k in kept])[:count]
-            for f in ("b", "c", "theta", "lfs_j", "lfs_k")
+            for f in ("b", "c", "theta", "excess_j", "excess_k")
         )
     )
     return merged

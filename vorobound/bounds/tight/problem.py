@@ -78,17 +78,14 @@ class Problem:
         return lo, hi
 
     def triangles(self, x) -> GuideTriangles:
-        eps, lfs, span = self.params.eps, self.params.lfs, self.lfs_span
+        unit, span = self.params.eps * self.params.lfs, self.lfs_span
         u_b, u_c, theta, s_j, s_k = x
-        return GuideTriangles.of(
-            u_b * eps * lfs, u_c * eps * lfs, theta, lfs * (1 + span * s_j), lfs * (1 + span * s_k)
-        )
+        return GuideTriangles.of(u_b * unit, u_c * unit, theta, span * s_j, span * s_k)
 
     def coordinates(self, tri: GuideTriangles) -> np.ndarray:
-        lfs, scale = self.params.lfs, self.params.eps * self.params.lfs
-        span = lfs * self.lfs_span
-        s_j, s_k = (tri.lfs_j - lfs) / span, (tri.lfs_k - lfs) / span
-        return np.stack([tri.b / scale, tri.c / scale, tri.theta, s_j, s_k])
+        unit, span = self.params.eps * self.params.lfs, self.lfs_span
+        s_j, s_k = tri.excess_j / span, tri.excess_k / span
+        return np.stack([tri.b / unit, tri.c / unit, tri.theta, s_j, s_k])
 
     def scaled(self, x) -> constraints.ScaledConfiguration:
         """The configuration at ``x`` in the units of the constraint set."""
@@ -134,7 +131,9 @@ class Problem:
         names = []
         for c in self._coupled():
             equal = c.statement.replace("≤", "=").replace("≥", "=")
-            names.append(f"{equal} {c.equation if c.equation.startswith('(') else f'({c.equation})'}")
+            names.append(
+                f"{equal} {c.equation if c.equation.startswith('(') else f'({c.equation})'}"
+            )
         return names
 
     def radius_slack(self, x) -> np.ndarray:
