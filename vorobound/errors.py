@@ -31,3 +31,11 @@ class WriteError(VoroboundError):
 
 class CertificateError(VoroboundError):
     """A certificate is malformed, or re-checking it fails."""
+
+
+class VoroboundWarning(RuntimeWarning):
+    """A warning that means something for the result (the CLI prints it as one line).
+
+    Other runtime warnings (numpy's floating-point notices, chatter from readers) are
+    silenced by the command line.
+    """

@@ -11,11 +11,11 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import multiprocessing
+import multiprocessing.pool
 import os
 import signal
 import sys
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
 
 PR_SET_PDEATHSIG = 1
 """prctl option: the signal a process receives when its parent exits (Linux)."""
@@ -38,24 +38,20 @@ def usable_workers(requested: int, tasks: int) -> int:
 
 
 @contextlib.contextmanager
-def process_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
-    """A process pool whose workers die with this process and stop at once on an exception."""
-    pool = ProcessPoolExecutor(
-        max_workers=workers,
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=_die_with_parent,
-        initargs=(os.getpid(),),
+def process_pool(workers: int) -> Iterator[multiprocessing.pool.Pool]:
+    """A process pool whose workers die with this process and stop at once on an exception.
+
+    Use its ``imap`` for results in order as they finish. On any exception (Ctrl-C and
+    SIGTERM included) the workers are terminated before the exception propagates.
+    """
+    pool = multiprocessing.get_context("spawn").Pool(
+        processes=workers, initializer=_die_with_parent, initargs=(os.getpid(),)
     )
     try:
         yield pool
     except BaseException:
-        processes = list((getattr(pool, "_processes", None) or {}).values())
-        pool.shutdown(wait=False, cancel_futures=True)
-        for process in processes:
-            with contextlib.suppress(Exception):
-                process.kill()
-        for process in processes:
-            with contextlib.suppress(Exception):
-                process.join(timeout=5)
+        pool.terminate()
+        pool.join()
         raise
-    pool.shutdown(wait=True)
+    pool.close()
+    pool.join()

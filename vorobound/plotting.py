@@ -15,7 +15,22 @@ DPI = 200
 """Resolution of raster formats."""
 COMPARISON_YLIM_FACTOR = 2.5
 """The comparison figure shows bounds up to this multiple of the target."""
-_STYLE = {"font.size": 8, "axes.labelsize": 8, "legend.fontsize": 7, "lines.linewidth": 1.2}
+_STYLE = {
+    "font.size": 8,
+    "axes.labelsize": 8,
+    "legend.fontsize": 7,
+    "lines.linewidth": 1.2,
+    "svg.hashsalt": "vorobound",  # fixed SVG ids: the same figure gives the same file
+}
+_NO_DATES = {"pdf": {"CreationDate": None}, "svg": {"Date": None}}
+"""Metadata that drops time stamps, so a figure's file depends only on its data."""
+
+
+def _write(fig, path, fmt: str, dpi: int) -> None:
+    import matplotlib
+
+    with matplotlib.rc_context(_STYLE):
+        fig.savefig(path, format=fmt, dpi=dpi, metadata=_NO_DATES.get(fmt))
 
 
 def _axes(ax):
@@ -110,7 +125,7 @@ def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = DPI) 
     """Write ``fig`` to ``out_dir/stem.fmt`` atomically (temporary file, then rename)."""
     path = ensure_folder(out_dir) / f"{stem}.{fmt}"
     with atomic_path(path) as temp:
-        fig.savefig(temp, format=fmt, dpi=dpi)
+        _write(fig, temp, fmt, dpi)
     return path
 
 
@@ -119,6 +134,6 @@ def save_set(figures: dict, out_dir: str | Path, fmt: str = "png", dpi: int = DP
     out = ensure_folder(out_dir)
 
     def writer(fig):
-        return lambda temp: fig.savefig(temp, format=fmt, dpi=dpi)
+        return lambda temp: _write(fig, temp, fmt, dpi)
 
     return write_set({out / f"{stem}.{fmt}": writer(fig) for stem, fig in figures.items()})

@@ -14,12 +14,14 @@ import os
 import signal
 import sys
 import threading
+import warnings
 
 import typer
 
-from ..errors import VoroboundError
+from ..errors import VoroboundError, VoroboundWarning
 from .advise_cmd import advise
 from .bounds_cmd import bounds
+from .certify_cmd import certify
 from .cheng_cmd import cheng
 from .figure_cmd import figure
 from .reproduce_cmd import reproduce
@@ -70,6 +72,7 @@ app.command("validate")(validate)
 app.command("sweep")(sweep)
 app.command("advise")(advise)
 app.command("cheng")(cheng)
+app.command("certify")(certify)
 
 
 class Interrupted(BaseException):
@@ -111,6 +114,26 @@ def _tolerant_streams() -> None:
             stream.reconfigure(errors="replace")
 
 
+@contextlib.contextmanager
+def _warnings_as_lines():
+    """Runtime chatter (numpy's floating-point notices, readers) is silenced; a
+    :class:`~vorobound.errors.VoroboundWarning` is printed as one "warning:" line on stderr."""
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())
+        with contextlib.suppress(OSError, ValueError):
+            print(f"warning: {text}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        warnings.simplefilter("always", VoroboundWarning)
+        previous, warnings.showwarning = warnings.showwarning, show
+        try:
+            yield
+        finally:
+            warnings.showwarning = previous
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit code (see the module docstring)."""
     args = sys.argv[1:] if argv is None else list(argv)
@@ -118,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
         args = ["--help"]
     _tolerant_streams()
     try:
-        with _signals_raise_interrupted():
+        with _signals_raise_interrupted(), _warnings_as_lines():
             result = app(args=args, prog_name="vorobound", standalone_mode=False)
             sys.stdout.flush()
     except Interrupted:

@@ -16,7 +16,7 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
-from .options import Json, parse_modes, parse_values
+from .options import Json, MethodChoice, TightMethodOpt, parse_modes, parse_values
 from .progress import progress_bar
 from .render import fmt, jsonable, print_table
 
@@ -55,6 +55,7 @@ def sweep(
         Path | None,
         typer.Option("--output", "-o", help="Write to this file (CSV unless --format json)."),
     ] = None,
+    method: TightMethodOpt = MethodChoice.auto,
     jobs: Annotated[
         int,
         typer.Option("--jobs", help="Worker processes for tight rows (capped by rows and CPUs)."),
@@ -89,6 +90,7 @@ def sweep(
         modes=tuple(parse_modes(mode)),
         eps=None if eps is None else tuple(parse_values(eps, "--eps")),
         lfs=lfs,
+        method=method.value,
     )
     workers = usable_workers(jobs, spec.tight_rows)
     check_size(spec, workers, max_rows=max_rows, allow_long=yes)

@@ -21,7 +21,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import VoroboundError
+from ..errors import InputError, VoroboundWarning
+from .inputs import real_array
 from .invariants import invariants_from_edges, invariants_from_points
 from .precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE, tiered
 from .result import WeightedTriangles
@@ -243,7 +244,7 @@ def _batch_shapes(lead_a: tuple, lead_b: tuple) -> tuple[int, ...]:
     try:
         return np.broadcast_shapes(lead_a, lead_b)
     except ValueError as exc:
-        raise VoroboundError(f"batch shapes {lead_a} and {lead_b} do not broadcast") from exc
+        raise InputError(f"batch shapes {lead_a} and {lead_b} do not broadcast") from exc
 
 
 def _pack(out: dict[str, np.ndarray], lead: tuple[int, ...]) -> WeightedTriangles:
@@ -270,12 +271,12 @@ def weighted_triangles(points, weights) -> WeightedTriangles:
     ----------
     Eq. (1)–(3), (5)–(6), (15), (29), (31), (32).
     """
-    p = np.asarray(points, dtype=np.float64)
-    w = np.asarray(weights, dtype=np.float64)
+    p = real_array(points, "points")
+    w = real_array(weights, "weights")
     if p.ndim < 2 or p.shape[-2] != 3 or p.shape[-1] not in (2, 3):
-        raise VoroboundError(f"points must have shape (..., 3, 2) or (..., 3, 3), got {p.shape}")
+        raise InputError(f"points must have shape (..., 3, 2) or (..., 3, 3), got {p.shape}")
     if w.ndim < 1 or w.shape[-1] != 3:
-        raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
+        raise InputError(f"weights must have shape (..., 3), got {w.shape}")
     lead = _batch_shapes(p.shape[:-2], w.shape[:-1])
     p = np.broadcast_to(p, lead + p.shape[-2:]).reshape(-1, 3, p.shape[-1])
     w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3)
@@ -295,7 +296,7 @@ def _evaluate(kernel_name: str, chunk_fn, data: np.ndarray, weights: np.ndarray)
             out, rest, refine = kernel(data, weights, ERROR_GROWTH * EPS64, REFINE_TOLERANCE)
         except _load_compiled().KERNEL_ERRORS as exc:  # a numba that cannot compile the kernel
             message = f"the compiled kernel failed ({exc}); using the numpy path"
-            warnings.warn(message, RuntimeWarning, stacklevel=3)
+            warnings.warn(message, VoroboundWarning, stacklevel=3)
             kernel = None
     if kernel is None:
         return _run_chunked(chunk_fn, np.moveaxis(data, 0, -1), weights.T)
@@ -348,7 +349,7 @@ def _load_compiled():
     except (ImportError, RuntimeError, OSError) as exc:  # e.g. a numba that cannot cache
         warnings.warn(
             f"the compiled kernel could not be loaded ({exc}); using the numpy path",
-            RuntimeWarning,
+            VoroboundWarning,
             stacklevel=3,
         )
         return None
@@ -375,12 +376,12 @@ def theorem1_from_edges(edges, weights) -> WeightedTriangles:
     ----------
     Eq. (7)–(9), (28)–(32).
     """
-    e = np.asarray(edges, dtype=np.float64)
-    w = np.asarray(weights, dtype=np.float64)
+    e = real_array(edges, "edges")
+    w = real_array(weights, "weights")
     if e.ndim < 1 or e.shape[-1] != 3:
-        raise VoroboundError(f"edges must have shape (..., 3), got {e.shape}")
+        raise InputError(f"edges must have shape (..., 3), got {e.shape}")
     if w.ndim < 1 or w.shape[-1] != 3:
-        raise VoroboundError(f"weights must have shape (..., 3), got {w.shape}")
+        raise InputError(f"weights must have shape (..., 3), got {w.shape}")
     lead = _batch_shapes(e.shape[:-1], w.shape[:-1])
     e = np.broadcast_to(e, lead + (3,)).reshape(-1, 3)
     w = np.broadcast_to(w, lead + (3,)).reshape(-1, 3)

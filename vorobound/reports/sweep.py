@@ -93,6 +93,8 @@ class SweepSpec:
     modes: tuple[Mode, ...]
     eps: tuple[float, ...] | None = None
     lfs: float = 1.0
+    method: str = "auto"
+    """How tight rows are evaluated (:class:`vorobound.bounds.tight.method.TightMethod`)."""
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -113,6 +115,8 @@ class SweepSpec:
             set_(self, "eps", _unique(checked_number(e, "eps", *EPS_RANGE) for e in self.eps))
         if Mode.tight not in self.modes and self.lipschitz != (None,):
             raise InputError("a Lipschitz constant applies to the tight mode only")
+        if self.method not in ("auto", "optimize"):
+            raise InputError(f"method must be auto or optimize, got {self.method!r}")
 
     @property
     def per_mode(self) -> int:
@@ -229,25 +233,25 @@ def _tight_tasks(spec: SweepSpec) -> Iterator[tuple]:
             for rho_f in spec.rho_f:
                 for ratio in spec.delta_ratio:
                     for eps in spec.eps if spec.eps is not None else (None,):
-                        yield (eps, lam, sigma, rho_f, ratio, spec.lfs)
+                        yield (eps, lam, sigma, rho_f, ratio, spec.lfs, spec.method)
 
 
 def tight_row(task: tuple) -> SweepRow:
     """One tight row (module level, so worker processes can run it)."""
     from ..bounds.tight.method import tight_bound, tight_eps_star
 
-    eps, lam, sigma, rho_f, ratio, lfs = task
+    eps, lam, sigma, rho_f, ratio, lfs, method = task
     quality = QualityParams(sigma, ratio, rho_f, lfs)
     head = ("tight", lam, sigma, rho_f, ratio)
     if eps is not None:
         params = quality.at(eps)
         try:
-            bound = tight_bound(params, lam)
+            bound = tight_bound(params, lam, method)
         except InputError as exc:  # an empty constraint set at this ε
             return SweepRow(*head, eps=eps, target=params.target, note=str(exc))
         return SweepRow(*head, eps=eps, bound=bound.value, target=params.target, claim=bound.claim)
     try:
-        star = tight_eps_star(quality, lam)
+        star = tight_eps_star(quality, lam, method)
     except NoAdmissibleEps as exc:
         return SweepRow(*head, note=str(exc))
     return SweepRow(*head, eps_star=star.eps_star, claim=star.claim)
@@ -265,6 +269,6 @@ def _tight_rows(spec: SweepSpec, jobs: int, progress: Progress | None) -> Iterat
             yield row
         return
     with process_pool(workers) as pool:
-        for row in pool.map(tight_row, _tight_tasks(spec)):
+        for row in pool.imap(tight_row, _tight_tasks(spec)):
             counter.step()
             yield row

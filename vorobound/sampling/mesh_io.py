@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..bounds.params import LFS_RANGE
 from ..errors import ReadError
 
 
@@ -114,6 +115,10 @@ def read_sizing(path: str | Path, count: int) -> np.ndarray:
     data = np.array(values, dtype=float)
     if len(data) != count:
         raise ReadError(f"sizing file {path} has {len(data)} values for {count} vertices")
-    if not (np.isfinite(data).all() and (data > 0).all()):
-        raise ReadError(f"sizing file {path}: every value must be positive and finite")
+    low, high = LFS_RANGE
+    if not (np.isfinite(data).all() and (data >= low).all() and (data <= high).all()):
+        raise ReadError(
+            f"sizing file {path}: every value must be a local feature size in "
+            f"[{low:g}, {high:g}] (positive, finite, supported range)"
+        )
     return data

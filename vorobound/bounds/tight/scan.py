@@ -36,6 +36,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ...errors import VoroboundWarning
 from ...progress import Progress, silent
 from ..claims import NUMERICAL
 from ..configurations import GuideConfiguration, sample_feasible
@@ -265,7 +266,7 @@ def solve_tight(
     else:
         warnings.warn(
             "global searches kept beating the warm-started scan: the tight eps* may be off",
-            RuntimeWarning,
+            VoroboundWarning,
             stacklevel=2,
         )
     x_best, best = max([scanned, (x_root, at_root)], key=lambda pair: pair[1])

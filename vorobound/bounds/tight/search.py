@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, VoroboundWarning
 from .problem import AGREE_RTOL, Problem, onto_plateau, project, with_jacobian
 
 DE_POPSIZE = 12
@@ -143,7 +143,7 @@ def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: in
         warnings.warn(
             f"a sampled guide triangle beats the optimizer at eps={problem.params.eps:g}: "
             "the tight bound may not be global",
-            RuntimeWarning,
+            VoroboundWarning,
             stacklevel=3,
         )
     evidence = SearchEvidence(

@@ -1,0 +1,171 @@
+"""Hostile input: every extreme value is one line on stderr and exit 2 (or a correct result).
+
+Each case is a reproduction from the hardening issue; with ``--json`` stdout must stay empty.
+"""
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+EXTREME_CASES = [
+    ["validate", "--eps", "0.0047", "--sigma", "10"],
+    ["validate", "--eps", "0.0047", "--seed", "-1"],
+    ["validate", "--eps", "0.0047", "--delta-ratio", "1e308"],
+    ["validate", "--eps", "0.0047", "--delta-ratio", "1e-300"],
+    ["validate", "--eps", "0.0047", "--lipschitz", "1e-320"],
+    ["validate", "--eps", "0.0047", "--samples", "1000000000"],
+    ["cheng", "--alpha", "0.3", "--seed", "-1"],
+    ["cheng", "--alpha", "0.3", "--seed", "99999999999999999999"],
+    ["bounds", "--eps", "1e-320", "--mode", "tight"],
+    ["bounds", "--eps", "0.0047", "--lfs", "1e-320", "--mode", "tight"],
+    ["bounds", "--eps", "0.0047", "--rho-f", "1e308"],
+    ["bounds", "--eps", "1e-320"],
+    ["bounds", "--eps", "0.0047", "--sigma", "1e308"],
+    ["bounds", "--eps", "0.5", "--sigma", "1.9"],
+    ["solve", "--mode", "tight", "--delta-ratio", "1e308"],
+    ["solve", "--rho-f", "1e300"],
+    ["solve", "--rho-f", "100000"],
+    ["solve", "--mode", "tight", "--sigma", "2.5"],
+    ["sweep", "--mode", "tight", "--delta-ratio", "1e308"],
+    ["sweep", "--sigma", "1e308"],
+    ["sweep", "--eps", "1e-320"],
+    ["sweep", "--sigma", "0.3:1.5:100000", "--rho-f", "1.01:3:100000"],
+    ["sweep", "--sigma", "0.3:1.5:10000000000"],
+    ["sweep", "--mode", "tight", "--sigma", "0.3:1.5:1000"],
+    ["sweep", "--lipschitz", "1"],
+    ["advise", "--sphere", "1e200"],
+    ["advise", "--area", "1", "--lfs", "1e-200"],
+    ["advise", "--area", "1", "--lfs", "1e308"],
+    ["advise", "--torus", "3,1e-320"],
+    ["advise", "--torus", "1e200,1e199"],
+    ["advise", "--mode", "paper,nope"],
+    ["triangle", "--edges", "3,4,5", "-w", "1e308,-1e308,0"],
+    ["triangle", "-p", "0,0", "-p", "1,0", "-p", "2,0"],
+]
+
+
+@pytest.mark.parametrize("args", EXTREME_CASES, ids=lambda a: " ".join(a)[:60])
+def test_extreme_values_give_one_line_and_exit_2(run_cli, args):
+    code, out, err = run_cli(*args, "--json")
+    assert code == 2, (code, err)
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "bug" not in lines[0]
+
+
+def test_triangle_overflow_message_blames_the_weights_not_the_edges(run_cli):
+    code, _, err = run_cli("triangle", "--edges", "3,4,5", "-w", "1e308,-1e308,0")
+    assert code == 2 and "overflow" in err and "degenerate" not in err
+
+
+def test_paper_chain_without_a_crossing_says_so(run_cli):
+    code, _, err = run_cli("solve", "--rho-f", "100000")
+    assert code == 2 and "no crossing" in err
+
+
+@pytest.mark.parametrize(
+    "name, content",
+    [
+        ("face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n"),
+        ("line.obj", "v 0\nv 1\nv 2\nf 1 2 3\n"),
+        ("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"),
+        ("bad.ply", "ply\nformat ascii 1.0\ngarbage\n"),
+        ("bad.vtk", "garbage\n"),
+        ("bad.off", "garbage\n"),
+        ("bad.vtu", "garbage\n"),
+    ],
+)
+def test_bad_meshes_are_one_line_and_keep_stdout_clean(run_cli, tmp_path, name, content):
+    mesh = tmp_path / name
+    mesh.write_text(content)
+    code, out, err = run_cli("advise", "--mesh", str(mesh), "--lfs", "1", "--json")
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("content", [b"\xff\xfe\x00garbage\n", b"L\n1e308\n1e308\n1e308\n"])
+def test_bad_sizing_files_are_refused(run_cli, tmp_path, content):
+    mesh = tmp_path / "tri.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    sizing = tmp_path / "sizing.csv"
+    sizing.write_bytes(content)
+    code, out, err = run_cli("advise", "--mesh", str(mesh), "--sizing", str(sizing), "--json")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+
+
+def test_huge_jobs_is_capped_not_a_crash(run_cli):
+    code, out, _ = run_cli("sweep", "--jobs", "99999999999999999999", "--format", "csv")
+    assert code == 0 and out.startswith("mode,")
+
+
+def test_duplicate_modes_and_values_are_computed_once(run_cli):
+    code, out, _ = run_cli("sweep", "--mode", "paper,paper", "--rho-f", "1.3,1.3", "--json")
+    assert code == 0
+    import json
+
+    assert len(json.loads(out)) == 1
+
+
+def test_lipschitz_mixes_none_with_values(run_cli):
+    import json
+
+    code, out, _ = run_cli(
+        "sweep", "--mode", "tight", "--lipschitz", "none,0,1", "--json", "--rho-f", "1.38"
+    )
+    assert code == 0
+    rows = json.loads(out)
+    assert [r["lipschitz"] for r in rows] == [None, 0.0, 1.0]
+    assert rows[1]["eps_star"] is None and "no crossing" in rows[1]["note"]
+
+
+def _run(args, **env):
+    return subprocess.run(
+        [sys.executable, "-m", "vorobound", *args],
+        capture_output=True,
+        text=True,
+        env=os.environ | env,
+        check=False,
+        timeout=120,
+    )
+
+
+def test_ascii_terminal_does_not_crash():
+    done = _run(["bounds", "--eps", "0.0047"], PYTHONIOENCODING="ascii")
+    assert done.returncode == 0, done.stderr
+    assert "bound on R" in done.stdout
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_stdout_to_a_full_device_is_one_line_exit_2():
+    with open("/dev/full", "w") as full:
+        done = subprocess.run(
+            [sys.executable, "-m", "vorobound", "bounds", "--eps", "0.0047", "--json"],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            check=False,
+            timeout=120,
+        )
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        "error: cannot write the output: No space left on device"
+    ]
+
+
+def test_unexpected_errors_are_reported_as_bugs(run_cli, monkeypatch):
+    import vorobound.bounds.chain as chain
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setattr(chain, "chain_bounds", broken)
+    code, out, err = run_cli("bounds", "--eps", "0.0047")
+    assert code == 70 and out == ""
+    assert err.count("\n") == 1 and "bug" in err and "planted" in err
+    monkeypatch.setenv("VOROBOUND_DEBUG", "1")
+    code, _, err = run_cli("bounds", "--eps", "0.0047")
+    assert code == 70 and "Traceback" in err
