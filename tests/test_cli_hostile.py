@@ -26,7 +26,6 @@ EXTREME_CASES = [
     ["bounds", "--eps", "0.5", "--sigma", "1.9"],
     ["solve", "--mode", "tight", "--delta-ratio", "1e308"],
     ["solve", "--rho-f", "1e300"],
-    ["solve", "--rho-f", "100000"],
     ["solve", "--mode", "tight", "--sigma", "2.5"],
     ["sweep", "--mode", "tight", "--delta-ratio", "1e308"],
     ["sweep", "--sigma", "1e308"],
@@ -61,9 +60,24 @@ def test_triangle_overflow_message_blames_the_weights_not_the_edges(run_cli):
     assert code == 2 and "overflow" in err and "degenerate" not in err
 
 
-def test_paper_chain_without_a_crossing_says_so(run_cli):
-    code, _, err = run_cli("solve", "--rho-f", "100000")
-    assert code == 2 and "no crossing" in err
+def test_paper_eps_star_for_huge_rho_f_is_a_root_at_the_chain_singularity(run_cli):
+    """For large ρ_f the printed chain crosses its target just below ε = 0.19276, where
+    sqrt(1 − k_cos²) in eq. (52) vanishes and the bound rises to infinity: a true root,
+    located up to the float resolution of that singular function (not a jump)."""
+    import json
+
+    from vorobound.bounds.chain import chain_bounds
+    from vorobound.bounds.params import QualityParams
+
+    code, out, _ = run_cli("solve", "--rho-f", "100000", "--json")
+    assert code == 0
+    star = json.loads(out)["eps_star"]
+    quality = QualityParams(rho_f=1e5)
+    below = chain_bounds(quality.at(0.1), "paper", eps=star * (1 - 1e-9))
+    assert float(below.bound) < float(below.target)
+    at = chain_bounds(quality.at(0.1), "paper", eps=star)
+    assert float(at.bound) == pytest.approx(float(at.target), rel=1e-3)
+    assert float(at.sin_min_obtuse) < 1e-4  # next to the singularity
 
 
 @pytest.mark.parametrize(

@@ -21,8 +21,8 @@ from .params import EPS_RANGE, Mode, QualityParams, SamplingParams
 
 SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
-XTOL = 1e-15
 RTOL = 1e-13
+"""Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
 SIGMA_EMPTY = 2.0
 """For σ ≥ 2 no triangle meets the sparsity (34)–(35) and H3 at small ε (k_sin ≥ 1)."""
 
@@ -80,10 +80,27 @@ def relative_gap_function(quality: QualityParams, mode: Mode | str) -> Callable:
     return gap
 
 
-def first_crossing(values: np.ndarray, grid: np.ndarray, mode: str) -> int:
-    """Index of the first positive value; raises when there is no crossing below a NaN.
+DOMAIN_EDGE_STEPS = 64
+"""Halvings that locate where a chain stops being defined inside one scan cell."""
 
-    ``values`` are gap(ε) on ``grid``: negative inside the target, NaN where undefined.
+
+def _domain_edges(gap: Callable, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Largest ε in each [lo, hi] (lo defined, hi not) at which ``gap`` is still defined."""
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    for _ in range(DOMAIN_EDGE_STEPS):
+        mid = 0.5 * (lo + hi)
+        with np.errstate(invalid="ignore"):
+            defined = ~np.isnan(gap(mid))
+        lo, hi = np.where(defined, mid, lo), np.where(defined, hi, mid)
+    return lo
+
+
+def crossing_bracket(gap: Callable, values: np.ndarray, grid: np.ndarray, mode: str):
+    """(lo, hi) with gap(lo) ≤ 0 < gap(hi) around the first crossing; raise if there is none.
+
+    ``values`` are gap(ε) on ``grid``: negative inside the target, NaN where undefined. The
+    bound rises with ε where it is defined, so when it becomes undefined inside a scan cell the
+    crossing, if any, lies below the edge of its domain, which is located by bisection.
     """
     positive = np.flatnonzero(values > 0)
     undefined = np.flatnonzero(np.isnan(values))
@@ -92,8 +109,13 @@ def first_crossing(values: np.ndarray, grid: np.ndarray, mode: str) -> int:
             f"the {mode} bound exceeds the target already at eps = {grid[0]:g}: no admissible eps"
         )
     if undefined.size and (not positive.size or undefined[0] < positive[0]):
+        cell = int(undefined[0])
+        if cell > 0:
+            edge = float(_domain_edges(gap, grid[cell - 1 : cell], grid[cell : cell + 1])[0])
+            if gap(edge) > 0:
+                return float(grid[cell - 1]), edge
         raise NoCrossing(
-            f"the {mode} bound stays within the target up to eps = {grid[undefined[0] - 1]:.6g}, "
+            f"the {mode} bound stays within the target up to eps = {grid[max(cell - 1, 0)]:.6g}, "
             f"where it stops being defined: no crossing, so no eps*"
         )
     if not positive.size:
@@ -101,7 +123,7 @@ def first_crossing(values: np.ndarray, grid: np.ndarray, mode: str) -> int:
             f"the {mode} bound stays within the target for every eps up to {grid[-1]:g}: "
             "no crossing, so no eps*"
         )
-    return int(positive[0])
+    return float(grid[positive[0] - 1]), float(grid[positive[0]])
 
 
 def find_eps_star(
@@ -119,10 +141,12 @@ def find_eps_star(
     from scipy.optimize import brentq
 
     grid = np.asarray(grid, dtype=float)
-    values = np.asarray(gap(grid), dtype=float)
-    hi_index = first_crossing(values, grid, mode)
-    lo, hi = float(grid[hi_index - 1]), float(grid[hi_index])
-    root, info = brentq(lambda x: float(gap(x)), lo, hi, xtol=XTOL, rtol=RTOL, full_output=True)
+    with np.errstate(invalid="ignore"):
+        values = np.asarray(gap(grid), dtype=float)
+    lo, hi = crossing_bracket(gap, values, grid, mode)
+    root, info = brentq(
+        lambda x: float(gap(x)), lo, hi, xtol=lo * RTOL, rtol=RTOL, full_output=True
+    )
     return EpsStar(
         eps_star=float(root),
         mode=mode,
@@ -225,24 +249,36 @@ def solve_eps_star_batch(
     undefined = np.isnan(values)
     first_pos = np.where(positive.any(axis=1), np.argmax(positive, axis=1), grid.size)
     first_nan = np.where(undefined.any(axis=1), np.argmax(undefined, axis=1), grid.size)
-    status = np.full(first_pos.shape, STATUS_OK)
-    status[first_nan < first_pos] = STATUS_NO_CROSSING
-    status[first_pos == grid.size] = STATUS_NO_CROSSING
-    status[first_pos == 0] = STATUS_EXCEEDS_AT_START
-    status[s[:, 0] >= SIGMA_EMPTY] = STATUS_EMPTY
-    ok = status == STATUS_OK
     first = np.minimum(first_pos, grid.size - 1)
     lo = grid[np.maximum(first - 1, 0)].copy()
     hi = grid[first].copy()
+    f_lo = values[np.arange(len(first)), np.maximum(first - 1, 0)]
+    f_hi = values[np.arange(len(first)), first]
+    status = np.full(first_pos.shape, STATUS_OK)
+    status[first_pos == grid.size] = STATUS_NO_CROSSING
+
+    def gap_at(eps, index):
+        return gap_rows(eps[:, None], index)[:, 0]
+
+    # Rows that stop being defined first: the crossing, if any, lies below the domain edge.
+    edge_rows = np.flatnonzero((first_nan < first_pos) & (first_nan > 0))
+    if edge_rows.size:
+        cell = first_nan[edge_rows]
+        edges = _domain_edges(lambda eps: gap_at(eps, edge_rows), grid[cell - 1], grid[cell])
+        with np.errstate(invalid="ignore"):
+            at_edge = gap_at(edges, edge_rows)
+        crosses = at_edge > 0
+        status[edge_rows[~crosses]] = STATUS_NO_CROSSING
+        found = edge_rows[crosses]
+        status[found] = STATUS_OK
+        lo[found], hi[found] = grid[cell[crosses] - 1], edges[crosses]
+        f_lo[found], f_hi[found] = values[found, cell[crosses] - 1], at_edge[crosses]
+    status[first_nan == 0] = STATUS_NO_CROSSING
+    status[first_pos == 0] = STATUS_EXCEEDS_AT_START
+    status[s[:, 0] >= SIGMA_EMPTY] = STATUS_EMPTY
+    ok = status == STATUS_OK
     rows = np.flatnonzero(ok)
-    lo[rows] = _bracketed_roots(
-        lambda eps, index: gap_rows(eps[:, None], index)[:, 0],
-        lo[rows],
-        hi[rows],
-        values[rows, first[rows] - 1],
-        values[rows, first[rows]],
-        rows,
-    )
+    lo[rows] = _bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)
     stars = np.where(ok, lo, np.nan).reshape(shape)
     return stars, status.reshape(shape)
 

@@ -80,12 +80,12 @@ def _finite_count(count: float, surface: Surface) -> float:
 def solve_mode(
     quality: QualityParams, mode: Mode | str, lipschitz: float | None, progress: Progress | None
 ) -> EpsStar:
-    """ε* of one mode (the tight mode through :func:`vorobound.bounds.tight.solve_tight`)."""
+    """ε* of one mode (the tight mode through :func:`vorobound.bounds.tight.method`)."""
     mode = Mode(mode)
     if mode is Mode.tight:
-        from ..bounds.tight import solve_tight
+        from ..bounds.tight import method
 
-        return solve_tight(quality, lipschitz=lipschitz, progress=progress)
+        return method.tight_eps_star(quality, lipschitz, progress=progress)
     return solve_eps_star(quality, mode)
 
 
