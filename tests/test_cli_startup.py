@@ -1,4 +1,4 @@
-"""``vorobound --help`` stays light: no scipy, no matplotlib, no numba."""
+"""``vorobound --help`` stays light: no numpy, scipy, matplotlib or numba."""
 
 import subprocess
 import sys
@@ -7,10 +7,38 @@ PROBE = (
     "import sys\n"
     "from vorobound.cli import main\n"
     "code = main(['--help'])\n"
-    "heavy = [m for m in ('scipy', 'matplotlib', 'numba') if m in sys.modules]\n"
+    "heavy = [m for m in ('numpy', 'scipy', 'matplotlib', 'numba') if m in sys.modules]\n"
     "print('HEAVY=' + ','.join(heavy))\n"
     "sys.exit(code)\n"
 )
+
+
+def test_importing_the_package_is_light_and_names_load_lazily():
+    probe = (
+        "import sys, vorobound\n"
+        "light = 'numpy' not in sys.modules\n"
+        "vorobound.weighted_triangles\n"
+        "print(light, 'numpy' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["True", "True"]
+
+
+def test_every_command_help_imports_no_heavy_library():
+    import vorobound.cli
+
+    commands = [c.name for c in vorobound.cli.app.registered_commands]
+    probe = (
+        "import sys\n"
+        "from vorobound.cli import main\n"
+        f"codes = [main([name, '--help']) for name in {commands!r}]\n"
+        "heavy = [m for m in ('numpy', 'scipy', 'matplotlib', 'numba') if m in sys.modules]\n"
+        "print('CODES=' + ','.join(map(str, codes)) + ' HEAVY=' + ','.join(heavy))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().endswith(" HEAVY="), done.stdout[-300:]
 
 
 def test_help_imports_no_heavy_library():

@@ -1,0 +1,96 @@
+"""The package's layers: imports flow one way and form no cycle (README, "Layout")."""
+
+import ast
+from pathlib import Path
+
+import vorobound
+
+PACKAGE = Path(vorobound.__file__).parent
+LAYERS = [
+    {"__init__", "errors", "constants", "checks", "progress", "files", "parallel"},
+    {"geometry"},
+    {"bounds"},
+    {"sampling"},
+    {"studies"},
+    {"reports"},
+    {"plotting"},
+    {"cli", "__main__"},
+]
+"""Lowest first; a module may import from its own layer and the layers below it. The root
+``vorobound/__init__.py`` imports only ``errors`` (the rest of its names load lazily)."""
+
+
+def _layer(module: str) -> int:
+    top = module.split(".")[1] if "." in module else "__init__"
+    for index, names in enumerate(LAYERS):
+        if top in names:
+            return index
+    raise AssertionError(f"{module} is in no layer; add it to LAYERS and to the README")
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path) -> set[str]:
+    """Every vorobound name imported anywhere in ``path`` (function-level imports too), as
+    ``module`` or, for ``from module import name``, as ``module.name``."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names if a.name.startswith("vorobound")}
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.startswith("vorobound"):
+                found |= {f"{target}.{a.name}" for a in node.names}
+    return found
+
+
+def _graph() -> dict[str, set[str]]:
+    modules = {_module_name(p): p for p in PACKAGE.rglob("*.py")}
+    graph = {}
+    for name, path in modules.items():
+        edges = set()
+        for target in _imports(path):
+            # "module.name" is a submodule when such a file exists, else a name in module.
+            while target and target not in modules:
+                target = target.rsplit(".", 1)[0] if "." in target else ""
+            edges.add(target)
+        graph[name] = {t for t in edges if t in modules and t != name}
+    return graph
+
+
+def test_no_import_goes_up_a_layer():
+    upward = [
+        f"{src} -> {dst}"
+        for src, targets in _graph().items()
+        for dst in targets
+        if _layer(dst) > _layer(src)
+    ]
+    assert not upward, upward
+
+
+def test_the_import_graph_has_no_cycle():
+    graph = _graph()
+    state: dict[str, int] = {}
+
+    def visit(node, path):
+        state[node] = 1
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == 1:
+                raise AssertionError(" -> ".join(path + [nxt]))
+            if nxt not in state:
+                visit(nxt, path + [nxt])
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
