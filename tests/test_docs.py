@@ -1,0 +1,34 @@
+"""Every number block in the README and docs/*.md is what its example prints today."""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import update_docs  # noqa: E402
+
+CASES = [
+    (doc, name, block)
+    for doc in update_docs.documents()
+    for name, block in update_docs.blocks(doc.read_text())
+]
+
+
+def test_the_docs_have_example_blocks():
+    assert {name for _, name, _ in CASES} >= {
+        "docs/examples/reproduce_table.py",
+        "docs/examples/core_snippet.py",
+    }
+
+
+@pytest.mark.parametrize(
+    "doc, name, block", CASES, ids=[f"{d.name}:{Path(n).stem}" for d, n, _ in CASES]
+)
+def test_block_matches_its_example(doc, name, block):
+    module = update_docs.load(name)
+    if hasattr(module, "quick_check"):
+        module.quick_check(block)
+    else:
+        assert block == module.render(), f"{doc.name} is stale: run python scripts/update_docs.py"
