@@ -91,10 +91,11 @@ VALUES = st.one_of(
 @given(st.sampled_from(COMMANDS), st.lists(st.one_of(st.sampled_from(OPTIONS), VALUES), max_size=8))
 def test_no_traceback_escapes(command, args):
     out_buf, err_buf = io.StringIO(), io.StringIO()
-    # The tight optimizer takes seconds per call; argument handling is what is fuzzed here, so
-    # it answers with the rigorous chain (its own tests cover the optimizer).
-    quick_star = mock.patch("vorobound.bounds.tight.method.tight_eps_star", _quick_eps_star)
-    quick_bound = mock.patch("vorobound.bounds.tight.method.tight_bound", _quick_bound)
+    # The tight optimizer (the fallback where the closed form is not proven exact) takes seconds
+    # per call; argument handling is what is fuzzed here, so it answers with the closed form
+    # (its own tests cover the optimizer).
+    quick_star = mock.patch("vorobound.bounds.tight.method.solve_tight", _quick_eps_star)
+    quick_bound = mock.patch("vorobound.bounds.tight.method.tight_supremum", _quick_bound)
     with quick_star, quick_bound, contextlib.redirect_stdout(out_buf):
         with contextlib.redirect_stderr(err_buf):
             code = main([command, *args])
@@ -105,21 +106,22 @@ def test_no_traceback_escapes(command, args):
         assert len(err.strip().splitlines()) == 1
 
 
-def _quick_eps_star(quality, lipschitz=None, method="auto", progress=None):
-    from vorobound.bounds.eps_star import solve_eps_star
-    from vorobound.bounds.params import checked_lipschitz
+def _quick_eps_star(quality, lipschitz=None, progress=None):
+    from dataclasses import replace
 
-    checked_lipschitz(lipschitz)
-    return solve_eps_star(quality, "rigorous")
+    from vorobound.bounds.tight.method import tight_eps_star
+
+    star = tight_eps_star(quality, lipschitz, "auto")
+    return replace(star, method="optimizer (stub)")
 
 
-def _quick_bound(params, lipschitz=None, method="auto"):
-    from vorobound.bounds.chain import chain_bounds
-    from vorobound.bounds.claims import PROVEN
-    from vorobound.bounds.configurations import GuideConfiguration, GuideTriangles
-    from vorobound.bounds.params import checked_lipschitz
-    from vorobound.bounds.tight.method import TightBound
+def _quick_bound(params, lipschitz=None):
+    from vorobound.bounds.tight.closed_form import tight_supremum_closed_form
+    from vorobound.bounds.tight.scan import TightResult
 
-    checked_lipschitz(lipschitz)
-    config = GuideConfiguration.of(GuideTriangles.of(1.0, 1.0, 1.0, 0.0, 0.0), params)
-    return TightBound(float(chain_bounds(params, "rigorous").bound), config, "chain", PROVEN)
+    closed = tight_supremum_closed_form(
+        params.eps, params.sigma, params.delta_ratio, params.lfs, lipschitz
+    )
+    return TightResult(
+        closed.value, 0.0, closed.maximizer, closed.maximizer, None, None, params.eps, lipschitz
+    )

@@ -32,7 +32,7 @@ EXTREME_CASES = [
     ["sweep", "--eps", "1e-320"],
     ["sweep", "--sigma", "0.3:1.5:100000", "--rho-f", "1.01:3:100000"],
     ["sweep", "--sigma", "0.3:1.5:10000000000"],
-    ["sweep", "--mode", "tight", "--sigma", "0.3:1.5:1000"],
+    ["sweep", "--mode", "tight", "--method", "optimize", "--sigma", "0.3:1.5:1000"],
     ["sweep", "--lipschitz", "1"],
     ["advise", "--sphere", "1e200"],
     ["advise", "--area", "1", "--lfs", "1e-200"],

@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vorobound.bounds.eps_star import (
+    STATUS_EMPTY,
     STATUS_NO_CROSSING,
     STATUS_OK,
     NoCrossing,
@@ -13,6 +14,7 @@ from vorobound.bounds.eps_star import (
     solve_eps_star_batch,
 )
 from vorobound.bounds.params import QualityParams
+from vorobound.errors import NoAdmissibleEps
 from vorobound.bounds.tight import tight_supremum
 
 RESIDUAL_TOL = 1e-9
@@ -27,7 +29,7 @@ LAMBDA_RTOL = 1e-9
 
 @settings(max_examples=40, deadline=None)
 @given(
-    st.floats(0.2, 1.9),
+    st.floats(0.2, 1.73),
     st.floats(0.2, 4.0),
     st.floats(1.001, 50.0),
     st.sampled_from(["paper", "rigorous"]),
@@ -56,6 +58,10 @@ def test_batch_solver_matches_brentq_row_by_row():
             if code == STATUS_OK:
                 expected = solve_eps_star(quality, mode).eps_star
                 assert star == pytest.approx(expected, rel=BATCH_RTOL)
+            elif code == STATUS_EMPTY:
+                assert s > np.sqrt(3)
+                with pytest.raises(NoAdmissibleEps, match="sqrt"):
+                    solve_eps_star(quality, mode)
             else:
                 assert code == STATUS_NO_CROSSING
                 with pytest.raises(NoCrossing):

@@ -20,7 +20,9 @@ def render() -> str:
         "|---" * (len(modes) + 2) + "|",
     ]
     for row in reproduction_rows(quality, summaries):
-        cells = [f"{row.values[s.mode]:.5g}" for s in summaries]
+        cells = [
+            "—" if row.values[s.mode] is None else f"{row.values[s.mode]:.5g}" for s in summaries
+        ]
         quantity = row.quantity.replace("|", "\\|")
         lines.append(f"| {quantity} | {row.paper} | " + " | ".join(cells) + " |")
     lines.append("| claim | — | " + " | ".join(s.star.claim for s in summaries) + " |")

@@ -170,7 +170,7 @@ def printed_step_counterexamples(params: SamplingParams) -> list[Counterexample]
     eps, lfs, sigma = params.eps, params.lfs, params.sigma
     edge = constraints.edge_min(eps, sigma) * lfs
     k_sin = constraints.k_sin(eps, sigma)
-    if k_sin >= 1:
+    if constraints.is_empty(eps, sigma):
         return []
     theta = 2 * np.arccos(k_sin) * (1 - COUNTEREXAMPLE_SHRINK)
     tri = GuideTriangles.of(edge, edge, theta, 0.0, 0.0)

@@ -229,12 +229,12 @@ def sample_feasible(
 ) -> GuideTriangles:
     """``count`` feasible configurations by rejection: uniform, and biased to the boundaries.
 
-    Raises InputError when the constraint set is empty at ``params`` (k_sin ≥ 1, eq. (48)).
+    Raises InputError when the constraint set is empty at ``params`` (σ(1−ε) > √3).
     """
-    if constraints.k_sin(params.eps, params.sigma) >= 1:
+    if constraints.is_empty(params.eps, params.sigma):
         raise InputError(
             f"no guide triangle is feasible at eps={params.eps:g}, sigma={params.sigma:g}: "
-            "sparsity (34)-(36) and H3 need sigma*(1 - eps) < 2"
+            "sparsity (34)-(36) and H3 need sigma*(1 - eps) <= sqrt(3)"
         )
     kept: list[GuideTriangles] = []
     total = 0

@@ -41,6 +41,8 @@ FEASIBILITY_RTOL = 1e-12
 |small|)``: points on the boundary, up to rounding, are feasible."""
 
 
+SQRT3 = 3**0.5
+
 # --- Limits of the constraint set, in units of L_i (floats, arrays or intervals) -------------
 
 
@@ -80,6 +82,16 @@ def k_sin(eps, sigma):
     Each angle's opposite edge is at least σεL_i and 2R ≤ 2ε/(1−ε)·L_i, and sin = edge/(2R).
     """
     return sigma * (1 - eps) / 2
+
+
+def is_empty(eps, sigma) -> bool:
+    """True when no guide triangle satisfies the constraint set: σ(1−ε) > √3.
+
+    Every triangle has an angle of at most 60°; its opposite edge is at most 2R·sin 60° =
+    √3·R ≤ √3·ε/(1−ε)·L_i (H3), while every edge is at least σεL_i ((34)–(36)). Equivalently
+    k_sin > √3/2, which no angle of a triangle can exceed at all three vertices.
+    """
+    return bool(sigma * (1 - eps) > SQRT3)
 
 
 def cos_min(eps, sigma):

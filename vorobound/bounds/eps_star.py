@@ -8,6 +8,7 @@ eq. (52) needs |k_cos| ≤ 1) before it reaches the target, there is no ε*, and
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -23,8 +24,9 @@ SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
 RTOL = 1e-13
 """Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
-SIGMA_EMPTY = 2.0
-"""For σ ≥ 2 no triangle meets the sparsity (34)–(35) and H3 at small ε (k_sin ≥ 1)."""
+SIGMA_EMPTY = math.sqrt(3)
+"""For σ > √3 no guide triangle exists at small ε: every triangle has an angle of at most 60°,
+whose opposite edge is at most √3·R ≤ √3·ε/(1−ε)·L_i (H3), while every edge is at least σεL_i."""
 
 
 class NoCrossing(NoAdmissibleEps):
@@ -61,10 +63,10 @@ class EpsStar:
 
 def check_not_empty(quality: QualityParams, mode: str) -> None:
     """Raise :class:`NoAdmissibleEps` when no guide triangle exists at small ε (σ ≥ 2)."""
-    if quality.sigma >= SIGMA_EMPTY:
+    if quality.sigma > SIGMA_EMPTY:
         raise NoAdmissibleEps(
-            f"sigma = {quality.sigma:g} >= 2: no triangle satisfies the sparsity condition "
-            f"(34)-(35) together with H3 at small eps, so the {mode} bound has no eps*"
+            f"sigma = {quality.sigma:g} > sqrt(3): no triangle satisfies the sparsity "
+            f"conditions (34)-(36) together with H3 at small eps, so the {mode} bound has no eps*"
         )
 
 
@@ -202,11 +204,11 @@ STATUS_EXCEEDS_AT_START = 1
 STATUS_NO_CROSSING = 2
 """The bound stays within the target wherever it is defined."""
 STATUS_EMPTY = 3
-"""σ ≥ 2: no feasible guide triangle at small ε."""
+"""σ > √3: no feasible guide triangle at small ε."""
 STATUS_REASONS = {
     STATUS_EXCEEDS_AT_START: "bound exceeds the target at the smallest eps",
     STATUS_NO_CROSSING: "bound never reaches the target where it is defined",
-    STATUS_EMPTY: "sigma >= 2: no feasible guide triangle",
+    STATUS_EMPTY: "sigma > sqrt(3): no feasible guide triangle",
 }
 """Why a batch row has no ε* (for the empty cells of a sweep)."""
 
@@ -275,7 +277,7 @@ def solve_eps_star_batch(
         f_lo[found], f_hi[found] = values[found, cell[crosses] - 1], at_edge[crosses]
     status[first_nan == 0] = STATUS_NO_CROSSING
     status[first_pos == 0] = STATUS_EXCEEDS_AT_START
-    status[s[:, 0] >= SIGMA_EMPTY] = STATUS_EMPTY
+    status[s[:, 0] > SIGMA_EMPTY] = STATUS_EMPTY
     ok = status == STATUS_OK
     rows = np.flatnonzero(ok)
     lo[rows] = _bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)

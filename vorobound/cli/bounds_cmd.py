@@ -38,6 +38,13 @@ def bounds(
     The target is (ρ_f − 1)·δ·L_i: with R̂ ≤ δ L_i it gives R ≤ ρ_f δ L_i (eq. (54)–(55)).
     """
     params = quality_params(sigma, delta_ratio, rho_f, lfs).at(eps)
+    from ..bounds.constraints import is_empty
+
+    if is_empty(params.eps, params.sigma):
+        raise VoroboundError(
+            f"no guide triangle is feasible at eps = {eps:g}, sigma = {sigma:g} "
+            "(sigma*(1-eps) > sqrt(3)): every bound is vacuous there"
+        )
     if mode is ModeChoice.tight:
         return _tight_bounds(params, lipschitz, method, as_json)
     if lipschitz is not None:

@@ -127,7 +127,11 @@ def certify(
 
 
 def _check(path: Path, as_json: bool) -> None:
-    from ..bounds.certify.certificate import check_certificate, read_certificate
+    from ..bounds.certify.certificate import (
+        check_certificate,
+        library_versions,
+        read_certificate,
+    )
 
     payload = read_certificate(path)
     with progress_bar(not as_json) as progress:
@@ -147,6 +151,7 @@ def _check(path: Path, as_json: bool) -> None:
         "max_depth": report.max_depth,
         "largest_bound": report.largest_bound,
         "seconds": report.seconds,
+        "versions": {"certificate": payload.get("versions"), "checker": library_versions()},
     }
     if as_json:
         print_json(out)
@@ -167,6 +172,7 @@ def _check(path: Path, as_json: bool) -> None:
 
 def _report_failure(failure, as_json: bool) -> None:
     """Print why certification stopped: the counterexample, or the unresolved box."""
+    from ..bounds.certify.interval import DIMENSIONS, nearest_float
     from ..bounds.certify.search import absolute_configuration
 
     payload: dict = {"certified": False, "reason": str(failure)}
@@ -188,8 +194,12 @@ def _report_failure(failure, as_json: bool) -> None:
             "units": "L_i = 1; ratio = (R - R^)/((rho_f - 1) delta L_i)",
         }
     if failure.box is not None:
-        payload["box"] = [[float(lo), float(hi)] for lo, hi in failure.box]
+        payload["box"] = [[nearest_float(lo), nearest_float(hi)] for lo, hi in failure.box]
     if as_json:
+        if found is not None:  # the exact point that interval arithmetic checked
+            payload["counterexample"]["coordinates"] = dict(
+                zip(DIMENSIONS, found.point, strict=True)
+            )
         print_json(payload)
         return
     print(f"not certified: {failure}")

@@ -16,12 +16,18 @@ from ..progress import Progress, silent
 def progress_bar(enabled: bool = True) -> Iterator[Progress]:
     """Yield a :data:`Progress` callback that draws one bar per task on stderr (or does nothing).
 
-    The bars disappear when the block ends (``transient``), leaving only the command's output.
+    Bars are drawn only when stderr is a terminal, and disappear when the block ends
+    (``transient``), leaving only the command's output; a pipe or a file gets nothing.
     """
     if not enabled:
         yield silent
         return
     from rich.console import Console
+
+    console = Console(stderr=True)
+    if not console.is_terminal:
+        yield silent
+        return
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -38,7 +44,7 @@ def progress_bar(enabled: bool = True) -> Iterator[Progress]:
         MofNCompleteColumn(),
         TimeElapsedColumn(),
     )
-    with RichProgress(*columns, console=Console(stderr=True), transient=True) as bar:
+    with RichProgress(*columns, console=console, transient=True) as bar:
         tasks: dict[str, int] = {}
 
         def report(task: str, done: int, total: int | None) -> None:

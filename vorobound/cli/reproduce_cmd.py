@@ -8,6 +8,10 @@ from .progress import progress_bar
 from .render import fmt, print_json, print_table
 
 
+def _cell(value) -> str:
+    return "—" if value is None else fmt(value, 5)
+
+
 def reproduce(
     out: Out = DEFAULT_OUT,
     sigma: Sigma = 0.75,
@@ -20,7 +24,9 @@ def reproduce(
     """Every number the paper states beside this project's value for each mode; writes figures.
 
     Modes: paper (the printed chain: invalid), rigorous (the corrected chain: proven), tight
-    (the supremum over the constraint set) and tight with the 1-Lipschitz condition (λ = 1).
+    (the supremum over the constraint set: proven in closed form, docs/tight.md) and tight with
+    the 1-Lipschitz condition (λ = 1). The tight modes are also certified by interval
+    arithmetic up to 0.999·ε* (the "certificate" row; `vorobound certify` writes the file).
     """
     from ..reports.reproduce import reproduction_rows, summarize_chain, summarize_tight
 
@@ -30,7 +36,10 @@ def reproduce(
         stars = {}
         if not no_tight:
             stars = tight_stars(quality, progress)
-            summaries += [summarize_tight(quality, lam, star) for lam, star in stars.items()]
+            summaries += [
+                summarize_tight(quality, lam, star, progress=progress)
+                for lam, star in stars.items()
+            ]
         rows = reproduction_rows(quality, summaries)
         paths = write_figures(quality, out, "png", stars, progress)
     if as_json:
@@ -50,7 +59,7 @@ def reproduce(
     print_table(
         "The paper's claims and this project's values",
         ("quantity", "paper says", *modes),
-        [(r.quantity, r.paper, *(fmt(r.values[m], 5) for m in modes)) for r in rows],
+        [(r.quantity, r.paper, *(_cell(r.values[m]) for m in modes)) for r in rows],
     )
     print("claims: " + ", ".join(f"{s.mode}: {s.star.claim}" for s in summaries))
     for path in paths:

@@ -37,7 +37,7 @@ CONSTRAINT_SETS = {
     "paper": "the printed chain (33)-(53)",
     "rigorous": "the corrected chain (33)-(53), valid for any guide triangle of an eps-sample",
     "tight": "the supremum over guide triangles allowed by (33)-(36), R <= eps/(1-eps) L_i "
-    "and pairwise sparsity",
+    "and pairwise sparsity (closed form, docs/tight.md)",
 }
 
 

@@ -73,7 +73,8 @@ def figure3_data(
 COMPARISON_EPS = np.geomspace(1e-4, 0.1, 300)
 """ε grid of the comparison figure (closed-form chains)."""
 TIGHT_CURVE_POINTS = 7
-"""Optimizations per tight curve (each is a global search, so the curve is sampled coarsely)."""
+"""Points per tight curve (markers; the closed form makes each cheap, the optimizer where it
+is not proven exact takes about a second per point)."""
 TIGHT_CURVE_SPAN = (1 / 20, 3.0)
 """The tight curve runs from ε*/20 to 3ε* (at most ``TIGHT_CURVE_EPS_MAX``)."""
 TIGHT_CURVE_EPS_MAX = 0.5
@@ -93,7 +94,7 @@ def tight_curve(
     progress: Progress | None = None,
 ) -> ModeCurve:
     """Tight supremum / (ε L_i) at a few ε around ε*."""
-    from ..bounds.tight import tight_supremum
+    from ..bounds.tight.method import tight_bound
 
     low, high = TIGHT_CURVE_SPAN
     eps = np.geomspace(
@@ -103,7 +104,7 @@ def tight_curve(
     counter = Counter(progress, f"{name} curve", len(eps))
     values = []
     for e in eps:
-        values.append(tight_supremum(quality.at(float(e)), lipschitz).supremum)
+        values.append(tight_bound(quality.at(float(e)), lipschitz).value)
         counter.step()
     return ModeCurve(name, eps, np.array(values) / (eps * quality.lfs), star.eps_star)
 

@@ -31,7 +31,7 @@ from ..bounds.params import (
     checked_lipschitz,
 )
 from ..checks import checked_number
-from ..errors import InputError, NoAdmissibleEps
+from ..errors import InputError, NoAdmissibleEps, VoroboundError
 from ..progress import Counter, Progress
 
 MAX_GRID_ROWS = 100_000_000
@@ -41,7 +41,10 @@ CHUNK_ROWS = 2048
 BYTES_PER_CHAIN_ROW = 40 * 200 * 8
 """About 40 arrays of the 200-point ε scan of :func:`solve_eps_star_batch`, per row."""
 TIGHT_SECONDS_PER_ROW = {"eps_star": 4.0, "bound": 1.0}
-"""Measured upper estimates of one optimizer row (ε* and one supremum) on one core."""
+"""Measured upper estimates of one optimizer row (ε* and one supremum) on one core; rows the
+closed form answers take well under a millisecond."""
+ESTIMATE_SAMPLE = 200
+"""Tight rows examined (evenly spread) to estimate the share that needs the optimizer."""
 MAX_TIGHT_SECONDS = 600.0
 """Tight grids estimated to take longer are refused unless the caller allows them."""
 
@@ -138,9 +141,37 @@ class SweepSpec:
         return (CURVE_COLUMNS if self.eps is not None else EPS_STAR_COLUMNS) + TRAILING_COLUMNS
 
     def estimated_tight_seconds(self, workers: int) -> float:
-        """Estimated wall time of the tight rows on ``workers`` processes (optimizer rows)."""
+        """Estimated wall time of the tight rows on ``workers`` processes.
+
+        Only rows the optimizer must answer count: with ``method="auto"``, the share of rows
+        whose closed form is not proven exact, measured on up to ``ESTIMATE_SAMPLE`` rows.
+        """
+        if not self.tight_rows:
+            return 0.0
         per_row = TIGHT_SECONDS_PER_ROW["bound" if self.eps is not None else "eps_star"]
-        return self.tight_rows * per_row / max(workers, 1)
+        share = 1.0 if self.method == "optimize" else _optimizer_share(self)
+        return self.tight_rows * share * per_row / max(workers, 1)
+
+
+def _optimizer_share(spec: SweepSpec) -> float:
+    """Share of a sample of tight rows that the closed form does not answer exactly."""
+    import itertools
+
+    from ..bounds.tight.closed_form import closed_form_is_exact, tight_eps_star_closed_form
+
+    step = max(1, spec.tight_rows // ESTIMATE_SAMPLE)
+    tasks = list(itertools.islice(_tight_tasks(spec), 0, None, step))
+    slow = 0
+    for eps, lam, sigma, rho_f, ratio, _, _ in tasks:
+        try:
+            if eps is None:
+                exact = tight_eps_star_closed_form(sigma, ratio, rho_f, lam).status.name == "exact"
+            else:
+                exact = closed_form_is_exact(eps, sigma, ratio, lam)
+        except VoroboundError:
+            exact = True  # answered at once (an empty cell or an error)
+        slow += not exact
+    return slow / len(tasks)
 
 
 def check_size(

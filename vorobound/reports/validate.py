@@ -91,7 +91,7 @@ def validate(
         mode: max_gap / float(chain_bounds(params, mode).bound) for mode in ("paper", "rigorous")
     }
     if tight:
-        from ..bounds.tight import tight_supremum
+        from ..bounds.tight.method import tight_bound
 
-        modes["tight"] = max_gap / tight_supremum(params, lipschitz=lipschitz).supremum
+        modes["tight"] = max_gap / tight_bound(params, lipschitz).value
     return ValidationReport(params, samples, seed, lipschitz, merged, modes, max_gap)

@@ -67,8 +67,11 @@ class Problem:
         """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ k_sin (48)."""
         eps, sigma = self.params.eps, self.params.sigma
         k_sin = constraints.k_sin(eps, sigma)
-        if k_sin >= 1:  # then also σεL_i ≥ 2ε/(1−ε)·L_i: no edge length is allowed
-            raise InputError(f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g}")
+        if constraints.is_empty(eps, sigma):
+            raise InputError(
+                f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g} "
+                "(sigma*(1-eps) > sqrt(3))"
+            )
         theta_lo = np.arcsin(k_sin)
         # An obtuse θ leaves two acute angles, each ≥ arcsin(k_sin).
         theta_hi = max(np.pi / 2, np.pi - 2 * theta_lo)

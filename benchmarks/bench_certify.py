@@ -1,0 +1,88 @@
+"""Interval certificates of the tight bound: how close to ε* they get, and how long they take.
+
+Run: ``python benchmarks/bench_certify.py [--fraction 0.999] [--sets paper,lipschitz,...]``.
+For each parameter set it certifies every ε ≤ fraction·ε* (ε* the closed-form tight ε*),
+writes the certificate to a temporary file, re-checks it from the file, and prints
+
+* ε_certified, ε* and their ratio (target ≥ 0.999), boxes, deepest bisection;
+* the search time (target ≤ 300 s on 2 cores, goal ≤ 60 s) and the check time (≤ 60 s);
+* as the baseline of the same run, the search at 0.9·ε* (the cost of the last digits);
+* the time of one closed-form ε* (``tight_eps_star_closed_form``), which solve uses.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from vorobound.bounds.certify import certify  # noqa: E402
+from vorobound.bounds.certify.certificate import (  # noqa: E402
+    check_certificate,
+    read_certificate,
+    write_certificate,
+)
+from vorobound.bounds.tight.closed_form import tight_eps_star_closed_form  # noqa: E402
+
+SETS = {
+    "paper": (0.75, 2.0, 1.38, None),
+    "lipschitz": (0.75, 2.0, 1.38, 1.0),
+    "sigma-0.5": (0.5, 2.0, 1.38, None),
+    "delta-ratio-3": (0.75, 3.0, 1.38, None),
+}
+"""σ, δ/ε, ρ_f, λ of the measured parameter sets."""
+RATIO_TARGET = 0.999
+SEARCH_TARGET_S = 300.0
+SEARCH_GOAL_S = 60.0
+CHECK_TARGET_S = 60.0
+BASELINE_FRACTION = 0.9
+CLOSED_FORM_CALLS = 2000
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--fraction", type=float, default=RATIO_TARGET)
+    parser.add_argument("--sets", default=",".join(SETS), help="comma list of " + ", ".join(SETS))
+    args = parser.parse_args()
+    print(f"{os.cpu_count()} cores; fraction {args.fraction} of the closed-form tight eps*")
+    tight_eps_star_closed_form(*SETS["paper"])  # imports scipy once, outside the timing
+    start = time.perf_counter()
+    for _ in range(CLOSED_FORM_CALLS):
+        tight_eps_star_closed_form(*SETS["paper"])
+    per_call = (time.perf_counter() - start) / CLOSED_FORM_CALLS
+    print(f"closed-form tight eps*: {per_call * 1e6:.0f} us per call")
+    for name in args.sets.split(","):
+        sigma, ratio, rho_f, lam = SETS[name]
+        baseline = certify(sigma, ratio, rho_f, lam, fraction=BASELINE_FRACTION)
+        result = certify(sigma, ratio, rho_f, lam, fraction=args.fraction)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "cert.json")
+            write_certificate(path, result.certificate())
+            size = os.path.getsize(path)
+            start = time.perf_counter()
+            report = check_certificate(read_certificate(path))
+            check_s = time.perf_counter() - start
+        search = result.search
+        verdict = "ok" if search.seconds <= SEARCH_TARGET_S else "SLOW"
+        goal = "goal met" if search.seconds <= SEARCH_GOAL_S else "goal missed"
+        print(
+            f"{name:14} sigma={sigma:g} delta/eps={ratio:g} rho_f={rho_f:g} lambda={lam}\n"
+            f"  eps* (closed form, {result.target.eps_star_status}) = "
+            f"{result.target.eps_star_tight:.10f}\n"
+            f"  certified eps <= {result.eps_certified:.10f}  ratio {result.ratio:.6f} "
+            f"[{'ok' if result.ratio >= RATIO_TARGET else 'LOW'} >= {RATIO_TARGET}]\n"
+            f"  search: {search.boxes} boxes, depth {search.max_depth}, {search.seconds:.2f} s "
+            f"[{verdict} <= {SEARCH_TARGET_S:g} s, {goal} <= {SEARCH_GOAL_S:g} s]; "
+            f"baseline at {BASELINE_FRACTION}: {baseline.search.boxes} boxes, "
+            f"{baseline.search.seconds:.2f} s (x{search.seconds / baseline.search.seconds:.2f})\n"
+            f"  check: {report.leaves} leaves, largest bound/target {report.largest_bound:.9f}, "
+            f"{check_s:.2f} s [{'ok' if check_s <= CHECK_TARGET_S else 'SLOW'} <= "
+            f"{CHECK_TARGET_S:g} s]; file {size / 1e6:.2f} MB"
+        )
+
+
+if __name__ == "__main__":
+    main()
