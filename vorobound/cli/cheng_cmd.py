@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from .options import Json, Seed
+from .progress import progress_bar
 from .render import fmt, print_json, print_table
 
 
@@ -23,7 +24,9 @@ def cheng(
     and the numerically maximized ratio (docs/cheng.md)."""
     from ..studies.cheng import cheng_constants
 
-    result = cheng_constants(alpha, dim=dim, seed=seed)
+    with progress_bar(not as_json) as progress:
+        progress("global search and polishes", 0, None)
+        result = cheng_constants(alpha, dim=dim, seed=seed)
     unbounded = math.isinf(result.numeric_sup)
     if as_json:
         print_json(
