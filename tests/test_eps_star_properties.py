@@ -14,8 +14,8 @@ from vorobound.bounds.eps_star import (
     solve_eps_star_batch,
 )
 from vorobound.bounds.params import QualityParams
-from vorobound.errors import NoAdmissibleEps
 from vorobound.bounds.tight import tight_supremum
+from vorobound.errors import NoAdmissibleEps
 
 RESIDUAL_TOL = 1e-9
 """bound/target − 1 at a reported ε*. The root finders stop at a few float spacings of ε; near

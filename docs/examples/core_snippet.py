@@ -3,7 +3,7 @@
 import contextlib
 import io
 
-SNIPPET = '''\
+SNIPPET = """\
 import numpy as np
 from vorobound import theorem1_from_edges, weighted_triangles
 
@@ -16,7 +16,7 @@ print(f"{tri.orthoradius_sq[0]:.12g}")  # signed |p − ẑ|² − w, eq. (2)
 print(tri.valid.sum(), "of", len(tri.valid), "rows valid")  # bad rows: NaN and valid False
 edges = theorem1_from_edges([5.0, 4.0, 3.0], [0.0, 0.2, 0.5])  # a = |BC|, b = |CA|, c = |AB|
 print(f"{edges.radius_gap:.12g}")  # Theorem 1 from edge lengths and weights alone
-'''
+"""
 
 
 def render() -> str:

@@ -9,7 +9,11 @@ def render() -> str:
     quality = QualityParams()
     rows = [
         ("paper (as printed)", solve_eps_star(quality, "paper"), "vorobound solve --mode paper"),
-        ("rigorous (E4–E6)", solve_eps_star(quality, "rigorous"), "vorobound solve --mode rigorous"),
+        (
+            "rigorous (E4–E6)",
+            solve_eps_star(quality, "rigorous"),
+            "vorobound solve --mode rigorous",
+        ),
         ("tight", tight_eps_star(quality), "vorobound solve --mode tight"),
         (
             "tight, λ = 1",
