@@ -122,7 +122,7 @@ def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> Chain
         sin_min_obtuse = np.sqrt(1 - k_cos**2)
     k_max_acute = k1_max + k2_max * cos_max_acute
     k_max_obtuse = k1_max + k2_min * k_cos
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore"):  # sin → 0 at the domain edge: +inf
         if mode is Mode.paper:
             bound_acute = np.sqrt(k_max_acute) / (2 * k_sin)
             bound_obtuse = np.sqrt(k_max_obtuse) / (2 * sin_min_obtuse)
