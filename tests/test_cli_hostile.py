@@ -183,3 +183,56 @@ def test_unexpected_errors_are_reported_as_bugs(run_cli, monkeypatch):
     monkeypatch.setenv("VOROBOUND_DEBUG", "1")
     code, _, err = run_cli("bounds", "--eps", "0.0047")
     assert code == 70 and "Traceback" in err
+
+
+def _write_npz(path, **arrays):
+    import numpy as np
+
+    np.savez(path, **{k: np.asarray(v) for k, v in arrays.items()})
+
+
+@pytest.mark.parametrize("case", ["empty", "truncated", "ragged", "bool", "tiny", "huge", "dir"])
+def test_bad_ball_files_are_one_line(run_cli, tmp_path, case):
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    good = {"x": rng.random(20), "y": rng.random(20), "z": rng.random(20), "r": np.full(20, 0.3)}
+    path = tmp_path / "balls.npz"
+    if case == "empty":
+        path.write_bytes(b"")
+    elif case == "truncated":
+        _write_npz(path, **good)
+        path.write_bytes(path.read_bytes()[:200])
+    elif case == "ragged":
+        _write_npz(path, **(good | {"z": good["z"][:15]}))
+    elif case == "bool":
+        _write_npz(path, **(good | {"x": good["x"] > 0.5}))
+    elif case == "tiny":
+        _write_npz(path, **{k: v * 1e-150 for k, v in good.items()})
+    elif case == "huge":
+        _write_npz(path, **{k: v * 1e150 for k, v in good.items()})
+    else:
+        path.mkdir()
+    code, out, err = run_cli("check", "--eps", "0.1", "--balls", str(path), "--json")
+    assert code == 2 and out == "", err
+    assert len(err.strip().splitlines()) == 1 and "bug" not in err
+
+
+def test_certificate_bombs_are_refused_quickly(run_cli, tmp_path):
+    import json
+
+    base = {"format": "vorobound-certificate", "format_version": 1}
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    splits = tmp_path / "splits.json"
+    code, _, _ = run_cli("certify", "--eps", "0.005", "--out", str(splits))
+    assert code == 0
+    payload = json.loads(splits.read_text())
+    payload["nodes"] = [0] * 1_000_000
+    splits.write_text(json.dumps(payload))
+    version = tmp_path / "version.json"
+    version.write_text(json.dumps(payload | base | {"format_version": True}))
+    for path in (deep, splits, version, "/dev/zero"):
+        code, out, err = run_cli("certify", "--check", str(path), "--json")
+        assert code == 2 and out == "", err
+        assert len(err.strip().splitlines()) == 1 and "bug" not in err

@@ -96,3 +96,24 @@ def test_unreadable_mesh_file_is_one_line(run_cli, tmp_path):
     junk.write_bytes(b"\x00\x01 not a mesh")
     code, _, err = run_cli("advise", "--mesh", str(junk), "--lfs", "1", "--mode", "paper")
     assert code == 2 and len(err.strip().splitlines()) == 1
+
+
+def test_advise_on_a_mesh_estimates_its_feature_size_and_says_so(run_cli, tmp_path):
+    """A torus mesh with nothing else given: L is estimated from the mesh, and the sample
+    counts match the analytic torus within the estimator's error."""
+    import meshio
+
+    from vorobound.sampling.demo_meshes import torus_mesh
+
+    mesh = torus_mesh(1.5, 1.0, 96, 32)
+    path = tmp_path / "torus.stl"
+    meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
+    code, out, _ = run_cli("advise", "--mesh", str(path), "--mode", "rigorous", "--json")
+    assert code == 0
+    estimated = json.loads(out)
+    assert estimated["surface"]["lfs_source"].startswith("estimated from the mesh")
+    code, out, _ = run_cli("advise", "--torus", "1.5,1", "--mode", "rigorous", "--json")
+    exact = json.loads(out)
+    assert exact["surface"]["lfs_source"] == "exact"
+    ratio = estimated["modes"][0]["samples_low"] / exact["modes"][0]["samples_low"]
+    assert ratio == pytest.approx(1, rel=0.03)  # facets and the estimate, 3 072 vertices

@@ -227,3 +227,18 @@ def test_big_paper_sweep_runs_in_bounded_memory(tmp_path):
     small = _peak_kb(100, tmp_path / "small.csv")
     big = _peak_kb(300, tmp_path / "big.csv")
     assert big - small < GROWTH_LIMIT_KB, (small, big)
+
+
+def test_devices_and_pipes_are_written_in_place_not_replaced(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    reader = subprocess.Popen(["cat", str(fifo)], stdout=subprocess.PIPE)
+    write_text(fifo, "through the pipe\n")
+    assert reader.communicate(timeout=30)[0] == b"through the pipe\n"
+    assert fifo.is_fifo()
+    write_text("/dev/null", "discarded\n")
+    assert Path("/dev/null").is_char_device()
+    folder = tmp_path / "a folder"
+    folder.mkdir()
+    with pytest.raises(WriteError, match="folder"):
+        write_text(folder, "x")

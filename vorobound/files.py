@@ -4,12 +4,15 @@ A reader never sees a half-written file, and a run that fails or is killed befor
 leaves the previous file as it was. Two runs writing the same path each write their own
 temporary file, so the survivor is one complete file. A set of files (the figures of one run)
 is written the same way: every member is finished first, then each is renamed into place.
+Devices and pipes (``/dev/null``, ``/dev/stdout``, a FIFO) are written in place, since a
+rename would replace them by a regular file.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -28,6 +31,19 @@ def ensure_folder(folder: str | os.PathLike) -> Path:
     except OSError as exc:
         raise WriteError(f"cannot create folder {folder}: {exc.strerror or exc}") from None
     return folder
+
+
+def _direct(path: Path) -> bool:
+    """True when ``path`` must be written in place: a device or a pipe (``/dev/null``,
+    ``/dev/stdout``, a FIFO), which a rename would replace by a regular file. A folder in the
+    way is an error."""
+    try:
+        mode = path.stat().st_mode
+    except OSError:
+        return False
+    if stat.S_ISDIR(mode):
+        raise WriteError(f"cannot write {path}: it is a folder")
+    return not stat.S_ISREG(mode)
 
 
 def _temp_for(path: Path) -> Path:
@@ -67,6 +83,9 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     KeyboardInterrupt, the temporary file is removed and ``path`` is untouched.
     """
     target = Path(path)
+    if _direct(target):
+        yield target
+        return
     temp = _temp_for(target)
     try:
         yield temp
@@ -89,7 +108,8 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", encoding: str = "utf-8
             try:
                 yield handle
                 handle.flush()
-                os.fsync(handle.fileno())
+                if stat.S_ISREG(os.fstat(handle.fileno()).st_mode):
+                    os.fsync(handle.fileno())
             except OSError as exc:
                 raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
 
@@ -107,18 +127,29 @@ def write_set(writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
     ``writers`` maps each final path to a function that writes the file at the path it is given.
     If any writer fails (or the run is interrupted) before the renames, no final path changes.
     """
+    direct = {Path(path) for path in writers if _direct(Path(path))}  # checked before writing
     temps: dict[Path, Path] = {}
     try:
         for path, write in writers.items():
-            temps[path] = _temp_for(Path(path))
+            path = Path(path)
+            temps[path] = path if path in direct else _temp_for(path)
             try:
                 write(temps[path])
             except OSError as exc:
                 raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
     except BaseException:
-        for temp in temps.values():
+        for path, temp in temps.items():
+            if path not in direct:
+                _discard(temp)
+        raise
+    pending = [(path, temp) for path, temp in temps.items() if path not in direct]
+    try:
+        while pending:
+            path, temp = pending[0]
+            _publish(temp, path)
+            pending.pop(0)
+    except BaseException:
+        for _, temp in pending:
             _discard(temp)
         raise
-    for path, temp in temps.items():
-        _publish(temp, Path(path))
     return [Path(p) for p in writers]

@@ -22,9 +22,12 @@ from ..errors import VoroboundError, VoroboundWarning
 from .advise_cmd import advise
 from .bounds_cmd import bounds
 from .certify_cmd import certify
+from .check_cmd import check
 from .cheng_cmd import cheng
 from .figure_cmd import figure
+from .lfs_cmd import lfs
 from .reproduce_cmd import reproduce
+from .sample_cmd import sample
 from .solve_cmd import solve
 from .sweep_cmd import sweep
 from .triangle_cmd import triangle
@@ -73,6 +76,9 @@ app.command("sweep")(sweep)
 app.command("advise")(advise)
 app.command("cheng")(cheng)
 app.command("certify")(certify)
+app.command("sample")(sample)
+app.command("check")(check)
+app.command("lfs")(lfs)
 
 
 class Interrupted(BaseException):
@@ -150,7 +156,9 @@ def main(argv: list[str] | None = None) -> int:
         return _fail(str(exc), EXIT_ERROR)
     except typer.Exit as exc:
         return exc.exit_code
-    except typer.Abort:
+    except typer.Abort as exc:
+        if isinstance(exc.__context__, EOFError):  # click turns any EOFError into Abort
+            return _bug(exc.__context__)
         return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
     except _usage_errors() as exc:
         return _fail(exc.format_message(), getattr(exc, "exit_code", EXIT_ERROR) or EXIT_ERROR)
@@ -194,5 +202,21 @@ def _fail(message: str, code: int, prefix: str = "error: ") -> int:
 
 
 def entry() -> None:
-    """Console-script entry point."""
-    sys.exit(main())
+    """Console-script entry point.
+
+    After an interrupt the exit handlers run and the process ends at once (``os._exit``):
+    extension threads that were busy when the signal came (scipy's k-d tree workers) can
+    otherwise crash the interpreter while it tears itself down. Outputs are already cleaned up
+    by then.
+    """
+    code = main()
+    if code == EXIT_INTERRUPTED:
+        import atexit
+
+        with contextlib.suppress(Exception):
+            atexit._run_exitfuncs()  # multiprocessing's cleanup, among others
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        os._exit(code)
+    sys.exit(code)

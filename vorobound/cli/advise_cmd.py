@@ -34,7 +34,8 @@ def _length(value: float, flag: str, bounds: tuple[float, float] = LFS_RANGE) ->
     return checked_number(value, flag, *bounds)
 
 
-def _surface(area, lfs, sphere, torus, mesh, sizing):
+def _surface(area, lfs, sphere, torus, mesh, sizing, progress):
+    """The surface and where its L comes from ("exact", "given", "sizing file", "estimated")."""
     from ..sampling import surfaces
 
     given = [x is not None for x in (area, sphere, torus, mesh)]
@@ -45,17 +46,34 @@ def _surface(area, lfs, sphere, torus, mesh, sizing):
     if area is not None:
         if lfs is None:
             raise VoroboundError("--area needs --lfs (the local feature size)")
-        return surfaces.planar_area(_length(area, "--area", AREA_RANGE), _length(lfs, "--lfs"))
+        area_surface = surfaces.planar_area(
+            _length(area, "--area", AREA_RANGE), _length(lfs, "--lfs")
+        )
+        return area_surface, "given (--lfs)"
     if sphere is not None:
-        return surfaces.sphere(_length(sphere, "--sphere"))
+        return surfaces.sphere(_length(sphere, "--sphere")), "exact"
     if torus is not None:
         major, minor = (_length(x, "--torus") for x in parse_numbers(torus, "--torus", 2))
-        return surfaces.torus(major, minor)
+        return surfaces.torus(major, minor), "exact"
+    if mesh is not None and lfs is None and sizing is None:
+        return _estimated_surface(mesh, progress)
     if mesh is not None:
-        return surfaces.mesh_surface(mesh, None if lfs is None else _length(lfs, "--lfs"), sizing)
+        given = None if lfs is None else _length(lfs, "--lfs")
+        source = "given (--lfs)" if sizing is None else f"sizing file {sizing.name}"
+        return surfaces.mesh_surface(mesh, given, sizing), source
     if lfs is not None:
         raise VoroboundError("--lfs describes a surface: use it with --area or --mesh")
-    return None
+    return None, None
+
+
+def _estimated_surface(mesh: Path, progress):
+    """A mesh whose L nobody gave: estimate it (vorobound lfs; its warnings, e.g. about sharp
+    edges, reach stderr as warning lines), and say so in the output."""
+    from ..sampling.lfs import estimate_lfs
+    from ..sampling.mesh_io import read_triangle_mesh
+
+    estimate = estimate_lfs(read_triangle_mesh(mesh), progress=progress)
+    return estimate.surface(), f"estimated from the mesh ({estimate.method})"
 
 
 def advise(
@@ -75,7 +93,12 @@ def advise(
         str | None, typer.Option("--torus", metavar="R,r", help="Ring torus, radii R > r.")
     ] = None,
     mesh: Annotated[
-        Path | None, typer.Option("--mesh", help="Triangle mesh file (any format meshio reads).")
+        Path | None,
+        typer.Option(
+            "--mesh",
+            help="Triangle mesh file (any format meshio reads). Without --lfs or --sizing its "
+            "local feature size is estimated (as by `vorobound lfs`), and the output says so.",
+        ),
     ] = None,
     sizing: Annotated[
         Path | None, typer.Option("--sizing", help="CSV with the local feature size per vertex.")
@@ -92,13 +115,13 @@ def advise(
     from ..reports.advisor import advise as run_advice
 
     modes = parse_modes(mode)
-    surface = _surface(area, lfs, sphere, torus, mesh, sizing)
     quality = quality_params(sigma, delta_ratio, rho_f)
     from ..sampling.surfaces import planar_area
 
-    # Without a surface, lengths are reported per unit L (counts are dropped below).
-    basis = surface or planar_area(1.0, 1.0)
     with progress_bar(not as_json) as progress:
+        surface, lfs_source = _surface(area, lfs, sphere, torus, mesh, sizing, progress)
+        # Without a surface, lengths are reported per unit L (counts are dropped below).
+        basis = surface or planar_area(1.0, 1.0)
         advice = run_advice(quality, basis, modes, lipschitz, progress=progress)
     entries = []
     for a in advice:
@@ -126,6 +149,7 @@ def advise(
             "lfs_min": surface.lfs_min,
             "inv_lfs_sq_integral": surface.inv_lfs_sq_integral,
             "counts_exact": surface.exact,
+            "lfs_source": lfs_source,
         }
     )
     if as_json:
@@ -158,4 +182,6 @@ def advise(
             for e in entries
         ],
     )
+    if surface is not None:
+        print(f"local feature size L: {lfs_source}")
     print(GUARANTEE)

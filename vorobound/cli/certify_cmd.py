@@ -120,7 +120,7 @@ def certify(
     ]
     print_table(
         f"Interval certificate (σ = {sigma:g}, δ/ε = {delta_ratio:g}, ρ_f = {rho_f:g}, "
-        f"λ = {lipschitz})",
+        f"λ = {'none' if lipschitz is None else f'{lipschitz:g}'})",
         ("quantity", "value"),
         rows,
     )
@@ -213,3 +213,9 @@ def _report_failure(failure, as_json: bool) -> None:
             ("quantity", "value"),
             rows,
         )
+    if failure.box is not None:
+        rows = [
+            (name, f"[{fmt(lo)}, {fmt(hi)}]")
+            for name, (lo, hi) in zip(DIMENSIONS, payload["box"], strict=True)
+        ]
+        print_table("Unresolved box", ("coordinate", "interval"), rows)

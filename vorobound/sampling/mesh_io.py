@@ -66,8 +66,10 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
         or faces that refer to missing vertices.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise ReadError(f"cannot read mesh {path}: no such file")
+    if not path.is_file():
+        raise ReadError(f"cannot read mesh {path}: not a regular file")
     import meshio
 
     mesh = quiet_meshio(lambda: meshio.read(path), path, "mesh")
@@ -81,13 +83,21 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
         raise ReadError(f"mesh {path}: some point coordinates are NaN or infinite")
     if points.shape[1] == 2:
         points = np.column_stack([points, np.zeros(len(points))])
+    low, high = LFS_RANGE
+    size = float(np.ptp(points, axis=0).max())
+    if float(np.abs(points).max()) > high or not size >= low:
+        raise ReadError(
+            f"mesh {path}: coordinates must lie within ±{high:g} and the mesh must be at least "
+            f"{low:g} across (the supported range of lengths), got size {size:g}"
+        )
     blocks = [np.asarray(block.data) for block in mesh.cells if block.type == "triangle"]
     if not blocks or sum(len(b) for b in blocks) == 0:
         raise ReadError(f"mesh {path} has no triangles")
     triangles = np.concatenate(blocks).astype(np.int64)
     if triangles.min() < 0 or triangles.max() >= len(points):
+        bad = int(triangles.min()) if triangles.min() < 0 else int(triangles.max())
         raise ReadError(
-            f"mesh {path}: a face refers to vertex {int(triangles.max()) + 1} but the mesh has "
+            f"mesh {path}: a face refers to vertex index {bad} (0-based) but the mesh has "
             f"{len(points)} vertices"
         )
     return TriangleMesh(points, triangles, path.name)
@@ -97,8 +107,10 @@ def read_sizing(path: str | Path, count: int) -> np.ndarray:
     """One positive, finite local feature size per vertex from a CSV (last column; a header
     line is allowed)."""
     path = Path(path)
+    if path.exists() and not path.is_file():
+        raise ReadError(f"cannot read sizing file {path}: not a regular file")
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise ReadError(f"sizing file {path} is not UTF-8 text") from None
     except OSError as exc:

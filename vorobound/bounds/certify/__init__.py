@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...checks import checked_count, checked_number
-from ...errors import InputError
+from ...errors import InputError, VoroboundError
 from ...progress import Progress
 from ..params import DELTA_RATIO_RANGE, EPS_RANGE, RHO_F_MAX, SIGMA_RANGE, checked_lipschitz
 from .certificate import CheckReport, certificate_payload, check_certificate
@@ -30,10 +30,13 @@ class Target:
     """What to certify: validated parameters, ε_max and the tight ε* it is compared with."""
 
     setting: Setting
-    eps_star_tight: float
-    """The tight ε* of :func:`~vorobound.bounds.tight.closed_form.tight_eps_star_closed_form`."""
+    eps_star_tight: float | None
+    """The tight ε* of :func:`~vorobound.bounds.tight.closed_form.tight_eps_star_closed_form`;
+    None when there is none (the bound never or always exceeds the target) and ``eps`` was
+    given explicitly."""
     eps_star_status: str
-    """Whether that ε* is the tight one (proven exact) or a proven lower bound on it."""
+    """Whether that ε* is the tight one (proven exact) or a proven lower bound on it, or why
+    there is none."""
 
     @classmethod
     def of(
@@ -53,15 +56,24 @@ class Target:
         delta_ratio = checked_number(delta_ratio, "delta_ratio", *DELTA_RATIO_RANGE)
         rho_f = checked_number(rho_f, "rho_f", 1.0, RHO_F_MAX, open_low=True)
         lipschitz = checked_lipschitz(lipschitz)
-        tight = tight_eps_star_closed_form(sigma, delta_ratio, rho_f, lipschitz)
         if eps is None:
+            tight = tight_eps_star_closed_form(sigma, delta_ratio, rho_f, lipschitz)
             fraction = checked_number(fraction, "fraction", *FRACTION_RANGE)
             eps = min(fraction * tight.eps_star, EPS_RANGE[1])
-        eps = checked_number(eps, "eps", *EPS_RANGE)
+            star, status = tight.eps_star, tight.status.value
+        else:
+            # An explicit ε_max needs no ε*: the search proves the claim or finds a
+            # counterexample (the closed form may have no root at these parameters).
+            eps = checked_number(eps, "eps", *EPS_RANGE)
+            try:
+                tight = tight_eps_star_closed_form(sigma, delta_ratio, rho_f, lipschitz)
+                star, status = tight.eps_star, tight.status.value
+            except VoroboundError as exc:
+                star, status = None, f"none: {exc}"
         if sigma * (1 - eps) >= 2:
             raise InputError(f"sigma*(1 - eps) must be below 2, got sigma={sigma:g}, eps={eps:g}")
         setting = Setting.of(sigma, delta_ratio, rho_f, lipschitz, eps)
-        return cls(setting, tight.eps_star, tight.status.value)
+        return cls(setting, star, status)
 
 
 @dataclass(frozen=True)
@@ -76,9 +88,10 @@ class CertifyResult:
         return nearest_float(self.target.setting.eps_max)
 
     @property
-    def ratio(self) -> float:
-        """eps_certified / eps_star_tight."""
-        return self.eps_certified / self.target.eps_star_tight
+    def ratio(self) -> float | None:
+        """eps_certified / eps_star_tight (None when there is no tight ε*)."""
+        star = self.target.eps_star_tight
+        return None if star is None else self.eps_certified / star
 
     def certificate(self) -> dict:
         """The certificate as a JSON-ready dict."""

@@ -20,6 +20,7 @@ import math
 import platform
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 from flint import arb
 
@@ -38,7 +39,7 @@ from ..params import (
 )
 from . import interval
 from .interval import DIMENSIONS, ENCLOSURES, Setting, nearest_float
-from .search import Leaf, SearchResult
+from .search import MAX_DEPTH, Leaf, SearchResult
 
 FORMAT = "vorobound-certificate"
 FORMAT_VERSION = 1
@@ -127,15 +128,28 @@ def write_certificate(path, payload: dict) -> None:
     write_text(path, json.dumps(payload, separators=(",", ":")) + "\n")
 
 
+MAX_CERTIFICATE_BYTES = 4 << 30
+"""Largest certificate file read (a search within its box limit writes far less)."""
+MAX_CHECK_DEPTH = 4 * MAX_DEPTH
+"""Deepest box a checked certificate may have (the search stops at ``MAX_DEPTH`` by default);
+deeper trees are refused before they cost memory."""
+
+
 def read_certificate(path) -> dict:
-    """Load a certificate file; ReadError if it is missing or not JSON."""
+    """Load a certificate file; ReadError if it is missing, not a regular file or not JSON."""
+    path = Path(path)
     try:
+        if not path.is_file():
+            raise ReadError(f"cannot read {path}: not a regular file")
+        if path.stat().st_size > MAX_CERTIFICATE_BYTES:
+            raise ReadError(f"{path} is larger than {MAX_CERTIFICATE_BYTES >> 30} GiB")
         with open(path, encoding="utf-8") as handle:
             payload = json.load(handle)
     except OSError as exc:
         raise ReadError(f"cannot read {path}: {exc.strerror or exc}") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ReadError(f"{path} is not a JSON certificate: {exc}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError, ValueError) as exc:
+        message = " ".join(str(exc).split())[:200] or type(exc).__name__
+        raise ReadError(f"{path} is not a JSON certificate: {message}") from None
     if not isinstance(payload, dict):
         raise ReadError(f"{path} is not a JSON certificate (top level is not an object)")
     return payload
@@ -209,6 +223,10 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
                 raise CertificateError(f"node {index}: extra nodes after the tree is complete")
             box, depth = stack.pop()
             deepest = max(deepest, depth)
+            if depth > MAX_CHECK_DEPTH:
+                raise CertificateError(
+                    f"node {index}: deeper than {MAX_CHECK_DEPTH} levels of bisection"
+                )
             if _is_split(node):
                 left, right = interval.split(box, node)
                 stack += [(right, depth + 1), (left, depth + 1)]
@@ -274,7 +292,13 @@ def _check_leaf(index: int, node, box, setting: Setting, names: set[str]) -> flo
 
 def _setting(payload: dict) -> Setting:
     """The parameters of a certificate, validated (CertificateError if malformed)."""
-    if payload.get("format") != FORMAT or payload.get("format_version") != FORMAT_VERSION:
+    version = payload.get("format_version")
+    if (
+        payload.get("format") != FORMAT
+        or isinstance(version, bool)
+        or not isinstance(version, int)
+        or version != FORMAT_VERSION
+    ):
         raise CertificateError(
             f"not a {FORMAT} (version {FORMAT_VERSION}) file: format "
             f"{payload.get('format')!r}, version {payload.get('format_version')!r}"

@@ -1,0 +1,208 @@
+"""Wall time, CPU time and peak memory of ``vorobound check`` on real samples, per stage.
+
+Run: ``python benchmarks/bench_check.py [--cases torus-0.03,torus-1e6,sphere-1e6]``. Each case
+runs in its own process (so its peak resident memory is its own) and does what
+``vorobound check --torus 3,1 --eps 0.03`` does: sample the surface, find the guide triangles,
+measure them. Stage boundaries come from the library's progress callback. Printed per case:
+
+* stage wall times (lattice, sampling, regular triangulation, seeds, bounds, measure,
+  conditions), the total against its target, the process CPU time, the peak memory against
+  8 GB, and the machine's load average before and after (the machine is shared);
+* the geometry kernel: ``weighted_triangles`` on the candidate triples of the sample against
+  the same number of random triangles in the same run (the kernel's own throughput), in
+  triangles per second.
+
+With ``--filler`` it times the GUDHI stage with and without its filler points. (The findings
+tables of docs/samples.md come from ``docs/examples/samples_table.py``.)
+
+Targets (the issue): torus (3, 1) at ε = 0.03 in ≤ 30 s; about 10⁶ samples (torus (3, 1) at
+ε = 0.0113, sphere R = 1 at ε = 0.004) in ≤ 5 min and ≤ 8 GB, on 2 cores. ``torus-limit`` is
+the largest lattice the sampler accepts (close to ``MAX_CANDIDATES``), for the memory limit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+CASES = {
+    "torus-0.03": ("torus", (3.0, 1.0), 0.03, 30.0),
+    "torus-1e6": ("torus", (3.0, 1.0), 0.0113, 300.0),
+    "sphere-1e6": ("sphere", (1.0,), 0.004, 300.0),
+    "torus-limit": ("torus", (3.0, 1.0), 0.0075, 300.0),
+}
+"""name ↦ (surface, dimensions, ε, target seconds)."""
+MEMORY_TARGET_GB = 8.0
+
+
+def _cpu_seconds() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_case(name: str) -> dict:
+    """One case in this process; returns the measurements as a dict."""
+    from vorobound.bounds.params import QualityParams
+    from vorobound.reports.check import check_surface
+    from vorobound.sampling.surfaces import SphereShape, TorusShape
+
+    kind, dims, eps, _ = CASES[name]
+    shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
+    marks: dict[str, float] = {}
+
+    def progress(task: str, done: int, total: int | None) -> None:
+        marks.setdefault(task, time.perf_counter())
+
+    load_before = os.getloadavg()
+    cpu0, start = _cpu_seconds(), time.perf_counter()
+    report = check_surface(shape, eps, QualityParams(), seed=0, progress=progress)
+    total = time.perf_counter() - start
+    cpu = _cpu_seconds() - cpu0
+    order = sorted(marks.items(), key=lambda item: item[1])
+    ends = [t for _, t in order[1:]] + [start + total]
+    stages = {task: end - begin for (task, begin), end in zip(order, ends, strict=True)}
+    kernel = kernel_throughput(report)
+    return {
+        "case": name,
+        "eps": eps,
+        "n_samples": len(report.balls),
+        "n_guide_triangles": len(report.guides),
+        "n_candidate_triples": report.proposed,
+        "engine": report.engine,
+        "stages": stages,
+        "total": total,
+        "cpu": cpu,
+        "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
+        "load_before": load_before[0],
+        "load_after": os.getloadavg()[0],
+        "kernel": kernel,
+    }
+
+
+def filler_effect() -> dict:
+    """GUDHI on the torus (3, 1) sample at ε = 0.03 with and without the filler points."""
+    from unittest import mock
+
+    import numpy as np
+
+    from vorobound.sampling import guide
+    from vorobound.sampling.balls import make_balls
+    from vorobound.sampling.sampler import sample_surface
+    from vorobound.sampling.surfaces import TorusShape
+
+    sample = sample_surface(TorusShape(3.0, 1.0), 0.03, 0.75, seed=0)
+    balls = make_balls(sample.points, 0.06 * sample.lfs)
+    out = {"n_samples": len(balls)}
+    found = {}
+    without = mock.patch.object(guide, "filler_points", return_value=np.empty((0, 3)))
+    for label, context in (("with", contextlib.nullcontext()), ("without", without)):
+        with context:
+            cpu0, start = _cpu_seconds(), time.perf_counter()
+            found[label] = guide.gudhi_triples(balls)
+            out[label] = {"wall": time.perf_counter() - start, "cpu": _cpu_seconds() - cpu0}
+    out["same_candidates"] = bool(np.array_equal(found["with"], found["without"]))
+    return out
+
+
+def kernel_throughput(report) -> dict:
+    """weighted_triangles on the guide triangles vs on as many random triangles (same run)."""
+    import numpy as np
+
+    from vorobound.geometry import weighted_triangles
+
+    triples = report.guides.triples
+    points = report.balls.centers[triples]
+    weights = report.balls.weights[triples]
+    start = time.perf_counter()
+    weighted_triangles(points, weights)
+    real = time.perf_counter() - start
+    rng = np.random.default_rng(0)
+    random_points = rng.random(points.shape)
+    random_weights = 0.01 * rng.random(weights.shape)
+    start = time.perf_counter()
+    weighted_triangles(random_points, random_weights)
+    baseline = time.perf_counter() - start
+    return {
+        "rows": len(triples),
+        "real_per_s": len(triples) / real,
+        "random_per_s": len(triples) / baseline,
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--cases", default=",".join(CASES), help="comma list of " + ", ".join(CASES)
+    )
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--filler", action="store_true", help="GUDHI with and without filler points (one case)"
+    )
+    args = parser.parse_args()
+    if args.child:
+        result = filler_effect() if args.child == "filler" else run_case(args.child)
+        print(json.dumps(result))
+        return
+    if args.filler:
+        done = subprocess.run(
+            [sys.executable, __file__, "--child", "filler"],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        w, wo = r["with"], r["without"]
+        print(
+            f"GUDHI on the torus (3, 1) at ε = 0.03 ({r['n_samples']:,} balls): "
+            f"with filler points {w['wall']:.1f} s wall / {w['cpu']:.1f} s CPU, without "
+            f"{wo['wall']:.1f} s / {wo['cpu']:.1f} s (CPU ratio {wo['cpu'] / w['cpu']:.2f}); "
+            f"same candidate triangles: {r['same_candidates']}"
+        )
+        return
+    print(f"{os.cpu_count()} cores; each case in its own process")
+    for name in args.cases.split(","):
+        if name not in CASES:
+            parser.error(f"unknown case {name!r}")
+        done = subprocess.run(
+            [sys.executable, __file__, "--child", name], capture_output=True, text=True, check=False
+        )
+        if done.returncode:
+            print(f"{name}: failed\n{done.stderr}")
+            continue
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        target = CASES[name][3]
+        verdict = "ok" if r["total"] <= target else "SLOW"
+        memory = "ok" if r["peak_gb"] <= MEMORY_TARGET_GB else "OVER"
+        print(
+            f"\n{name}: {r['n_samples']:,} samples, {r['n_guide_triangles']:,} guide triangles "
+            f"({r['n_candidate_triples']:,} candidates, engine {r['engine']}), ε = {r['eps']}"
+        )
+        for stage, seconds in r["stages"].items():
+            print(f"  {stage:24s} {seconds:8.2f} s  {100 * seconds / r['total']:5.1f} %")
+        print(
+            f"  total {r['total']:.1f} s [{verdict} ≤ {target:.0f} s], CPU {r['cpu']:.1f} s, "
+            f"peak {r['peak_gb']:.2f} GB [{memory} ≤ {MEMORY_TARGET_GB:.0f} GB], "
+            f"load average {r['load_before']:.2f} → {r['load_after']:.2f}"
+        )
+        seeds = r["stages"].get("seeds")
+        if seeds:
+            rate = r["n_candidate_triples"] / seeds
+            print(f"  seeds stage: {rate:,.0f} candidate triangles/s (kernel + coverage queries)")
+        k = r["kernel"]
+        print(
+            f"  geometry kernel: {k['real_per_s']:,.0f} triangles/s on the guide triangles, "
+            f"{k['random_per_s']:,.0f}/s on as many random ones "
+            f"(ratio {k['real_per_s'] / k['random_per_s']:.2f})"
+        )
+
+
+if __name__ == "__main__":
+    main()

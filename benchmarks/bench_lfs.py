@@ -1,0 +1,322 @@
+"""Accuracy and speed of ``vorobound lfs`` (:func:`vorobound.sampling.lfs.estimate_lfs`).
+
+Run: ``python benchmarks/bench_lfs.py [--quick]``. Prints five tables; docs/lfs.md shows the
+same measurements, rendered by docs/examples/lfs_*.py from the functions here:
+
+* accuracy: relative error of L at the vertices of generated sphere and torus meshes against
+  the exact L (sphere: R; torus: min(r, distance to the axis)), from the vertices only
+  (``samples=0``) and with the default fitted edge midpoints, with the targets of the issue
+  (median ≤ 1e-3, largest ≤ 2 %);
+* added points: where the edge midpoints are placed (flat triangle, PN triangle, quartic fit,
+  exact surface), how far that is from the surface, and the error of L that results;
+* growth: time and accuracy against the sample size N on one mesh;
+* speed: wall time against the vertex count, with the bare scipy Delaunay triangulation of the
+  same (jittered) vertices as the in-run baseline (ratio column); target: 10⁵ vertices in
+  ≤ 30 s on 2 cores;
+* a cube: L near its sharp edges, in units of the mesh edge length.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+import warnings
+from dataclasses import dataclass
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+import numpy as np  # noqa: E402
+
+from vorobound.errors import VoroboundWarning  # noqa: E402
+from vorobound.sampling import surfaces  # noqa: E402
+from vorobound.sampling.curved import edge_midpoints  # noqa: E402
+from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh  # noqa: E402
+from vorobound.sampling.lfs import estimate_lfs  # noqa: E402
+from vorobound.sampling.medial import JITTER  # noqa: E402
+from vorobound.sampling.mesh_io import TriangleMesh  # noqa: E402
+from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
+
+MEDIAN_TARGET, WORST_TARGET, SECONDS_TARGET = 1e-3, 0.02, 30.0
+
+
+@dataclass(frozen=True)
+class Case:
+    """A generated mesh whose vertices lie on a surface with known L."""
+
+    label: str
+    mesh: TriangleMesh
+    shape: surfaces.RevolutionShape
+
+    @property
+    def exact(self) -> np.ndarray:
+        return self.shape.lfs_at(self.mesh.points)
+
+
+@dataclass(frozen=True)
+class Errors:
+    """Relative error of L at the vertices, and the run that produced it."""
+
+    median: float
+    p99: float
+    largest: float
+    samples: int
+    seconds: float
+
+    @property
+    def meets_targets(self) -> bool:
+        return self.median <= MEDIAN_TARGET and self.largest <= WORST_TARGET
+
+
+def timed(mesh: TriangleMesh, **options):
+    """``estimate_lfs`` without its warnings, and its wall time."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)
+        start = time.perf_counter()
+        estimate = estimate_lfs(mesh, **options)
+        return estimate, time.perf_counter() - start
+
+
+def measure(case: Case, **options) -> Errors:
+    estimate, seconds = timed(case.mesh, **options)
+    return errors_of(estimate.lfs, case.exact, estimate.sample_count, seconds)
+
+
+def errors_of(values, exact, samples: int, seconds: float) -> Errors:
+    error = np.abs(values - exact) / exact
+    return Errors(
+        float(np.median(error)),
+        float(np.quantile(error, 0.99)),
+        float(error.max()),
+        samples,
+        seconds,
+    )
+
+
+def single_precision(case: Case) -> Case:
+    """The same mesh with coordinates rounded to float32, as an STL file stores them."""
+    points = case.mesh.points.astype(np.float32).astype(float)
+    mesh = TriangleMesh(points, case.mesh.triangles, case.mesh.name)
+    return Case(case.label + ", single precision", mesh, case.shape)
+
+
+def torus_case(major: float, minor: float, around: int, tube: int, jitter: float = 0.0) -> Case:
+    mesh = torus_mesh(major, minor, around, tube, jitter=jitter, seed=1)
+    label = f"torus ({major:g}, {minor:g}) {around}×{tube}" + (
+        f", jitter {jitter:g}" if jitter else ""
+    )
+    return Case(label, mesh, surfaces.TorusShape(major, minor))
+
+
+def sphere_case(level: int) -> Case:
+    return Case(f"icosphere level {level}", icosphere(1.0, level), surfaces.SphereShape(1.0))
+
+
+def accuracy_cases(quick: bool = False) -> list[Case]:
+    """Spheres, both tori on grids and jittered, and single-precision copies (as STL stores
+    them)."""
+    cases = [sphere_case(3), sphere_case(5)]
+    grids = [(96, 32), (192, 64)] + ([] if quick else [(384, 128)])
+    for major in (3.0, 1.5):
+        cases += [torus_case(major, 1.0, a, t) for a, t in grids]
+        cases += [torus_case(major, 1.0, a, t, jitter=0.2) for a, t in ((96, 32), (192, 64))]
+    rounded = [torus_case(3.0, 1.0, 192, 64), torus_case(1.5, 1.0, 96, 32, 0.2), sphere_case(5)]
+    rounded += [] if quick else [sphere_case(6)]
+    return cases + [single_precision(case) for case in rounded]
+
+
+def accuracy(case: Case) -> tuple[Errors, Errors]:
+    """Errors from the vertices only and with the default sample."""
+    return measure(case, samples=0), measure(case)
+
+
+def added_point_rows(mesh: TriangleMesh, shape) -> list[tuple[str, float, Errors]]:
+    """(placement, median distance of the added points from the surface / edge length, errors
+    of L at the original vertices) for each way of adding one point per edge."""
+    prepared = prepare_mesh(mesh)
+    points, edges = prepared.points, prepared.edges
+    normals = vertex_normals(prepared)
+    ends = points[edges]
+    length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+    fitted = edge_midpoints(prepared, normals, np.zeros(len(edges), dtype=bool), len(edges))
+    order = np.lexsort(fitted.edges.T[::-1])
+    assert len(fitted.edges) == len(edges), "every edge of these meshes gets a fit"
+    flat = ends.mean(axis=1)
+    placements = {
+        "flat triangles": flat,
+        "PN triangles (cubic, from vertex normals)": _pn_midpoints(ends, normals[edges]),
+        "quartic fit (this estimator)": fitted.points[order],
+        "exact surface (nearest point)": _to_unit(
+            prepared, shape.project(_to_mesh(prepared, flat))[0]
+        ),
+    }
+    exact = shape.lfs_at(mesh.points)
+    vertices_only, _ = timed(mesh, samples=0)
+    rows = [("none (vertices only)", 0.0, errors_of(vertices_only.lfs, exact, len(points), 0.0))]
+    for label, added in placements.items():
+        on_mesh = _to_mesh(prepared, added)
+        distance = np.linalg.norm(on_mesh - shape.project(on_mesh)[0], axis=1) / prepared.scale
+        split = _split(prepared, added)
+        estimate, _ = timed(split, samples=0)
+        values = estimate.lfs[: len(points)][prepared.original_to_merged]
+        rows.append(
+            (
+                label,
+                float(np.median(distance / length)),
+                errors_of(values, exact, len(split.points), 0.0),
+            )
+        )
+    return rows
+
+
+def _to_mesh(prepared, unit_points):
+    return prepared.centre + prepared.scale * unit_points
+
+
+def _to_unit(prepared, mesh_points):
+    return (mesh_points - prepared.centre) / prepared.scale
+
+
+def _pn_midpoints(ends: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Midpoint of the cubic edge curve of a PN triangle (Vlachos et al., 2001):
+    (a + b)/2 − (w_ab·n_a + w_ba·n_b)/8 with w_ab = (b − a)·n_a; blind to the normals' signs."""
+    a, b = ends[:, 0], ends[:, 1]
+    w_ab = ((b - a) * normals[:, 0]).sum(axis=1)
+    w_ba = ((a - b) * normals[:, 1]).sum(axis=1)
+    return 0.5 * (a + b) - (w_ab[:, None] * normals[:, 0] + w_ba[:, None] * normals[:, 1]) / 8
+
+
+def _split(prepared, middles: np.ndarray) -> TriangleMesh:
+    """The prepared mesh with each triangle split into four at the given edge points (in the
+    mesh's own units)."""
+    edges, faces = prepared.edges, prepared.triangles
+    count = len(prepared.points)
+    key = edges[:, 0] * count + edges[:, 1]
+    order = np.argsort(key)
+
+    def middle(a, b):
+        low, high = np.minimum(a, b), np.maximum(a, b)
+        return count + order[np.searchsorted(key, low * count + high, sorter=order)]
+
+    a, b, c = faces.T
+    ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
+    split = np.concatenate(
+        [np.c_[a, ab, ca], np.c_[b, bc, ab], np.c_[c, ca, bc], np.c_[ab, bc, ca]]
+    )
+    points = _to_mesh(prepared, np.vstack([prepared.points, middles]))
+    return TriangleMesh(points, split, "split")
+
+
+def growth_cases(quick: bool = False) -> list[tuple[Case, tuple[int, ...]]]:
+    """Meshes and sample sizes (multiples of the vertex count) for the growth table."""
+    cases = [
+        (torus_case(3.0, 1.0, 96, 32), (1, 2, 3, 4)),
+        (torus_case(1.5, 1.0, 192, 64), (1, 2, 3, 4)),
+    ]
+    if not quick:
+        cases.append((torus_case(3.0, 1.0, 384, 128, jitter=0.2), (1, 2)))
+    return cases
+
+
+def growth(case: Case, multiple: int) -> Errors:
+    """Errors and time with samples = multiple × (vertices)."""
+    return measure(case, samples=multiple * len(case.mesh.points))
+
+
+def speed_meshes(quick: bool) -> list[TriangleMesh]:
+    meshes = [torus_mesh(3.0, 1.0, 4 * n, n) for n in (32, 64, 128)]
+    meshes += [icosphere(1.0, level) for level in (5, 6)]
+    if not quick:
+        meshes += [torus_mesh(3.0, 1.0, 768, 128), icosphere(1.0, 7)]
+    return meshes
+
+
+def speed_row(mesh: TriangleMesh) -> tuple[int, float, float, int, float]:
+    """(vertices, seconds from the vertices only, seconds of the bare Delaunay triangulation of
+    the same jittered and shuffled vertices, default sample size, seconds with it)."""
+    from scipy.spatial import Delaunay
+
+    _, alone = timed(mesh, samples=0)
+    random = np.random.default_rng(0)
+    points = mesh.points / np.ptp(mesh.points, axis=0).max()
+    moved = points + JITTER * random.standard_normal(points.shape)
+    start = time.perf_counter()
+    Delaunay(moved[random.permutation(len(points))])
+    base = time.perf_counter() - start
+    estimate, seconds = timed(mesh)
+    return len(mesh.points), alone, base, estimate.sample_count, seconds
+
+
+def cube_rows(divisions=(4, 8, 16)) -> list[tuple[int, float, float, float, int]]:
+    """(divisions, h, median L on the cube edges / h, one step in / h, added midpoints)."""
+    rows = []
+    for count in divisions:
+        mesh = cube_mesh(1.0, count)
+        estimate, _ = timed(mesh)
+        h = 2.0 / count
+        gap = np.sort(1 - np.abs(mesh.points), axis=1)[:, 1]  # distance to the nearest edge
+        on_edge, one_in = np.isclose(gap, 0), np.isclose(gap, h)
+        rows.append(
+            (
+                count,
+                h,
+                float(np.median(estimate.lfs[on_edge]) / h),
+                float(np.median(estimate.lfs[one_in]) / h),
+                estimate.added_samples,
+            )
+        )
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="skip the meshes over 40k vertices")
+    args = parser.parse_args()
+    print("\n## Accuracy (relative error of L at the vertices): vertices only | default sample")
+    print(
+        f"{'mesh':44s} {'median':>8s} {'largest':>8s} {'time':>7s} | {'samples':>7s} "
+        f"{'median':>8s} {'largest':>8s} {'time':>7s}"
+    )
+    for case in accuracy_cases(args.quick):
+        alone, default = accuracy(case)
+        print(
+            f"{case.label:44s} {alone.median:8.1e} {alone.largest:8.1e} {alone.seconds:6.2f}s | "
+            f"{default.samples:7d} {default.median:8.1e} {default.largest:8.1e} "
+            f"{default.seconds:6.2f}s{'' if default.meets_targets else '  (misses a target)'}"
+        )
+    for case in (torus_case(1.5, 1.0, 96, 32), torus_case(1.5, 1.0, 96, 32, jitter=0.2)):
+        print(f"\n## One added point per edge of the {case.label}")
+        print(f"{'placement':44s} {'distance/h':>10s} {'median':>8s} {'largest':>8s}")
+        for label, distance, found in added_point_rows(case.mesh, case.shape):
+            print(f"{label:44s} {distance:10.1e} {found.median:8.1e} {found.largest:8.1e}")
+    print("\n## Growth with the sample size N")
+    print(f"{'mesh':38s} {'N':>7s} {'time':>8s} {'median':>8s} {'largest':>8s}")
+    for case, multiples in growth_cases(args.quick):
+        for multiple in multiples:
+            found = growth(case, multiple)
+            print(
+                f"{case.label:38s} {found.samples:7d} {found.seconds:7.2f}s {found.median:8.1e} "
+                f"{found.largest:8.1e}"
+            )
+    print("\n## Speed (baseline: scipy Delaunay of the same jittered, shuffled vertices)")
+    print(
+        f"{'mesh':28s} {'vertices':>8s} {'alone':>7s} {'Delaunay':>8s} {'ratio':>5s} "
+        f"{'samples':>7s} {'default':>7s}"
+    )
+    for mesh in speed_meshes(args.quick):
+        count, alone, base, samples, seconds = speed_row(mesh)
+        flag = "" if count < 90_000 or seconds <= SECONDS_TARGET else " (over 30 s)"
+        print(
+            f"{mesh.name:28s} {count:8d} {alone:6.2f}s {base:7.2f}s {alone / base:5.2f} "
+            f"{samples:7d} {seconds:6.2f}s{flag}"
+        )
+    print(f"load average: {os.getloadavg()[0]:.2f} (the machine is shared)")
+    print("\n## Cube [-1, 1]^3: L near its sharp edges, in mesh edge lengths h")
+    print(f"{'divisions':>9s} {'h':>6s} {'on edges':>8s} {'one step in':>11s} {'midpoints':>9s}")
+    for count, h, on_edge, one_in, added in cube_rows():
+        print(f"{count:9d} {h:6.3f} {on_edge:8.3f} {one_in:11.3f} {added:9d}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,383 @@
+"""The check of a real sample against the paper: sampling conditions, guide triangles, bounds.
+
+:func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler`) and checks the
+sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both measure every
+guide triangle (:mod:`vorobound.sampling.measure`) and assemble a :class:`CheckReport`, whose
+:meth:`CheckReport.summary` is the JSON summary and which :func:`output_writers` writes as
+triangles.csv, summary.json, a VTU for ParaView and a histogram of the realized gap.
+
+References
+----------
+Theorem 1, eq. (29), (33)–(36), (54)–(55), property H3 and the sampling conditions of
+Section 4.1.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..bounds.params import QualityParams, SamplingParams
+from ..progress import Counter, Progress
+from ..sampling import conditions
+from ..sampling.balls import Balls, make_balls
+from ..sampling.guide import Engine, equal_radii_on_sphere, find_guide_triangles
+from ..sampling.measure import GuideMeasurements, ModeBound, measure_guides, mode_bounds
+
+GAP_HISTOGRAM_STEM = "gap_histogram"
+UNDEFINED_BOUND = (
+    "this chain is not defined at this eps (eq. (51)-(52) take the square root of a negative "
+    "number): no bound, so no violations are counted"
+)
+"""File name (without extension) of the histogram of the realized gap."""
+LIPSCHITZ_SOURCES = {
+    "exact": "exact: a local feature size is 1-Lipschitz",
+    "measured": "measured: the largest |L_i - L_j|/|p_i - p_j| over neighbouring samples and "
+    "guide-triangle edges",
+    "required": "required of the balls' L = r/delta (a condition the sample is checked for)",
+}
+"""What the λ of a check means, by where it comes from."""
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """Everything the check measured on one sample."""
+
+    source: str
+    """The surface sampled, or the file the balls came from."""
+    params: SamplingParams
+    lipschitz: float | None
+    """λ of the sample's L used in the constraint set (None: no Lipschitz condition)."""
+    lipschitz_source: str
+    """Where λ comes from: exact (a local feature size), measured (a mesh's L), or required of
+    external balls."""
+    engine: str
+    balls: Balls
+    lfs: np.ndarray
+    """L of every ball (exact for a sampled surface, r/δ for external balls)."""
+    proposed: int
+    """Candidate triples the engine proposed."""
+    with_seeds: int
+    """Of those, triples whose seed pair exists."""
+    half_covered: int
+    guides: GuideMeasurements
+    bounds: list[ModeBound]
+    sparsity: conditions.PairReport
+    lipschitz_pairs: conditions.PairReport
+    coverage_max: float | None
+    """max distance/(εL) over the probes; None without a surface."""
+    coverage_where: np.ndarray | None
+    coverage_probes: int
+    seed: int | None
+    timings: dict[str, float] = field(default_factory=dict)
+    """Wall time per stage, in seconds."""
+
+    def summary(self) -> dict:
+        """The JSON summary (plain types; see docs/samples.md for the fields)."""
+        g, eps = self.guides, self.params.eps
+        count = len(g)
+        seeded = count + self.half_covered
+        bounds = {b.mode: b.value for b in self.bounds}
+        out = {
+            "source": self.source,
+            "params": {
+                "eps": eps,
+                "sigma": self.params.sigma,
+                "delta_ratio": self.params.delta_ratio,
+                "rho_f": self.params.rho_f,
+            },
+            "seed": self.seed,
+            "engine": self.engine,
+            "n_samples": len(self.balls),
+            "n_candidate_triples": self.proposed,
+            "n_with_seeds": self.with_seeds,
+            "n_guide_triangles": count,
+            "n_half_covered": self.half_covered,
+            "half_covered_share": self.half_covered / seeded if seeded else None,
+            "coverage_max": self.coverage_max,
+            "coverage_where": None if self.coverage_where is None else self.coverage_where.tolist(),
+            "coverage_probes": self.coverage_probes,
+            "sparsity_min": _finite(self.sparsity.extreme),
+            "sparsity_violations": self.sparsity.violations,
+            "sparsity_worst": self._pairs(self.sparsity),
+            "lipschitz": self.lipschitz,
+            "lipschitz_source": self.lipschitz_source,
+            "lipschitz_realized": _finite(self.lipschitz_pairs.extreme),
+            "lipschitz_violations": self.lipschitz_pairs.violations,
+            "lipschitz_worst": self._pairs(self.lipschitz_pairs),
+            "rho_max": _max(g.rho),
+            "quality_violations": int((g.rho > self.params.rho_f).sum()),
+            "gap_ratio_max": _max(g.gap_ratio),
+            "gap_ratio_min": None if count == 0 else _finite(g.gap_ratio.min()),
+            "orthoradius_sq_max": _max(g.orthoradius_sq / (self.params.delta * g.lfs[:, 0]) ** 2),
+            "bound": {
+                b.mode: {
+                    "value": _finite(b.value),
+                    "gap_ratio": _finite(b.value / eps),
+                    "claim": b.claim,
+                    "lipschitz": b.lipschitz,
+                }
+                | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
+                for b in self.bounds
+            },
+            "violations": {
+                mode: int(rows.sum()) if _finite(bounds[mode]) is not None else None
+                for mode, rows in g.exceeds.items()
+            },
+            "outside_constraint_set": int((~g.inside).sum()),
+            "constraint_violations": {n: int(rows.sum()) for n, rows in g.violated.items()},
+            "timings": {k: round(v, 3) for k, v in self.timings.items()},
+        }
+        if self.coverage_max is None:
+            out["coverage_note"] = "coverage needs the surface: only the balls were given"
+        if count == 0:
+            out["guide_note"] = "no guide triangles: no triple of balls has both seeds uncovered"
+        return out
+
+    def _pairs(self, report: conditions.PairReport) -> list[dict]:
+        centers = self.balls.centers
+        return [
+            {
+                "i": int(i),
+                "j": int(j),
+                "ratio": float(value),
+                "where": (0.5 * (centers[i] + centers[j])).tolist(),
+            }
+            for (i, j), value in zip(report.worst, report.worst_values, strict=True)
+        ]
+
+
+def _max(values: np.ndarray) -> float | None:
+    return None if len(values) == 0 else _finite(values.max())
+
+
+def _finite(value) -> float | None:
+    """A plain float, or None where it is NaN or infinite (JSON has neither)."""
+    value = float(value)
+    return value if np.isfinite(value) else None
+
+
+class _Stages:
+    """Wall time per stage, and a progress line for the stages without their own counter."""
+
+    def __init__(self, progress: Progress | None):
+        self.progress, self.seconds = progress, {}
+
+    @contextmanager
+    def __call__(self, name: str, announce: bool = False):
+        if announce:
+            Counter(self.progress, name, None)
+        start = time.perf_counter()
+        yield
+        self.seconds[name] = self.seconds.get(name, 0.0) + time.perf_counter() - start
+
+
+def check_surface(
+    shape,
+    eps: float,
+    quality: QualityParams,
+    seed: int = 0,
+    engine: Engine | str = Engine.auto,
+    progress: Progress | None = None,
+) -> CheckReport:
+    """Sample ``shape`` at ``eps`` (σ-sparse ε-sample, r = δL) and check the sample.
+
+    References
+    ----------
+    The sampling conditions and guide triangles of Section 4.1.
+    """
+    from ..sampling.sampler import sample_surface
+
+    params = SamplingParams(eps, quality)
+    stages = _Stages(progress)
+    with stages("sample"):
+        sample = sample_surface(shape, eps, quality.sigma, seed, progress)
+    balls = make_balls(sample.points, params.delta * sample.lfs, shape.name)
+    # An exact local feature size is 1-Lipschitz; a mesh's L is measured on the sample.
+    kind = "exact" if getattr(shape, "lipschitz_exact", False) else "measured"
+    lam = shape.lipschitz
+    return _check(balls, sample.lfs, params, lam, engine, shape, seed, stages, shape.name, kind)
+
+
+def check_balls(
+    balls: Balls,
+    params: SamplingParams,
+    lipschitz: float | None,
+    engine: Engine | str = Engine.auto,
+    shape=None,
+    source: str = "balls",
+    progress: Progress | None = None,
+) -> CheckReport:
+    """Check balls made elsewhere: L_i = r_i/δ with δ = (δ/ε)·ε from ``params``.
+
+    ``shape``, if given, is the surface the balls sample (for the coverage measurement).
+    """
+    lfs = balls.radii / params.delta
+    stages = _Stages(progress)
+    return _check(balls, lfs, params, lipschitz, engine, shape, None, stages, source, "required")
+
+
+def _check(
+    balls, lfs, params, lipschitz, engine, shape, seed, stages, source, lipschitz_kind
+) -> CheckReport:
+    """The stages after sampling; ``lipschitz_kind`` is a key of ``LIPSCHITZ_SOURCES``."""
+    progress = stages.progress
+    equal_on_sphere = bool(getattr(shape, "equal_radii_on_sphere", False)) and (
+        equal_radii_on_sphere(balls, shape.radius)
+    )
+    with stages("guide triangles"):
+        search = find_guide_triangles(balls, engine, equal_on_sphere, progress)
+    with stages("conditions", announce=True):
+        near = conditions.neighbours(balls.centers)
+        if lipschitz_kind == "measured":
+            lipschitz = _measured_lipschitz(balls.centers, lfs, search.guide.triples, near)
+        sparse = conditions.sparsity(balls.centers, lfs, params.eps, params.sigma, near)
+        lipschitz_pairs = conditions.lipschitz(balls.centers, lfs, lipschitz, near)
+        coverage, where, probes = _coverage(shape, balls, params.eps, search.guide, seed)
+    with stages("bounds", announce=True):
+        bounds = mode_bounds(params, lipschitz)
+    with stages("measure", announce=True):
+        guides = measure_guides(search.guide, lfs, params, lipschitz, bounds)
+    return CheckReport(
+        source=source,
+        params=params,
+        lipschitz=lipschitz,
+        lipschitz_source=LIPSCHITZ_SOURCES[lipschitz_kind],
+        engine=search.engine,
+        balls=balls,
+        lfs=lfs,
+        proposed=search.candidates,
+        with_seeds=search.with_seeds,
+        half_covered=search.half_covered,
+        guides=guides,
+        bounds=bounds,
+        sparsity=sparse,
+        lipschitz_pairs=lipschitz_pairs,
+        coverage_max=coverage,
+        coverage_where=where,
+        coverage_probes=probes,
+        seed=seed,
+        timings=stages.seconds,
+    )
+
+
+def _measured_lipschitz(points, lfs, triples, near: conditions.Neighbours) -> float:
+    """The λ the sample has: the largest |L_a − L_b|/|p_a − p_b| over neighbouring samples and
+    over the edges of the guide triangles, so every guide triangle meets the Lipschitz
+    conditions with it; 0 only for a constant L."""
+    from ..bounds.params import LIPSCHITZ_RANGE
+
+    edges = np.concatenate([triples[:, [0, 1]], triples[:, [1, 2]], triples[:, [2, 0]]])
+    change = np.abs(lfs[edges[:, 0]] - lfs[edges[:, 1]])
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    ratios = [conditions.lipschitz(points, lfs, None, near).extreme]
+    if len(edges):
+        ratios.append(float((change / length).max()))
+    value = max(ratios)
+    return 0.0 if value == 0 else max(value, LIPSCHITZ_RANGE[0])
+
+
+def _coverage(shape, balls: Balls, eps: float, guides, seed):
+    """Coverage over random probes plus the guide triangles' circumcenters on the surface."""
+    if shape is None:
+        return None, None, 0
+    rng = np.random.default_rng([0 if seed is None else seed, 1])
+    count = max(conditions.MIN_PROBES, conditions.PROBES_PER_SAMPLE * len(balls))
+    probes, probe_lfs = shape.random_points(count, rng)
+    projected = shape.project(guides.geometry.circumcenter) if len(guides.triples) else None
+    if projected is not None:
+        probes = np.concatenate([probes, projected[0]])
+        probe_lfs = np.concatenate([probe_lfs, projected[1]])
+    ratio, where = conditions.coverage(balls.centers, eps, probes, probe_lfs)
+    return ratio, where, len(probes)
+
+
+# --- Output files ----------------------------------------------------------------------------
+
+
+def triangle_columns(report: CheckReport) -> dict[str, np.ndarray]:
+    """The columns of triangles.csv, one row per guide triangle."""
+    g = report.guides
+    columns = {
+        "a_index": g.triples[:, 0],
+        "b_index": g.triples[:, 1],
+        "c_index": g.triples[:, 2],
+        "lfs_i": g.lfs[:, 0],
+        "lfs_j": g.lfs[:, 1],
+        "lfs_k": g.lfs[:, 2],
+        "circumradius": g.circumradius,
+        "orthoradius_sq": g.orthoradius_sq,
+        "radius_gap": g.radius_gap,
+        "rho": g.rho,
+        "gap_ratio": g.gap_ratio,
+        "a_over_eps_lfs": g.edges[:, 0],
+        "b_over_eps_lfs": g.edges[:, 1],
+        "c_over_eps_lfs": g.edges[:, 2],
+        "sin_theta": g.sin_theta,
+        "inside": g.inside.astype(np.int64),
+    }
+    for name, rows in g.violated.items():
+        columns[f"breaks_{name}"] = rows.astype(np.int64)
+    for mode, rows in g.exceeds.items():
+        columns[f"exceeds_{mode}"] = rows.astype(np.int64)
+    return columns
+
+
+def _write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
+    names = list(columns)
+    formats = ["%d" if columns[n].dtype.kind in "iub" else "%.17g" for n in names]
+    table = np.column_stack([columns[n].astype(float) for n in names]) if names else None
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        handle.write(",".join(names) + "\n")
+        if table is not None and len(table):
+            np.savetxt(handle, table, fmt=formats, delimiter=",")
+
+
+def _write_vtu(path: Path, report: CheckReport) -> None:
+    import meshio
+
+    g = report.guides
+    count = len(report.balls)
+    vertices = np.arange(count).reshape(-1, 1)
+    blank = np.full(count, np.nan)
+    cells = [("vertex", vertices), ("triangle", g.triples)]
+    cell_data = {
+        "rho": [blank, g.rho],
+        "gap_ratio": [blank, g.gap_ratio],
+        "inside_constraint_set": [blank, g.inside.astype(float)],
+    }
+    point_data = {"radius": report.balls.radii, "lfs": report.lfs}
+    mesh = meshio.Mesh(report.balls.centers, cells, point_data=point_data, cell_data=cell_data)
+    meshio.write(path, mesh, file_format="vtu")
+
+
+def output_writers(report: CheckReport, out_dir: str | Path) -> dict[Path, Callable]:
+    """Writers of triangles.csv, summary.json and sample.vtu in ``out_dir`` (each takes the
+    temporary path to fill), for :func:`vorobound.files.write_set`.
+
+    The gap histogram (``GAP_HISTOGRAM_STEM``) is drawn by the plotting layer from
+    :func:`histogram_marks` and joins the same set in the command line.
+    """
+    out = Path(out_dir)
+    columns = triangle_columns(report)
+    summary = json.dumps(report.summary(), indent=2, allow_nan=False) + "\n"
+
+    def write_summary(path: Path) -> None:
+        path.write_text(summary, encoding="utf-8")
+
+    return {
+        out / "triangles.csv": lambda path: _write_csv(path, columns),
+        out / "summary.json": write_summary,
+        out / "sample.vtu": lambda path: _write_vtu(path, report),
+    }
+
+
+def histogram_marks(report: CheckReport) -> list[tuple[str, float, str]]:
+    """(mode, bound over εL_i, claim) for each mode: the lines of the gap histogram."""
+    return [(b.mode, b.value / report.params.eps, b.claim) for b in report.bounds]

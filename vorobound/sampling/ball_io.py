@@ -1,0 +1,171 @@
+"""Reading someone else's balls (CSV, NPZ or a meshio point cloud) and writing samples.
+
+Accepted inputs, each giving centers x, y, z and radii r:
+
+* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r);
+* NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
+* any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
+  ``radii`` or ``r``.
+
+Every problem is a :class:`~vorobound.errors.ReadError` with one line; the values are then
+checked by :func:`vorobound.sampling.balls.make_balls`.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, ReadError
+from ..files import atomic_open, atomic_path
+from .balls import Balls, make_balls
+from .mesh_io import quiet_meshio
+
+RADIUS_NAMES = ("r", "radius", "radii")
+"""Names under which a radius column or array is recognised."""
+
+
+def read_balls(path: str | Path) -> Balls:
+    """Balls from a CSV, NPZ or meshio file (module docstring).
+
+    Raises
+    ------
+    ReadError
+        The file is missing, unreadable, or not a point set with radii.
+    InputError
+        NaN, infinite or non-positive values, duplicate centers, fewer than four balls.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise ReadError(f"cannot read balls {path}: no such file")
+    if not path.is_file():
+        raise ReadError(f"cannot read balls {path}: not a regular file")
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        centers, radii = _read_csv(path)
+    elif suffix == ".npz":
+        centers, radii = _read_npz(path)
+    else:
+        centers, radii = _read_meshio(path)
+    return make_balls(centers, radii, f"balls {path.name}")
+
+
+def _read_csv(path: Path):
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ReadError(
+            f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
+        ) from None
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        raise ReadError(f"balls {path} is empty")
+    header = [cell.strip().lower() for cell in lines[0].split(",")]
+    columns = [0, 1, 2, 3]
+    if not _is_number(header[0]):
+        radius = next((name for name in RADIUS_NAMES if name in header), None)
+        if radius is None or not {"x", "y", "z"} <= set(header):
+            raise ReadError(f"balls {path}: the header must name x, y, z and r, got {lines[0]!r}")
+        columns = [header.index("x"), header.index("y"), header.index("z"), header.index(radius)]
+        lines = lines[1:]
+    try:
+        table = np.loadtxt(io.StringIO("\n".join(lines)), delimiter=",", ndmin=2)
+    except ValueError as exc:
+        raise ReadError(f"balls {path}: not a table of numbers ({exc})") from None
+    if table.shape[1] <= max(columns):
+        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {table.shape[1]}")
+    return table[:, columns[:3]], table[:, columns[3]]
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _read_npz(path: Path):
+    import zipfile
+
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: np.asarray(data[name]) for name in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        reason = "not an NPZ archive" if isinstance(exc, EOFError | zipfile.BadZipFile) else exc
+        raise ReadError(f"cannot read balls {path}: {reason}") from None
+    except AttributeError:  # np.load returned a plain array (an NPY file), not an archive
+        raise ReadError(f"cannot read balls {path}: not an NPZ archive") from None
+    radius = next((arrays[n] for n in RADIUS_NAMES if n in arrays), None)
+    if {"x", "y", "z"} <= arrays.keys():
+        columns = [_numeric(np.ravel(arrays[name]), path) for name in "xyz"]
+        if len({len(column) for column in columns}) != 1:
+            raise ReadError(
+                f"balls {path}: arrays x, y and z have different lengths "
+                f"{[len(c) for c in columns]}"
+            )
+        centers = np.column_stack(columns)
+    else:
+        centers = arrays.get("points", arrays.get("centers"))
+    if centers is None or radius is None:
+        raise ReadError(
+            f"balls {path}: need arrays x, y, z and r (or points and radii), got {sorted(arrays)}"
+        )
+    return _numeric(centers, path), _numeric(radius, path).ravel()
+
+
+def _read_meshio(path: Path):
+    import meshio
+
+    mesh = quiet_meshio(lambda: meshio.read(path), path, "balls")
+    radius = next((mesh.point_data[n] for n in RADIUS_NAMES if n in mesh.point_data), None)
+    if radius is None:
+        raise ReadError(
+            f"balls {path}: a point set needs a point-data array named r, radius or radii "
+            f"(found {sorted(mesh.point_data) or 'none'})"
+        )
+    return _numeric(mesh.points, path), _numeric(radius, path).ravel()
+
+
+def _numeric(array, path: Path) -> np.ndarray:
+    array = np.asarray(array)
+    if array.dtype.kind not in "iuf":  # not bool, complex, text or objects
+        raise ReadError(f"balls {path}: values are not real numbers")
+    return array.astype(float)
+
+
+def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray]) -> Path:
+    """Write balls (centers, radii, extra per-ball arrays) as NPZ or, for .vtu, VTU.
+
+    Both formats read back with :func:`read_balls`.
+    """
+    path = checked_output(path)
+    arrays = {"radius": balls.radii, **point_data}
+    if path.suffix.lower() == ".npz":
+        x, y, z = balls.centers.T
+        with atomic_open(path, "wb") as handle:
+            np.savez_compressed(handle, x=x, y=y, z=z, **arrays)
+        return path
+    cells = [("vertex", np.arange(len(balls)).reshape(-1, 1))]
+    write_vtu(path, balls.centers, cells, arrays, {})
+    return path
+
+
+def checked_output(path: str | Path) -> Path:
+    """``path`` if it names a .npz or .vtu file (checked before any work is done)."""
+    path = Path(path)
+    if path.suffix.lower() not in (".npz", ".vtu"):
+        raise InputError(f"cannot write {path}: the sample file must end in .npz or .vtu")
+    return path
+
+
+def write_vtu(path: Path, points, cells, point_data: dict, cell_data: dict) -> Path:
+    """A VTU (XML, readable by ParaView and meshio) written atomically."""
+    import meshio
+
+    mesh = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+    with atomic_path(path) as temp:
+        meshio.write(temp, mesh, file_format="vtu")
+    return Path(path)

@@ -1,0 +1,80 @@
+"""Balls on sample points (VoroCrust's weighted points), checked once for what every later stage
+assumes: finite centers, positive finite radii, distinct centers, at least four balls."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+MIN_BALLS = 4
+"""Fewer balls have no regular triangulation in space (and no guide triangle to measure)."""
+LENGTH_RANGE = (1e-50, 1e50)
+"""Supported radii and coordinate magnitudes (the range of local feature sizes L = r/δ that
+the bounds support, :data:`vorobound.bounds.params.LFS_RANGE`): outside it, squared lengths and
+the seeds' tolerances leave float64."""
+
+
+@dataclass(frozen=True)
+class Balls:
+    """Ball centers (n, 3) and radii (n,); the weight of ball i is radii[i]²."""
+
+    centers: np.ndarray
+    radii: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.radii)
+
+    @property
+    def weights(self) -> np.ndarray:
+        """Weights r², the squared radii of the weighted points."""
+        return self.radii * self.radii
+
+
+def make_balls(centers, radii, what: str = "balls") -> Balls:
+    """Validated :class:`Balls`; ``what`` names the input in error messages.
+
+    Raises
+    ------
+    InputError
+        Wrong shapes, NaN or infinite values, radii ≤ 0, duplicate centers, fewer than
+        ``MIN_BALLS`` balls.
+    """
+    centers = np.asarray(centers, dtype=float)
+    radii = np.asarray(radii, dtype=float)
+    if centers.ndim != 2 or centers.shape[1] != 3:
+        raise InputError(f"{what}: centers must have shape (n, 3), got {centers.shape}")
+    if radii.shape != (len(centers),):
+        raise InputError(f"{what}: {len(centers)} centers but radii of shape {radii.shape}")
+    if len(radii) < MIN_BALLS:
+        raise InputError(f"{what}: need at least {MIN_BALLS} balls, got {len(radii)}")
+    bad = np.flatnonzero(~np.isfinite(centers).all(axis=1))
+    if len(bad):
+        raise InputError(f"{what}: center {bad[0]} is not finite ({len(bad)} such rows)")
+    bad = np.flatnonzero(~(np.isfinite(radii) & (radii > 0)))
+    if len(bad):
+        raise InputError(
+            f"{what}: radius {bad[0]} is {float(radii[bad[0]])!r}; radii must be positive and "
+            f"finite ({len(bad)} such rows)"
+        )
+    low, high = LENGTH_RANGE
+    if radii.min() < low or radii.max() > high:
+        raise InputError(
+            f"{what}: radii must lie in [{low:g}, {high:g}] (the supported range), got "
+            f"{float(radii.min()):g} to {float(radii.max()):g}"
+        )
+    if float(np.abs(centers).max()) > high:
+        raise InputError(
+            f"{what}: coordinates must lie within ±{high:g} (the supported range), got "
+            f"{float(np.abs(centers).max()):g}"
+        )
+    order = np.lexsort(centers.T[::-1])
+    same = np.flatnonzero((np.diff(centers[order], axis=0) == 0).all(axis=1))
+    if len(same):
+        first, second = sorted((int(order[same[0]]), int(order[same[0] + 1])))
+        raise InputError(
+            f"{what}: centers {first} and {second} coincide ({len(same)} duplicate pairs)"
+        )
+    return Balls(np.ascontiguousarray(centers), np.ascontiguousarray(radii))

@@ -1,0 +1,182 @@
+"""What a sample achieves: coverage, sparsity and the Lipschitz property of its L.
+
+* coverage: max over probe points x of the surface of (distance to the nearest sample)/(εL(x));
+  an ε-sample has it < 1. Probes are random points, uniform by area, plus any points the
+  caller adds (the checker adds the circumcenters of the guide triangles projected onto the
+  surface, near which the distance to the sample peaks). A measurement, not a proof.
+* sparsity: min over all pairs of |p_i − p_j|/(σε·min(L_i, L_j)); σ-sparse means ≥ 1. Exact.
+* Lipschitz: max of |L_i − L_j|/|p_i − p_j| over each sample and its nearest samples (where a
+  guide triangle's vertices are), and the pairs above a given λ.
+
+References
+----------
+The sampling conditions of Section 4.1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+PROBES_PER_SAMPLE = 4
+"""Random probe points per sample for the coverage measurement."""
+MIN_PROBES = 100_000
+"""At least this many random probe points."""
+NEIGHBOURS = 16
+"""Sparsity and Lipschitz ratios are evaluated between each sample and this many nearest
+samples (sparsity then completes the search where that could miss a pair)."""
+LIPSCHITZ_RTOL = 1e-9
+"""A pair breaks λ-Lipschitz when |L_i − L_j| > λ|p_i − p_j| + LIPSCHITZ_RTOL·(λ|p_i − p_j| +
+max(L_i, L_j)): differences at the rounding level of L do not count."""
+_SEARCH_BLOCK = 1 << 14  # points searched in full at a time
+WORST_LISTED = 10
+"""How many of the worst offending pairs a report lists."""
+
+
+@dataclass(frozen=True)
+class PairReport:
+    """A condition on pairs of samples: its extreme value and the pairs that break it."""
+
+    extreme: float
+    """min sparsity ratio, or max realized Lipschitz ratio."""
+    extreme_pair: tuple[int, int]
+    violations: int
+    """Pairs breaking the condition."""
+    worst: np.ndarray
+    """(k, 2) indices of up to ``WORST_LISTED`` breaking pairs, worst first."""
+    worst_values: np.ndarray
+    """Their ratios."""
+
+
+@dataclass(frozen=True)
+class Neighbours:
+    """Each sample's ``NEIGHBOURS`` nearest samples, as distinct pairs (shared by the checks)."""
+
+    pairs: np.ndarray
+    """(m, 2) pairs (i, j), i < j."""
+    gap: np.ndarray
+    """|p_i − p_j| per pair."""
+    tree: object
+    """The points' cKDTree."""
+    farthest: np.ndarray
+    """Distance from each point to the last of its neighbours."""
+
+
+def neighbours(points: np.ndarray) -> Neighbours:
+    """Pairs of each point with its ``NEIGHBOURS`` nearest points."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(points)
+    count = min(NEIGHBOURS + 1, len(points))
+    dist, near = tree.query(points, k=count, workers=-1)
+    first = np.repeat(np.arange(len(points)), count - 1)
+    pairs = _unique_pairs(first, near[:, 1:].ravel(), len(points))
+    gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
+    return Neighbours(pairs, gap, tree, dist[:, -1])
+
+
+def sparsity(
+    points: np.ndarray, lfs: np.ndarray, eps: float, sigma: float, near: Neighbours | None = None
+) -> PairReport:
+    """min over all pairs of |p_i − p_j|/(σε·min(L_i, L_j)) and the pairs below 1 (exact).
+
+    With U the smallest ratio among nearest neighbours (an upper bound on the minimum, made at
+    least 1), a pair below U is closer than U·σε·L to its endpoint of smaller L, so it is among
+    that endpoint's ``NEIGHBOURS`` nearest points unless even the farthest of them is that
+    close; such points are searched in full.
+
+    References
+    ----------
+    The σ-sparsity condition of Section 4.1.
+    """
+    unit = sigma * eps
+    near = near or neighbours(points)
+    pairs, gap = near.pairs, near.gap
+    ratio = gap / (unit * np.minimum(lfs[pairs[:, 0]], lfs[pairs[:, 1]]))
+    reach = max(float(ratio.min()), 1.0) * unit * lfs
+
+    def measure(i, j, gap):
+        return gap / (unit * np.minimum(lfs[i], lfs[j]))
+
+    pairs, ratio = _complete(points, near, reach, pairs, ratio, measure)
+    return _report(pairs, ratio, ratio < 1, smallest=True)
+
+
+def lipschitz(
+    points: np.ndarray, lfs: np.ndarray, bound: float | None, near: Neighbours | None = None
+) -> PairReport:
+    """max of |L_i − L_j|/|p_i − p_j| over each point's ``NEIGHBOURS`` nearest points, and the
+    pairs above ``bound`` (λ)."""
+    near = near or neighbours(points)
+    pairs, gap = near.pairs, near.gap
+    change = np.abs(lfs[pairs[:, 0]] - lfs[pairs[:, 1]])
+    ratio = change / gap
+    if bound is None:
+        broken = np.zeros(len(ratio), dtype=bool)
+    else:
+        slack = LIPSCHITZ_RTOL * (bound * gap + np.maximum(lfs[pairs[:, 0]], lfs[pairs[:, 1]]))
+        broken = change > bound * gap + slack
+    return _report(pairs, ratio, broken, smallest=False)
+
+
+def _unique_pairs(first: np.ndarray, second: np.ndarray, count: int) -> np.ndarray:
+    """Distinct unordered pairs as rows (i, j), i < j (one integer key per pair)."""
+    low, high = np.minimum(first, second), np.maximum(first, second)
+    keys = np.sort(low.astype(np.int64) * count + high)
+    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    return np.column_stack([keys // count, keys % count])
+
+
+def _complete(points, near: Neighbours, reach, pairs, ratio, measure):
+    """Add the pairs within ``reach[i]`` of points whose neighbour list ends inside it."""
+    tree = near.tree
+    short = np.flatnonzero(near.farthest < reach)
+    extra = []
+    for start in range(0, len(short), _SEARCH_BLOCK):
+        rows = short[start : start + _SEARCH_BLOCK]
+        for i, found in zip(rows, tree.query_ball_point(points[rows], reach[rows]), strict=True):
+            found = np.asarray([j for j in found if j != i], dtype=np.int64)
+            extra.append(np.column_stack([np.full(len(found), i), found]))
+    if not extra:
+        return pairs, ratio
+    more = np.concatenate([pairs, *extra])
+    pairs = _unique_pairs(more[:, 0], more[:, 1], len(points))
+    gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
+    return pairs, measure(pairs[:, 0], pairs[:, 1], gap)
+
+
+def _report(pairs: np.ndarray, ratio: np.ndarray, broken: np.ndarray, smallest: bool):
+    if len(ratio) == 0:
+        empty = np.empty((0, 2), dtype=np.int64)
+        return PairReport(np.inf if smallest else 0.0, (-1, -1), 0, empty, np.empty(0))
+    at = int(np.argmin(ratio) if smallest else np.argmax(ratio))
+    bad = np.flatnonzero(broken)
+    bad = bad[np.argsort(ratio[bad] if smallest else -ratio[bad])][:WORST_LISTED]
+    return PairReport(
+        float(ratio[at]),
+        (int(pairs[at, 0]), int(pairs[at, 1])),
+        int(broken.sum()),
+        pairs[bad],
+        ratio[bad],
+    )
+
+
+def coverage(
+    points: np.ndarray,
+    eps: float,
+    probes: np.ndarray,
+    probe_lfs: np.ndarray,
+) -> tuple[float, np.ndarray]:
+    """max over ``probes`` of (distance to the nearest sample)/(εL) and the worst probe.
+
+    References
+    ----------
+    The ε-sample condition of Section 4.1.
+    """
+    from scipy.spatial import cKDTree
+
+    dist, _ = cKDTree(points).query(probes, workers=-1)
+    ratio = dist / (eps * probe_lfs)
+    at = int(np.argmax(ratio))
+    return float(ratio[at]), probes[at]

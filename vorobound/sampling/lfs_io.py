@@ -1,0 +1,60 @@
+"""Writing an L estimate: a sizing CSV (what ``--sizing`` reads) or a VTU for ParaView."""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..files import write_set
+from .lfs import LfsEstimate
+
+FORMATS = (".csv", ".vtu")
+"""Output suffixes understood by :func:`write_lfs`."""
+
+
+def checked_lfs_output(path: str | Path) -> Path:
+    """``path`` if its suffix is one of :data:`FORMATS` (checked before any work is done)."""
+    path = Path(path)
+    if path.suffix.lower() not in FORMATS:
+        raise InputError(f"cannot write {path}: the L file must end in .csv or .vtu")
+    return path
+
+
+def lfs_writers(paths, estimate: LfsEstimate) -> dict[Path, Callable[[Path], None]]:
+    """Writers for :func:`~vorobound.files.write_set`, one per output path (suffix checked)."""
+    writers: dict[Path, Callable[[Path], None]] = {}
+    for path in paths:
+        path = checked_lfs_output(path)
+        csv = path.suffix.lower() == ".csv"
+        writers[path] = partial(_write_csv if csv else _write_vtu, estimate=estimate)
+    return writers
+
+
+def write_lfs(path: str | Path, estimate: LfsEstimate) -> Path:
+    """Write the per-vertex L: CSV ``x,y,z,lfs`` (one row per vertex, in vertex order; its last
+    column is what :func:`~vorobound.sampling.mesh_io.read_sizing` reads) or VTU (the mesh with
+    point data ``lfs`` and ``sharp``, 1 on vertices of sharp edges). Written atomically."""
+    return write_set(lfs_writers([path], estimate))[0]
+
+
+def _write_csv(path: Path, estimate: LfsEstimate) -> None:
+    buffer = io.StringIO()
+    table = np.column_stack([estimate.mesh.points, estimate.lfs])
+    np.savetxt(buffer, table, fmt="%.17g", delimiter=",", header="x,y,z,lfs", comments="")
+    Path(path).write_text(buffer.getvalue(), encoding="utf-8")
+
+
+def _write_vtu(path: Path, estimate: LfsEstimate) -> None:
+    import meshio
+
+    mesh = estimate.mesh
+    sharp = np.zeros(len(mesh.points), dtype=np.int8)
+    sharp[estimate.sharp_edges.reshape(-1)] = 1
+    cells = [("triangle", np.asarray(mesh.triangles))]
+    data = {"lfs": estimate.lfs, "sharp": sharp}
+    meshio.write(path, meshio.Mesh(mesh.points, cells, point_data=data), file_format="vtu")

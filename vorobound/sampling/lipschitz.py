@@ -1,0 +1,141 @@
+"""The λ-Lipschitz repair of a sizing function: L(x) ← min_y L(y) + λ|x − y|.
+
+The result is the largest λ-Lipschitz function that nowhere exceeds the given values. It is
+computed exactly (up to rounding) by branch and bound on a k-d tree of the sites: a node
+holding sites with smallest value m and bounding box B cannot beat the best value found for
+a query x once m + λ·dist(x, B) is not smaller. All queries of a chunk descend the tree
+together, one level per numpy step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+from ..progress import Counter, Progress
+
+LEAF_SIZE = 8
+"""Sites per leaf of the tree."""
+QUERY_CHUNK = 4096
+"""Queries that descend the tree together (bounds the number of live query-node pairs)."""
+
+
+class _ConeTree:
+    """Implicit balanced k-d tree: node k at depth d holds sites order[b_d[k]:b_d[k + 1]]."""
+
+    def __init__(self, sites: np.ndarray, values: np.ndarray):
+        count = len(sites)
+        self.depth = max(0, math.ceil(math.log2(max(count / LEAF_SIZE, 1))))
+        order = np.arange(count)
+        for depth in range(self.depth):
+            bounds = self._bounds(depth, count)
+            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+            placed = sites[order]
+            low = np.minimum.reduceat(placed, bounds[:-1])
+            high = np.maximum.reduceat(placed, bounds[:-1])
+            axis = np.argmax(high - low, axis=1)[segment]
+            order = order[np.lexsort((placed[np.arange(count), axis], segment))]
+        self.sites, self.values, self.order = sites, values, order
+        self.low, self.high, self.best_value, self.best_site = [], [], [], []
+        for depth in range(self.depth + 1):
+            bounds = self._bounds(depth, count)
+            placed = sites[order]
+            self.low.append(np.minimum.reduceat(placed, bounds[:-1]))
+            self.high.append(np.maximum.reduceat(placed, bounds[:-1]))
+            value = values[order]
+            self.best_value.append(np.minimum.reduceat(value, bounds[:-1]))
+            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+            first = np.lexsort((value, segment))[bounds[:-1]]
+            self.best_site.append(order[first])
+        bounds = self._bounds(self.depth, count)
+        width = int(np.diff(bounds).max())
+        slots = bounds[:-1, None] + np.arange(width)
+        self.leaf_sites = np.where(
+            slots < bounds[1:, None], order[np.minimum(slots, count - 1)], -1
+        )
+
+    @staticmethod
+    def _bounds(depth: int, count: int) -> np.ndarray:
+        return (np.arange(2**depth + 1) * count) // 2**depth
+
+    def envelope(self, queries: np.ndarray, slope: float) -> np.ndarray:
+        """min over sites y of value(y) + slope·|x − y| for each query x."""
+        pair_query = np.arange(len(queries))
+        root = self.best_site[0][0]
+        best = self.values[root] + slope * np.linalg.norm(queries - self.sites[root], axis=1)
+        node = np.zeros(len(queries), dtype=np.int64)
+        for depth in range(self.depth + 1):
+            x = queries[pair_query]
+            gap = np.maximum(self.low[depth][node] - x, 0) + np.maximum(
+                x - self.high[depth][node], 0
+            )
+            bound = self.best_value[depth][node] + slope * np.linalg.norm(gap, axis=1)
+            live = bound < best[pair_query]
+            pair_query, node, x = pair_query[live], node[live], x[live]
+            site = self.best_site[depth][node]
+            candidate = self.values[site] + slope * np.linalg.norm(x - self.sites[site], axis=1)
+            np.minimum.at(best, pair_query, candidate)
+            if depth < self.depth:
+                pair_query = np.repeat(pair_query, 2)
+                node = (2 * np.repeat(node, 2)) + np.tile([0, 1], len(node))
+        sites = self.leaf_sites[node]
+        valid = sites >= 0
+        safe = np.where(valid, sites, 0)
+        distance = np.linalg.norm(queries[pair_query][:, None, :] - self.sites[safe], axis=2)
+        candidate = np.where(valid, self.values[safe] + slope * distance, np.inf).min(axis=1)
+        np.minimum.at(best, pair_query, candidate)
+        return best
+
+
+def lipschitz_envelope(
+    sites: np.ndarray,
+    values: np.ndarray,
+    slope: float,
+    queries: np.ndarray | None = None,
+    progress: Progress | None = None,
+) -> np.ndarray:
+    """The λ-Lipschitz lower envelope of point values, evaluated at queries.
+
+    Parameters
+    ----------
+    sites : ndarray (n, 3)
+        Points where the values are given.
+    values : ndarray (n,)
+        Finite values at the sites.
+    slope : float
+        λ ≥ 0.
+    queries : ndarray (m, 3), optional
+        Where to evaluate (default: the sites themselves).
+    progress : Progress, optional
+        Called with task "Lipschitz repair".
+
+    Returns
+    -------
+    ndarray (m,)
+        min over sites y of values(y) + λ·|x − y|: λ-Lipschitz, and at a site never above its
+        value (equal to it when the values already are λ-Lipschitz).
+    """
+    sites = np.asarray(sites, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if (
+        sites.ndim != 2
+        or sites.shape[1] != 3
+        or len(sites) == 0
+        or values.shape != sites[:, 0].shape
+    ):
+        raise InputError("the Lipschitz repair needs sites (n, 3) with one value each, n ≥ 1")
+    if not (math.isfinite(slope) and slope >= 0):
+        raise InputError(f"the Lipschitz constant must be finite and ≥ 0, got {slope}")
+    if not (np.isfinite(sites).all() and np.isfinite(values).all()):
+        raise InputError("the Lipschitz repair needs finite sites and values")
+    queries = sites if queries is None else np.asarray(queries, dtype=float)
+    tree = _ConeTree(sites, values)
+    result = np.empty(len(queries))
+    counter = Counter(progress, "Lipschitz repair", len(queries))
+    for start in range(0, len(queries), QUERY_CHUNK):
+        stop = min(start + QUERY_CHUNK, len(queries))
+        result[start:stop] = tree.envelope(queries[start:stop], slope)
+        counter.step(stop - start)
+    return result

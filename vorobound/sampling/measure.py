@@ -1,0 +1,161 @@
+"""Each guide triangle measured against the paper's bounds and its constraint set.
+
+For a guide triangle with vertices relabelled as in Section 3 (A = p_i the vertex of smallest
+L, then B = p_j and C = p_k in cyclic order) this records L_i, L_j, L_k, the circumradius R, the
+signed squared orthoradius R̂² of the balls as given, the realized quality ratio R/(δL_i), the
+gap (R − R̂)/(εL_i) of Theorem 1 (R̂ of the triangle with the minimum weight subtracted, the
+quantity every bound mode bounds), the edges over εL_i, which conditions of the constraint set
+it breaks, and which mode's bound it exceeds.
+
+References
+----------
+Theorem 1, eq. (29), (33)–(36), (54)–(55) and property H3 of Section 4.1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..bounds import constraints
+from ..bounds.params import SamplingParams
+from .seeds import SeededTriangles
+
+BOUND_RTOL = 1e-9
+"""A triangle exceeds a bound when R − R̂ > bound·L_i·(1 + BOUND_RTOL) (rounding of both)."""
+
+
+@dataclass(frozen=True)
+class ModeBound:
+    """One mode's bound on R − R̂ at the sample's ε, per unit L_i."""
+
+    mode: str
+    """paper, rigorous, tight, or tight_lipschitz (tight with the sample's λ)."""
+    value: float
+    lipschitz: float | None
+    """λ of the constraint set the bound is over (None: no Lipschitz condition)."""
+    claim: str
+    """proven, numerical or invalid (docs/errata.md, docs/tight.md)."""
+
+
+def mode_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
+    """The bound on R − R̂ of every mode at ``params.eps``, for L_i = 1.
+
+    ``tight`` is the supremum over the paper's constraint set; with a Lipschitz constant λ the
+    list also has ``tight_lipschitz``, the supremum once |L_x − L_y| ≤ λ|p_x − p_y| is added.
+    Tight values come from :func:`vorobound.bounds.tight.method.tight_bound` (the closed form
+    where it is proven exact, else the numerical optimizer; the claim says which).
+
+    References
+    ----------
+    Eq. (29), (33)–(53).
+    """
+    from ..bounds.chain import chain_bounds
+    from ..bounds.claims import CHAIN_CLAIM
+    from ..bounds.tight.method import tight_bound
+
+    unit = SamplingParams(params.eps, replace(params.quality, lfs=1.0))
+    out = [
+        ModeBound(mode, float(chain_bounds(unit, mode).bound), None, CHAIN_CLAIM[mode])
+        for mode in ("paper", "rigorous")
+    ]
+    for mode, lam in (("tight", None), ("tight_lipschitz", lipschitz)):
+        if mode == "tight" or lam is not None:
+            tight = tight_bound(unit, lam)
+            out.append(ModeBound(mode, float(tight.value), lam, tight.claim))
+    return out
+
+
+@dataclass(frozen=True)
+class GuideMeasurements:
+    """Per guide triangle (rows), vertices relabelled A (smallest L), B, C."""
+
+    triples: np.ndarray
+    """(m, 3) ball indices of A, B, C."""
+    lfs: np.ndarray
+    """(m, 3) L_i, L_j, L_k."""
+    circumradius: np.ndarray
+    """R, eq. (15)."""
+    orthoradius_sq: np.ndarray
+    """R̂² of the balls as given (signed, eq. (2)); negative for a guide triangle."""
+    radius_gap: np.ndarray
+    """R − R̂ of the triangle with the minimum weight subtracted, Theorem 1 (eq. (29))."""
+    rho: np.ndarray
+    """R/(δL_i): the realized quality ratio, to compare with ρ_f of eq. (55)."""
+    gap_ratio: np.ndarray
+    """(R − R̂)/(εL_i)."""
+    edges: np.ndarray
+    """(m, 3) a, b, c over εL_i (a = |BC|, b = |CA|, c = |AB|, eq. (7)–(9))."""
+    sin_theta: np.ndarray
+    """sin θ, θ the angle at A."""
+    violated: dict[str, np.ndarray]
+    """Constraint name ↦ rows breaking it (the constraint set with the sample's λ)."""
+    exceeds: dict[str, np.ndarray]
+    """Mode ↦ rows whose R − R̂ exceeds that mode's bound."""
+
+    def __len__(self) -> int:
+        return len(self.triples)
+
+    @property
+    def inside(self) -> np.ndarray:
+        """Rows inside the whole constraint set."""
+        out = np.ones(len(self), dtype=bool)
+        for rows in self.violated.values():
+            out &= ~rows
+        return out
+
+
+def measure_guides(
+    guides: SeededTriangles,
+    lfs: np.ndarray,
+    params: SamplingParams,
+    lipschitz: float | None,
+    bounds: list[ModeBound],
+) -> GuideMeasurements:
+    """Measure every guide triangle (see the module docstring).
+
+    Parameters
+    ----------
+    guides : SeededTriangles
+        The guide triangles (rows with both seeds uncovered).
+    lfs : numpy.ndarray
+        L of every ball (indexed by ``guides.triples``).
+    params : SamplingParams
+        ε, σ, δ/ε of the sample.
+    lipschitz : float or None
+        λ of the sample's L (adds the Lipschitz conditions to the constraint set).
+    bounds : list of ModeBound
+        From :func:`mode_bounds`.
+
+    References
+    ----------
+    Theorem 1, eq. (33)–(36), H3.
+    """
+    geometry = guides.geometry
+    first = np.asarray(geometry.min_weight_vertex, dtype=np.int64)
+    rows = np.arange(len(first))
+    order = np.stack([first, (first + 1) % 3, (first + 2) % 3], axis=1)
+    triples = guides.triples[rows[:, None], order]
+    vertex_lfs = lfs[triples]
+    lfs_i = vertex_lfs[:, 0]
+    unit = params.eps * lfs_i
+    a, b, c = geometry.edges.T
+    config = constraints.scale_configuration(
+        b, c, a, geometry.sin_theta, lfs_i, vertex_lfs[:, 1], vertex_lfs[:, 2], params.eps
+    )
+    limits = constraints.ConstraintParams(params.eps, params.sigma, lipschitz)
+    gap = geometry.radius_gap
+    return GuideMeasurements(
+        triples=triples,
+        lfs=vertex_lfs,
+        circumradius=geometry.circumradius,
+        orthoradius_sq=geometry.orthoradius_sq,
+        radius_gap=gap,
+        rho=geometry.circumradius / (params.delta * lfs_i),
+        gap_ratio=gap / unit,
+        edges=np.column_stack([a, b, c]) / unit[:, None],
+        sin_theta=geometry.sin_theta,
+        violated=constraints.violations(config, limits),
+        exceeds={bound.mode: gap > bound.value * lfs_i * (1 + BOUND_RTOL) for bound in bounds},
+    )

@@ -1,0 +1,294 @@
+"""Medial-axis points of a surface sample: the Voronoi poles of Amenta and Bern.
+
+The Voronoi cell of a point of a dense surface sample is a thin needle along the surface
+normal, and its two far ends (the poles, one on each side of the surface) lie near the medial
+axis (Amenta & Bern, "Surface reconstruction by Voronoi filtering", 1999). Voronoi vertices are
+the circumcentres of the Delaunay tetrahedra, computed here with scipy (qhull).
+
+Sampled smooth surfaces are full of cospherical point sets (every sample of a sphere is one),
+which make qhull crawl. The triangulation is therefore built on a copy of the sample moved by
+a tiny pseudo-random jitter and inserted in shuffled order (qhull is about twice as fast on
+shuffled surface samples), while every circumcentre is computed from the unmoved points.
+
+Ill-conditioned circumcentres are the second difficulty. Four (nearly) cocircular points have
+a circumcentre that moves far along the axis of their circle under the smallest perturbation:
+the rounding of coordinates to single precision, as in every STL file, or the jitter itself.
+Such a centre is a wrong pole, and it can sit close to the surface (before these tests, a
+grid torus stored in single precision had errors of tens of percent). Three tests drop
+them:
+
+* reliability: comparing each circumcentre with that of the jittered corners shows how far
+  it moves per unit of perturbation; one that the rounding of the input coordinates moves by
+  more than UNRELIABLE_RTOL of its radius is dropped (only for inputs coarser than double
+  precision);
+* emptiness, locally: no far vertex of the four neighbouring tetrahedra inside the ball;
+* consistency of the poles: no sample inside the ball of its nearest pole. A pole that fails
+  is dropped with every other circumcentre of its point whose ball holds the same sample, the
+  next farthest one takes its place, and the test repeats.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..progress import Counter, Progress
+
+JITTER = 1e-8
+"""Size of the jitter applied before the triangulation, relative to the sample's diameter."""
+FLAT_RTOL = 1e-12
+"""A tetrahedron with |det| ≤ FLAT_RTOL·(longest edge)³ has no circumcentre (it is flat)."""
+EMPTY_RTOL = 1e-4
+"""A sample closer to a circumcentre than (1 − EMPTY_RTOL)·radius − EMPTY_ATOL (radius: the
+largest distance to its four corners) shows that its ball is not empty. Chosen on icospheres
+whose vertices carry relative noise 10⁻⁸: 10⁻⁵ keeps ill-conditioned circumcentres, 10⁻³
+limits the accuracy to a few 10⁻⁴."""
+EMPTY_ATOL = 20 * JITTER
+"""Absolute slack of the emptiness tests: the triangulation is Delaunay for the jittered points."""
+UNRELIABLE_RTOL = 1e-2
+"""A circumcentre that the input's rounding can move by more than UNRELIABLE_RTOL·radius is
+not used. Chosen on single-precision icospheres with and without edge midpoints: a third of
+it drops so many good circumcentres that wrong ones become poles, three times it keeps wrong
+ones."""
+NOISE_FLOOR = 1e-3
+"""Noise below NOISE_FLOOR·JITTER (double-precision rounding) is not checked for."""
+EMPTY_ROUNDS = 8
+"""Rounds of the pole consistency test; poles still failing after the last one are dropped."""
+FAR = 1e3
+"""Poles farther than FAR diameters from the sample's centre are dropped (they are the far
+ends of nearly unbounded cells and cannot be the nearest medial point of the surface)."""
+MERGE_RTOL = 1e-10
+"""Poles closer than MERGE_RTOL diameters are one point (symmetric shapes repeat them)."""
+
+
+@dataclass(frozen=True)
+class MedialSample:
+    """Distinct pole positions of a sample, in the sample's coordinates."""
+
+    points: np.ndarray
+    tetrahedra: int
+    """Delaunay tetrahedra of the (jittered) sample."""
+    dropped: int
+    """Tetrahedra left out: flat, or whose ball (unmoved points) is shown not to be empty."""
+
+
+def vertex_poles(
+    points: np.ndarray,
+    normals: np.ndarray,
+    noise: float = 0.0,
+    seed: int = 0,
+    progress: Progress | None = None,
+) -> MedialSample:
+    """Poles of each sample point on both sides of its normal line.
+
+    Parameters
+    ----------
+    points : ndarray (n, 3)
+        The sample, n ≥ 5, centred and of diameter about 1 (the tolerances are absolute).
+    normals : ndarray (n, 3)
+        A normal direction per point; only the line matters (its sign is ignored).
+    noise : float
+        How far the coordinates may be off (their rounding), in the units of ``points``;
+        circumcentres it can move by more than UNRELIABLE_RTOL of their radius are not used.
+    seed : int
+        Seed of the jitter and of the order in which qhull inserts the points.
+    progress : Progress, optional
+        Called with task "Delaunay" and "poles".
+
+    Returns
+    -------
+    MedialSample
+        The pole of each point on each side, except on the side where the point's Voronoi cell
+        is unbounded (points on the convex hull), merged and without far ones.
+
+    References
+    ----------
+    Amenta & Bern (1999), definition of poles; Amenta, Choi & Kolluri (2001), the power crust.
+    """
+    from scipy.spatial import Delaunay, QhullError
+
+    counter = Counter(progress, "Delaunay", 1)
+    random = np.random.default_rng(seed)
+    moved = points + JITTER * random.standard_normal(points.shape)
+    order = random.permutation(len(points))  # qhull is twice as fast on shuffled surface samples
+    try:
+        triangulation = Delaunay(moved[order])
+    except QhullError:
+        raise InputError(
+            "the mesh vertices are (nearly) coplanar: a flat surface has no finite local "
+            "feature size"
+        ) from None
+    counter.step()
+    counter = Counter(progress, "poles", 2)
+    tets = order[triangulation.simplices]
+    neighbours = triangulation.neighbors
+    centres, radii = _circumcentres(points[tets])
+    bound = (1 - EMPTY_RTOL) * radii - EMPTY_ATOL
+    if noise > NOISE_FLOOR * JITTER:
+        # The centres of the jittered corners show how much each centre moves per JITTER.
+        shift = np.linalg.norm(_circumcentres(moved[tets])[0] - centres, axis=1)
+        with np.errstate(invalid="ignore"):
+            bound[shift * (noise / JITTER) > UNRELIABLE_RTOL * radii] = np.nan
+    usable = np.isfinite(bound) & _locally_empty(points, tets, neighbours, centres, bound)
+    counter.step()
+    unbounded = _unbounded_side(points, normals, tets, neighbours)
+    candidates, starts = _pole_candidates(points, normals, tets, centres, usable, unbounded)
+    poles = centres[_consistent_poles(points, centres, bound, candidates, starts, usable)]
+    key = np.round(poles / MERGE_RTOL).astype(np.int64)
+    _, first = np.unique(key, axis=0, return_index=True)
+    counter.step()
+    return MedialSample(poles[np.sort(first)], len(tets), int((~usable).sum()))
+
+
+def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.ndarray:
+    """The pole tetrahedra after the consistency test: no sample inside the ball of its nearest
+    pole (closer to its centre than ``bound``). ``usable`` is updated in place.
+
+    Each round drops the failing poles and, in the groups (point, side) they served, every
+    circumcentre whose ball holds the same sample; the nearest poles are then updated only
+    for the samples that lost theirs or that a new pole is closer to.
+    """
+    from scipy.spatial import cKDTree
+
+    ends = np.r_[starts[1:], len(candidates)].astype(np.int64)
+    chosen = np.zeros(0, dtype=np.int64)
+    nearest = np.full(len(points), -1)
+    gap = np.full(len(points), np.inf)
+    for _ in range(EMPTY_ROUNDS):
+        position = _farthest(candidates, starts, usable)
+        group = np.flatnonzero(position >= 0)
+        pole_tet = candidates[position[group]]
+        near = np.linalg.norm(centres[pole_tet], axis=1) < FAR
+        group, pole_tet = group[near], pole_tet[near]
+        current = np.unique(pole_tet)
+        if len(current) == 0:
+            return current
+        new = np.setdiff1d(current, chosen, assume_unique=True)
+        lost = np.flatnonzero(~np.isin(nearest, current))
+        kept = np.flatnonzero(np.isin(nearest, current))
+        chosen = current
+        if len(lost):
+            gap[lost], index = cKDTree(centres[chosen]).query(points[lost], workers=-1)
+            nearest[lost] = chosen[index]
+        if len(new) and len(kept):
+            distance, index = cKDTree(centres[new]).query(points[kept], workers=-1)
+            closer = distance < gap[kept]
+            gap[kept[closer]], nearest[kept[closer]] = distance[closer], new[index[closer]]
+        depth = bound[nearest] - gap
+        inside = np.flatnonzero(depth > 0)
+        if len(inside) == 0:
+            break
+        witness = np.full(len(centres), -1)
+        deepest_last = inside[np.argsort(depth[inside])]
+        witness[nearest[deepest_last]] = deepest_last
+        usable[nearest[inside]] = False
+        hit = witness[pole_tet] >= 0
+        _drop_containing(
+            points,
+            centres,
+            bound,
+            candidates,
+            starts[group[hit]],
+            ends[group[hit]],
+            witness[pole_tet[hit]],
+            usable,
+        )
+    return chosen[usable[chosen]]
+
+
+def _pole_candidates(points, normals, tets, centres, usable, unbounded):
+    """Every (point, side of its normal line, usable tetrahedron of the point) except on the
+    point's unbounded side, sorted by point, side and distance to the circumcentre.
+
+    Returns the tetrahedron of each entry and the index where each (point, side) group starts.
+    """
+    vertex = tets[usable].reshape(-1)
+    tet = np.repeat(np.flatnonzero(usable), 4)
+    offset = centres[tet] - points[vertex]
+    side = (offset * normals[vertex]).sum(axis=1) > 0
+    keep = unbounded[vertex] != np.where(side, 1, -1)
+    vertex, tet, side, offset = vertex[keep], tet[keep], side[keep], offset[keep]
+    order = np.lexsort((np.linalg.norm(offset, axis=1), side, vertex))
+    group = 2 * vertex[order] + side[order]
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]]) if len(group) else group
+    return tet[order], starts
+
+
+def _farthest(candidates: np.ndarray, starts: np.ndarray, usable: np.ndarray) -> np.ndarray:
+    """Per group, the position (in ``candidates``) of its farthest usable circumcentre; −1 where
+    none is usable."""
+    if len(candidates) == 0:
+        return np.zeros(0, dtype=np.int64)
+    position = np.where(usable[candidates], np.arange(len(candidates)), -1)
+    return np.maximum.reduceat(position, starts)
+
+
+def _drop_containing(points, centres, bound, candidates, first, last, witness, usable) -> None:
+    """Mark unusable every candidate in ``candidates[first[k]:last[k]]`` whose ball contains the
+    sample ``witness[k]``: a nearly degenerate point set yields many such circumcentres along
+    one line, and dropping them one per round would take as many rounds."""
+    sizes = last - first
+    owner = np.repeat(np.arange(len(sizes)), sizes)
+    tet = candidates[
+        first[owner] + np.arange(sizes.sum()) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    ]
+    gap = np.linalg.norm(points[witness[owner]] - centres[tet], axis=1)
+    usable[tet[gap < bound[tet]]] = False
+
+
+def _circumcentres(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Circumcentres of tetrahedra (t, 4, 3) and the largest distance from each to its corners;
+    NaN for tetrahedra too flat to have a reliable circumcentre.
+
+    Four points spread over a length l on a sphere of radius r span a tetrahedron of thickness
+    about l²/r. One far flatter than that has four nearly cocircular corners, and its
+    circumcentre moves along the axis of their circle under any rounding of the corners.
+    """
+    origin = corners[:, 0]
+    edges = corners[:, 1:] - origin[:, None]
+    squared = (edges * edges).sum(axis=2)
+    longest = np.sqrt(squared.max(axis=1))
+    det = np.linalg.det(edges)
+    solid = np.abs(det) > FLAT_RTOL * longest**3
+    centres = np.full(origin.shape, np.nan)
+    centres[solid] = (
+        origin[solid] + np.linalg.solve(edges[solid], 0.5 * squared[solid][..., None])[..., 0]
+    )
+    radii = np.linalg.norm(centres[:, None] - corners, axis=2).max(axis=1)
+    return centres, radii
+
+
+def _locally_empty(points, tets, neighbours, centres, bound) -> np.ndarray:
+    """False where a neighbouring tetrahedron's far vertex lies inside the circumscribed ball
+    (unmoved points): closer to the centre than ``bound``."""
+    ok = np.ones(len(tets), dtype=bool)
+    for face in range(4):
+        other = neighbours[:, face]
+        has = other >= 0
+        their = tets[np.where(has, other, 0)]
+        outside_ours = ~(their[:, :, None] == tets[:, None, :]).any(axis=2)
+        far_vertex = their[np.arange(len(tets)), outside_ours.argmax(axis=1)]
+        gap = np.linalg.norm(points[far_vertex] - centres, axis=1)
+        with np.errstate(invalid="ignore"):
+            ok &= ~has | (gap >= bound)
+    return ok
+
+
+def _unbounded_side(points, normals, tets, neighbours) -> np.ndarray:
+    """Per point: +1 or −1, the side of its normal where its Voronoi cell is unbounded (points
+    on the convex hull), 0 for interior points."""
+    tet, face = np.nonzero(neighbours < 0)
+    corners = np.stack([tets[tet, (face + k) % 4] for k in (1, 2, 3)], axis=1)
+    p = points[corners]
+    outward = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    inward = points[tets[tet, face]] - p[:, 0]
+    outward *= np.where((outward * inward).sum(axis=1) > 0, -1.0, 1.0)[:, None]
+    total = np.zeros_like(points)
+    for k in range(3):
+        np.add.at(total, corners[:, k], outward)
+    side = np.sign((total * normals).sum(axis=1)).astype(int)
+    on_hull = np.zeros(len(points), dtype=bool)
+    on_hull[corners.reshape(-1)] = True
+    return np.where(on_hull, np.where(side == 0, 1, side), 0)

@@ -1,0 +1,92 @@
+"""A triangle mesh as a surface to sample: L given per vertex, linear on each triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .mesh_io import TriangleMesh
+
+MIN_AREA_RTOL = 1e-14
+"""Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area: skipped."""
+
+
+class MeshShape:
+    """The piecewise-linear surface of a triangle mesh with a local feature size per vertex.
+
+    L is interpolated linearly on each triangle; ``lipschitz`` is the largest gradient of that
+    interpolation (0 for a constant L), the λ the sampler's covering argument uses. It bounds
+    changes of L along the mesh, not across it (``lipschitz_exact`` is False): a check
+    measures the λ its sample has instead.
+    """
+
+    equal_radii_on_sphere = False
+    lipschitz_exact = False
+
+    def __init__(self, mesh: TriangleMesh, vertex_lfs: np.ndarray, lfs_source: str):
+        vertex_lfs = np.asarray(vertex_lfs, dtype=float)
+        if vertex_lfs.shape != (len(mesh.points),):
+            raise InputError(f"mesh {mesh.name}: need one L per vertex, got {vertex_lfs.shape}")
+        if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
+            raise InputError(f"mesh {mesh.name}: L must be positive and finite at every vertex")
+        corners = mesh.points[mesh.triangles]
+        edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
+        longest = np.sqrt(
+            np.max(
+                [
+                    (edge1**2).sum(1),
+                    (edge2**2).sum(1),
+                    ((corners[:, 2] - corners[:, 1]) ** 2).sum(1),
+                ],
+                axis=0,
+            )
+        )
+        keep = area2 > MIN_AREA_RTOL * longest**2
+        if not keep.any():
+            raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
+        self.name = f"mesh {mesh.name} (L: {lfs_source})"
+        self.lfs_source = lfs_source
+        self.corners = corners[keep]
+        self.corner_lfs = vertex_lfs[mesh.triangles[keep]]
+        self.areas = 0.5 * area2[keep]
+        self.longest = longest[keep]
+        self.triangle_lipschitz = _gradient_norm(self.corners, self.corner_lfs)
+        self.lipschitz = float(self.triangle_lipschitz.max())
+
+    def at(self, triangle: np.ndarray, u: np.ndarray, v: np.ndarray):
+        """Points and L at barycentric (1 − u − v, u, v) of the given triangles."""
+        c, f = self.corners[triangle], self.corner_lfs[triangle]
+        points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
+        return points, f[:, 0] + u * (f[:, 1] - f[:, 0]) + v * (f[:, 2] - f[:, 0])
+
+    def random_points(self, count: int, rng: np.random.Generator):
+        """``count`` points uniform by area, and L there."""
+        cumulative = np.cumsum(self.areas)
+        triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
+        triangle = np.minimum(triangle, len(self.areas) - 1)
+        u, v = uniform_in_triangle(rng, count)
+        return self.at(triangle, u, v)
+
+    def project(self, points):
+        """Not available for meshes (coverage then uses random probes only)."""
+        return None
+
+
+def uniform_in_triangle(rng: np.random.Generator, count: int):
+    """Barycentric (u, v), uniform over the triangle u, v ≥ 0, u + v ≤ 1."""
+    u, v = rng.random(count), rng.random(count)
+    flip = u + v > 1
+    return np.where(flip, 1 - u, u), np.where(flip, 1 - v, v)
+
+
+def _gradient_norm(corners: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """|∇f| of the linear interpolation of ``values`` on each triangle."""
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    d1, d2 = values[:, 1] - values[:, 0], values[:, 2] - values[:, 0]
+    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    det = g11 * g22 - g12 * g12
+    # ∇f = α e1 + β e2 with the Gram system [g11 g12; g12 g22][α; β] = [d1; d2].
+    alpha = (g22 * d1 - g12 * d2) / det
+    beta = (g11 * d2 - g12 * d1) / det
+    return np.sqrt(np.maximum(alpha * d1 + beta * d2, 0.0))

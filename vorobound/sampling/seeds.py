@@ -1,0 +1,171 @@
+"""Seed pairs of ball triples and whether other balls cover them.
+
+The three boundary spheres of balls i, j, k meet in the two seeds ẑ ± sqrt(−R̂²)·n, where ẑ
+is the power center in the plane of the centers, R̂² the signed squared orthoradius and n the
+unit normal; they exist when R̂² < 0. A triple is a guide triangle when both seeds lie outside
+every other ball, half-covered when exactly one does (VoroCrust, Section 4.1 of the paper).
+
+Coverage is a nearest-neighbour question after lifting: with W = max r², the ball (p, r)
+becomes the 4-D point (p, sqrt(W − r²)), and the squared distance from (s, 0) to it is the
+power |s − p|² − r² plus W. The four nearest lifted balls therefore contain the
+smallest-power ball other than i, j, k.
+
+References
+----------
+Eq. (2), (5) (orthoball and its center); the guide triangles of Section 4.1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..geometry import WeightedTriangles, weighted_triangles
+from ..progress import Counter, Progress
+from .balls import Balls
+
+SEED_RTOL = 1e-9
+"""A seed pair exists when R̂² < −SEED_RTOL·r_min² (r_min the smallest radius of the triple):
+two spheres meeting tangentially up to rounding have no seed pair."""
+COVER_RTOL = 1e-9
+"""A seed is uncovered when its power to every other ball is ≥ COVER_RTOL·r_min². A seed on a
+fourth sphere up to rounding counts as covered, so a degenerate configuration (four spheres
+through one point) yields no guide triangle whichever way a triangulation breaks the tie."""
+SEED_CHUNK = 1 << 18
+"""Triples classified at a time (bounds the memory of the coverage queries)."""
+
+
+@dataclass(frozen=True)
+class SeededTriangles:
+    """Ball triples with their weighted-triangle geometry, seeds and seed coverage."""
+
+    triples: np.ndarray
+    """(m, 3) ball indices."""
+    geometry: WeightedTriangles
+    """Circumradius, signed orthoradius², Theorem 1's R − R̂, edges, ... (input order)."""
+    seeds: np.ndarray
+    """(m, 2, 3) the two seeds (NaN where no seed pair exists)."""
+    uncovered: np.ndarray
+    """(m, 2) True where the seed lies outside every other ball."""
+
+    @property
+    def has_seeds(self) -> np.ndarray:
+        return np.isfinite(self.seeds).all(axis=(1, 2))
+
+    @property
+    def guide(self) -> np.ndarray:
+        """Both seeds uncovered: a guide triangle."""
+        return self.uncovered.all(axis=1)
+
+    @property
+    def half_covered(self) -> np.ndarray:
+        """Exactly one seed uncovered."""
+        return self.uncovered.sum(axis=1) == 1
+
+    def take(self, index) -> SeededTriangles:
+        """The rows ``index`` (a mask or indices)."""
+        geometry = WeightedTriangles(
+            **{
+                name: (None if value is None else value[index])
+                for name, value in vars(self.geometry).items()
+            }
+        )
+        return SeededTriangles(
+            self.triples[index], geometry, self.seeds[index], self.uncovered[index]
+        )
+
+
+def seed_pairs(balls: Balls, triples: np.ndarray) -> tuple[WeightedTriangles, np.ndarray]:
+    """Weighted-triangle geometry and the two seeds of each triple (NaN where none exist).
+
+    References
+    ----------
+    Eq. (2), (5).
+    """
+    centers = balls.centers[triples]
+    weights = balls.weights[triples]
+    geometry = weighted_triangles(centers, weights)
+    normal = np.cross(centers[:, 1] - centers[:, 0], centers[:, 2] - centers[:, 0])
+    with np.errstate(all="ignore"):
+        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        r_min_sq = weights.min(axis=1)
+        depth_sq = -geometry.orthoradius_sq
+        exists = geometry.valid & (depth_sq > SEED_RTOL * r_min_sq)
+        half = np.sqrt(np.where(exists, depth_sq, np.nan))[:, None] * normal
+    center = geometry.orthocenter
+    seeds = np.stack([center + half, center - half], axis=1)
+    return geometry, seeds
+
+
+def classify(
+    balls: Balls, triples: np.ndarray, progress: Progress | None = None
+) -> SeededTriangles:
+    """Seeds of every triple and which of them no other ball covers.
+
+    Parameters
+    ----------
+    balls : Balls
+        All balls (the coverage test uses every one).
+    triples : numpy.ndarray, shape (m, 3)
+        Ball indices.
+    progress : Progress, optional
+        Reports the triples classified.
+
+    References
+    ----------
+    The guide triangles and seeds of Section 4.1.
+    """
+    from scipy.spatial import cKDTree
+
+    triples = np.asarray(triples, dtype=np.int64).reshape(-1, 3)
+    tree = cKDTree(_lifted(balls))
+    top = float(balls.weights.max())
+    counter = Counter(progress, "seeds", len(triples))
+    parts = []
+    for start in range(0, max(len(triples), 1), SEED_CHUNK):
+        rows = triples[start : start + SEED_CHUNK]
+        geometry, seeds = seed_pairs(balls, rows)
+        uncovered = np.zeros((len(rows), 2), dtype=bool)
+        has = np.isfinite(seeds).all(axis=(1, 2))
+        if has.any():
+            floor = COVER_RTOL * balls.weights[rows[has]].min(axis=1)
+            for side in range(2):
+                power = _other_power(tree, top, seeds[has, side], rows[has])
+                uncovered[has, side] = power >= floor
+        parts.append((rows, geometry, seeds, uncovered))
+        counter.step(len(rows))
+    return _concat(parts)
+
+
+def _lifted(balls: Balls) -> np.ndarray:
+    """The balls as 4-D points whose squared distance to (s, 0) is the power of s plus W."""
+    weights = balls.weights
+    height = np.sqrt(np.maximum(weights.max() - weights, 0.0))
+    return np.column_stack([balls.centers, height])
+
+
+def _other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Smallest power of each point to a ball outside its own triple."""
+    query = np.column_stack([points, np.zeros(len(points))])
+    count = min(4, tree.n)
+    dist, index = tree.query(query, k=count, workers=-1)
+    power = dist * dist - top
+    own = (index[:, :, None] == rows[:, None, :]).any(axis=2)
+    return np.where(own, np.inf, power).min(axis=1)
+
+
+def _concat(parts) -> SeededTriangles:
+    rows = np.concatenate([p[0] for p in parts])
+    geometries = [p[1] for p in parts]
+    fields = {}
+    for name, value in vars(geometries[0]).items():
+        fields[name] = (
+            None if value is None else np.concatenate([vars(g)[name] for g in geometries])
+        )
+    return SeededTriangles(
+        rows,
+        WeightedTriangles(**fields),
+        np.concatenate([p[2] for p in parts]),
+        np.concatenate([p[3] for p in parts]),
+    )
