@@ -61,6 +61,9 @@ class Errors:
     median: float
     p99: float
     largest: float
+    over: float
+    """Largest overestimate (L − exact)/exact, 0 if L never exceeds the exact value: the
+    direction that makes a sampling density derived from L too coarse."""
     samples: int
     seconds: float
 
@@ -84,11 +87,13 @@ def measure(case: Case, **options) -> Errors:
 
 
 def errors_of(values, exact, samples: int, seconds: float) -> Errors:
-    error = np.abs(values - exact) / exact
+    signed = (values - exact) / exact
+    error = np.abs(signed)
     return Errors(
         float(np.median(error)),
         float(np.quantile(error, 0.99)),
         float(error.max()),
+        max(float(signed.max()), 0.0),
         samples,
         seconds,
     )
