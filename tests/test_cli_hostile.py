@@ -3,10 +3,12 @@
 Each case is a reproduction from the hardening issue; with ``--json`` stdout must stay empty.
 """
 
+import json
 import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 EXTREME_CASES = [
@@ -84,6 +86,9 @@ def test_paper_eps_star_for_huge_rho_f_is_a_root_at_the_chain_singularity(run_cl
     "name, content",
     [
         ("face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n"),
+        ("face_2_64.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 18446744073709551617\n"),
+        ("face_2_63.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9223372036854775808\n"),
+        ("face_int64.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9223372036854775807\n"),
         ("line.obj", "v 0\nv 1\nv 2\nf 1 2 3\n"),
         ("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
         ("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"),
@@ -170,6 +175,22 @@ def test_stdout_to_a_full_device_is_one_line_exit_2():
     ]
 
 
+def test_closed_stdout_is_one_line_exit_2():
+    """Started with standard output closed (``>&-``), Python has ``sys.stdout = None``."""
+    done = subprocess.run(
+        [sys.executable, "-m", "vorobound", "bounds", "--eps", "0.0047", "--json"],
+        capture_output=True,
+        text=True,
+        preexec_fn=lambda: os.close(1),
+        check=False,
+        timeout=120,
+    )
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        "error: cannot write the output: standard output is closed"
+    ]
+
+
 def test_unexpected_errors_are_reported_as_bugs(run_cli, monkeypatch):
     import vorobound.bounds.chain as chain
 
@@ -236,3 +257,46 @@ def test_certificate_bombs_are_refused_quickly(run_cli, tmp_path):
         code, out, err = run_cli("certify", "--check", str(path), "--json")
         assert code == 2 and out == "", err
         assert len(err.strip().splitlines()) == 1 and "bug" not in err
+
+
+def test_repeated_faces_are_counted_once(run_cli, tmp_path):
+    """A face listed twice (either orientation) must not double the area or the samples."""
+    from vorobound.sampling.demo_meshes import icosphere
+
+    sphere = icosphere(2.0, 2)
+
+    def obj(triangles):
+        lines = [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in sphere.points]
+        lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in triangles]
+        return "\n".join(lines) + "\n"
+
+    once, twice = tmp_path / "once.obj", tmp_path / "twice.obj"
+    once.write_text(obj(sphere.triangles))
+    twice.write_text(obj(list(sphere.triangles) + [t[::-1] for t in sphere.triangles]))
+    results = []
+    for path in (once, twice):
+        code, out, err = run_cli("advise", "--mesh", str(path), "--lfs", "2", "--json")
+        assert code == 0, err
+        results.append((json.loads(out)["surface"]["area"], err))
+    assert results[1][0] == pytest.approx(results[0][0], rel=1e-12)
+    assert "repeat another one" in results[1][1] and "repeat" not in results[0][1]
+
+
+def test_a_sizing_steeper_than_one_lipschitz_is_warned_about(run_cli, tmp_path):
+    from vorobound.sampling.demo_meshes import icosphere
+
+    sphere = icosphere(2.0, 2)
+    mesh = tmp_path / "s.obj"
+    lines = [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in sphere.points]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in sphere.triangles]
+    mesh.write_text("\n".join(lines) + "\n")
+    messages = {}
+    for name, values in (("smooth", np.full(len(sphere.points), 2.0)), ("jumpy", None)):
+        if values is None:
+            values = np.where(np.arange(len(sphere.points)) % 2, 0.01, 2.0)
+        sizing = tmp_path / f"{name}.csv"
+        sizing.write_text("lfs\n" + "\n".join(f"{v!r}" for v in values.tolist()) + "\n")
+        code, out, err = run_cli("advise", "--mesh", str(mesh), "--sizing", str(sizing), "--json")
+        assert code == 0, err
+        messages[name] = err
+    assert "1-Lipschitz" in messages["jumpy"] and "1-Lipschitz" not in messages["smooth"]

@@ -119,6 +119,7 @@ GOOD = np.column_stack([np.random.default_rng(1).random((10, 3)), np.full(10, 0.
         (["--balls", "{duplicate}"], "coincide"),
         (["--balls", "{few}"], "at least 4"),
         (["--balls", "{text}"], "cannot read"),
+        (["--balls", "{apart}"], "no guide triangle"),
         (["--torus", "3,1", "--eps", "1e-6"], "fit in memory"),
         (["--torus", "3"], "2 comma-separated"),
         (["--torus", "1,3"], "R > r"),
@@ -137,6 +138,7 @@ def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):
         "negative": _write(tmp_path / "neg.csv", GOOD * np.array([1, 1, 1, -1])),
         "duplicate": _write(tmp_path / "dup.csv", np.vstack([GOOD, GOOD[:1]])),
         "few": _write(tmp_path / "few.csv", GOOD[:3]),
+        "apart": _write(tmp_path / "apart.csv", GOOD * np.array([1, 1, 1, 1e-3])),
         "text": tmp_path / "notes.txt",
     }
     files["text"].write_text("not a point set\n")
@@ -169,5 +171,5 @@ def test_sample_refuses_a_bad_output_name_before_work(run_cli, tmp_path):
     code, stdout, stderr = run_cli(
         "sample", "--sphere", "1", "--eps", "0.1", "-o", str(tmp_path / "s.txt")
     )
-    assert code == 2 and ".npz or .vtu" in stderr
+    assert code == 2 and ".npz, .vtu or .csv" in stderr
     assert not list(tmp_path.iterdir())

@@ -446,3 +446,19 @@ def _assert_lipschitz(points, values, slope):
     jump = np.abs(values[:, None] - values[None])
     scale = np.abs(points).max() + np.abs(values).max()
     assert (jump <= slope * distance + ROUNDING * scale).all()
+
+
+@pytest.mark.parametrize("offset", [1e2, 1e6])
+def test_a_far_away_part_or_vertex_does_not_blur_the_estimate(offset):
+    """Tolerances are local: two spheres far apart, or one stray vertex, keep L = R."""
+    sphere = icosphere(2.0, 3)
+    count = len(sphere.points)
+    twins = TriangleMesh(
+        np.vstack([sphere.points, sphere.points + offset]),
+        np.vstack([sphere.triangles, sphere.triangles + count]),
+        "twins",
+    )
+    stray = TriangleMesh(np.vstack([sphere.points, [[offset] * 3]]), sphere.triangles, "stray")
+    for mesh, on_sphere in ((twins, slice(None)), (stray, slice(0, count))):
+        values = quiet_estimate(mesh).lfs[on_sphere]
+        assert np.abs(values / 2.0 - 1).max() < 2e-3, mesh.name

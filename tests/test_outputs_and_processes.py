@@ -242,3 +242,30 @@ def test_devices_and_pipes_are_written_in_place_not_replaced(tmp_path):
     folder.mkdir()
     with pytest.raises(WriteError, match="folder"):
         write_text(folder, "x")
+
+
+def test_an_interrupt_lets_the_kd_tree_worker_threads_finish_first():
+    """scipy's k-d tree queries with workers=-1 run daemon threads that write into arrays the
+    main thread frees when it unwinds; an interrupt must wait for them (it crashed the process
+    with a segmentation fault before)."""
+    import threading
+
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    from vorobound.cli import Interrupted, _signals_raise_interrupted
+
+    rng = np.random.default_rng(0)
+    tree = cKDTree(rng.random((100_000, 3)))
+    queries = rng.random((3_000_000, 3))
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    with pytest.raises(Interrupted), _signals_raise_interrupted():
+        timer.start()
+        tree.query(queries, k=4, workers=2)
+    timer.join()
+    running = [
+        t
+        for t in threading.enumerate()
+        if (getattr(getattr(t, "_target", None), "__module__", "") or "").startswith("scipy.")
+    ]
+    assert not running

@@ -36,7 +36,7 @@ def test_csv_columns_in_any_order_and_radius_name(tmp_path):
     assert np.array_equal(balls.centers, CENTERS) and np.array_equal(balls.radii, RADII)
 
 
-@pytest.mark.parametrize("suffix", [".npz", ".vtu"])
+@pytest.mark.parametrize("suffix", [".npz", ".vtu", ".csv"])
 def test_written_samples_read_back(tmp_path, suffix):
     path = write_balls(tmp_path / f"s{suffix}", make_balls(CENTERS, RADII), {"lfs": RADII / 2})
     balls = read_balls(path)
@@ -95,6 +95,6 @@ def test_point_set_without_radius(tmp_path):
 
 
 def test_bad_output_name(tmp_path):
-    with pytest.raises(InputError, match=".npz or .vtu"):
+    with pytest.raises(InputError, match=r"\.npz, \.vtu or \.csv"):
         write_balls(tmp_path / "s.txt", make_balls(CENTERS, RADII), {})
     assert not list(tmp_path.iterdir())

@@ -33,6 +33,10 @@ class CertificateError(VoroboundError):
     """A certificate is malformed, or re-checking it fails."""
 
 
+class NoGuideTriangles(VoroboundError):
+    """A set of balls has no guide triangle, so nothing can be measured against the bounds."""
+
+
 class VoroboundWarning(RuntimeWarning):
     """A warning that means something for the result (the CLI prints it as one line).
 

@@ -33,6 +33,25 @@ def ensure_folder(folder: str | os.PathLike) -> Path:
     return folder
 
 
+def checked_destination(path: str | os.PathLike) -> Path:
+    """``path`` if a file can be written there: its folder exists and it is not a folder itself
+    (checked before any work, so a long run does not fail at its last step)."""
+    path = Path(path)
+    if path.is_dir():
+        raise WriteError(f"cannot write {path}: it is a folder")
+    if not path.parent.is_dir():
+        raise WriteError(f"cannot write {path}: folder {path.parent} does not exist")
+    return path
+
+
+def checked_folder(folder: str | os.PathLike) -> Path:
+    """``folder`` if it is a folder or can become one (it is not an existing file)."""
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise WriteError(f"cannot write into {folder}: it is a file, not a folder")
+    return folder
+
+
 def _direct(path: Path) -> bool:
     """True when ``path`` must be written in place: a device or a pipe (``/dev/null``,
     ``/dev/stdout``, a FIFO), which a rename would replace by a regular file. A folder in the

@@ -10,10 +10,12 @@ one line saying it is a bug (code 70; the traceback with ``--debug`` or ``VOROBO
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import signal
 import sys
 import threading
+import time
 import warnings
 
 import typer
@@ -103,6 +105,7 @@ def _signals_raise_interrupted():
         return
 
     def handler(signum, frame):
+        _wait_for_native_workers()
         raise Interrupted
 
     previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -113,8 +116,44 @@ def _signals_raise_interrupted():
             signal.signal(sig, old)
 
 
+NATIVE_WORKER_WAIT = 60.0
+"""Seconds an interrupt waits at most for native worker threads to finish (see below)."""
+
+
+def _wait_for_native_workers() -> None:
+    """Let scipy's k-d tree worker threads (``workers=-1``) finish before the main thread
+    unwinds: they write into arrays that the unwinding frees, so raising while they run can
+    crash the process instead of exiting with 130. They finish their share of one query."""
+    deadline = time.monotonic() + NATIVE_WORKER_WAIT
+    for thread in threading.enumerate():
+        target = getattr(thread, "_target", None)
+        module = getattr(target, "__module__", None) or ""
+        if thread is threading.current_thread() or not module.startswith("scipy."):
+            continue
+        thread.join(max(0.0, deadline - time.monotonic()))
+
+
+class _ClosedStream:
+    """Stands for a standard stream the process was started without (``>&-``): writing to it
+    fails like writing to a closed descriptor, so the run ends with one line and exit 2."""
+
+    def write(self, text: str) -> int:
+        raise OSError(errno.EBADF, "standard output is closed")
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+
 def _tolerant_streams() -> None:
-    """Never fail on characters the terminal's encoding lacks (e.g. PYTHONIOENCODING=ascii)."""
+    """Never fail on characters the terminal's encoding lacks (e.g. PYTHONIOENCODING=ascii),
+    nor on a standard stream that is missing."""
+    if sys.stdout is None:
+        sys.stdout = _ClosedStream()
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (for the life of the process)
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(AttributeError, ValueError, OSError):
             stream.reconfigure(errors="replace")
@@ -189,7 +228,9 @@ def _bug(exc: BaseException) -> int:
 
 def _silence_stdout() -> None:
     """After a failed write to stdout, point it at /dev/null so the exit flush cannot fail."""
-    with contextlib.suppress(OSError, ValueError):
+    if isinstance(sys.stdout, _ClosedStream):
+        return
+    with contextlib.suppress(OSError, ValueError, AttributeError):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
 

@@ -81,12 +81,15 @@ def check(
     """
     from ..bounds.params import SamplingParams, checked_lipschitz
     from ..checks import checked_seed
+    from ..files import checked_folder
     from ..reports.check import check_balls, check_surface
     from .options import quality_params
 
     if fmt_ not in ("png", "pdf", "svg"):
         raise InputError(f"--format: expected png, pdf or svg, got {fmt_!r}")
     seed = checked_seed(seed)
+    if out is not None:
+        checked_folder(out)
     quality = quality_params(sigma, delta_ratio, rho_f)
     params = SamplingParams(eps, quality)
     with progress_bar(not as_json) as progress:

@@ -22,6 +22,7 @@ def lfs(
         typer.Option(
             "-o",
             "--output",
+            metavar="FILE",
             help="Write L per vertex: .csv (x,y,z,lfs; what --sizing reads) or .vtu (the mesh "
             "with point data lfs and sharp, for ParaView). Repeat for both.",
         ),

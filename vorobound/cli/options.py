@@ -81,7 +81,8 @@ def quality_params(sigma: float, delta_ratio: float, rho_f: float, lfs: float = 
 
 def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> dict:
     """The parameters as JSON: σ, δ/ε, ρ_f (and L_i, and ε when given)."""
-    out = {"eps": eps, "sigma": quality.sigma, "delta_ratio": quality.delta_ratio}
+    out = {} if eps is None else {"eps": eps}
+    out |= {"sigma": quality.sigma, "delta_ratio": quality.delta_ratio}
     if include_lfs:
         out["lfs"] = quality.lfs
     out["rho_f"] = quality.rho_f

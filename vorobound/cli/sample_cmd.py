@@ -85,7 +85,10 @@ def _mesh_shape(path: Path, lfs: float | None, sizing: Path | None, progress):
 def sample(
     eps: Eps,
     output: Annotated[
-        Path, typer.Option("-o", "--output", help="Sample file to write: .npz or .vtu.")
+        Path,
+        typer.Option(
+            "-o", "--output", help="Sample file to write: .npz, .vtu or .csv (x, y, z, r, L)."
+        ),
     ],
     sphere: SphereOpt = None,
     torus: TorusOpt = None,

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bounds.params import QualityParams, SamplingParams
+from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling import conditions
 from ..sampling.balls import Balls, make_balls
@@ -233,6 +234,13 @@ def _check(
     )
     with stages("guide triangles"):
         search = find_guide_triangles(balls, engine, equal_on_sphere, progress)
+    if len(search.guide.triples) == 0:
+        raise NoGuideTriangles(
+            f"{source}: no guide triangle to measure ({search.with_seeds:,} triples of balls "
+            f"meet in a seed pair, {search.half_covered:,} of them half-covered): a VoroCrust "
+            "sample of a closed surface has guide triangles all over it; are the radii δ·L too "
+            "small for the spacing of the centers?"
+        )
     with stages("conditions", announce=True):
         near = conditions.neighbours(balls.centers)
         if lipschitz_kind == "measured":

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, ReadError
-from ..files import atomic_open, atomic_path
+from ..files import atomic_open, atomic_path, checked_destination, write_text
 from .balls import Balls, make_balls
 from .mesh_io import quiet_meshio
 
@@ -137,12 +137,20 @@ def _numeric(array, path: Path) -> np.ndarray:
 
 
 def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray]) -> Path:
-    """Write balls (centers, radii, extra per-ball arrays) as NPZ or, for .vtu, VTU.
+    """Write balls (centers, radii, extra per-ball arrays) as NPZ, VTU or CSV (columns x, y,
+    z, r and one per extra array, full precision).
 
-    Both formats read back with :func:`read_balls`.
+    All three formats read back with :func:`read_balls`.
     """
     path = checked_output(path)
     arrays = {"radius": balls.radii, **point_data}
+    if path.suffix.lower() == ".csv":
+        names = ["x", "y", "z", "r", *point_data]
+        table = np.column_stack([balls.centers, balls.radii, *point_data.values()])
+        buffer = io.StringIO()
+        np.savetxt(buffer, table, fmt="%.17g", delimiter=",", header=",".join(names), comments="")
+        write_text(path, buffer.getvalue())
+        return path
     if path.suffix.lower() == ".npz":
         x, y, z = balls.centers.T
         with atomic_open(path, "wb") as handle:
@@ -154,11 +162,11 @@ def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray
 
 
 def checked_output(path: str | Path) -> Path:
-    """``path`` if it names a .npz or .vtu file (checked before any work is done)."""
+    """``path`` if it names a .npz, .vtu or .csv file (checked before any work is done)."""
     path = Path(path)
-    if path.suffix.lower() not in (".npz", ".vtu"):
-        raise InputError(f"cannot write {path}: the sample file must end in .npz or .vtu")
-    return path
+    if path.suffix.lower() not in (".npz", ".vtu", ".csv"):
+        raise InputError(f"cannot write {path}: the sample file must end in .npz, .vtu or .csv")
+    return checked_destination(path)
 
 
 def write_vtu(path: Path, points, cells, point_data: dict, cell_data: dict) -> Path:

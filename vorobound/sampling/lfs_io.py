@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..files import write_set
+from ..files import checked_destination, write_set
 from .lfs import LfsEstimate
 
 FORMATS = (".csv", ".vtu")
@@ -22,7 +22,7 @@ def checked_lfs_output(path: str | Path) -> Path:
     path = Path(path)
     if path.suffix.lower() not in FORMATS:
         raise InputError(f"cannot write {path}: the L file must end in .csv or .vtu")
-    return path
+    return checked_destination(path)
 
 
 def lfs_writers(paths, estimate: LfsEstimate) -> dict[Path, Callable[[Path], None]]:

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bounds.params import LFS_RANGE
-from ..errors import ReadError
+from ..errors import ReadError, VoroboundWarning
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,8 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
 
     mesh = quiet_meshio(lambda: meshio.read(path), path, "mesh")
     points = np.asarray(mesh.points)
+    if points.size == 0:
+        raise ReadError(f"mesh {path} has no vertices (is it a mesh file?)")
     if points.ndim != 2 or points.shape[1] not in (2, 3) or points.shape[0] == 0:
         raise ReadError(f"mesh {path}: points must be 2-D or 3-D, got shape {points.shape}")
     if not np.issubdtype(points.dtype, np.number) or np.iscomplexobj(points):
@@ -93,14 +95,53 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
     blocks = [np.asarray(block.data) for block in mesh.cells if block.type == "triangle"]
     if not blocks or sum(len(b) for b in blocks) == 0:
         raise ReadError(f"mesh {path} has no triangles")
-    triangles = np.concatenate(blocks).astype(np.int64)
-    if triangles.min() < 0 or triangles.max() >= len(points):
-        bad = int(triangles.min()) if triangles.min() < 0 else int(triangles.max())
+    triangles = np.concatenate([_face_indices(block, len(points), path) for block in blocks])
+    return TriangleMesh(points, _without_repeats(points, triangles, path), path.name)
+
+
+def _without_repeats(points: np.ndarray, triangles: np.ndarray, path: Path) -> np.ndarray:
+    """The triangles with each set of three vertex positions once (a face listed twice, in
+    either orientation, would count its area twice); a warning says how many were dropped."""
+    _, position = np.unique(points, axis=0, return_inverse=True)
+    key = np.sort(position.reshape(-1)[triangles], axis=1)
+    _, first = np.unique(key, axis=0, return_index=True)
+    repeats = len(triangles) - len(first)
+    if repeats == 0:
+        return triangles
+    warnings.warn(
+        f"mesh {path.name}: {repeats} triangles repeat another one (the same three vertex "
+        "positions); each is counted once",
+        VoroboundWarning,
+        stacklevel=3,
+    )
+    return triangles[np.sort(first)]
+
+
+def _face_indices(block: np.ndarray, count: int, path: Path) -> np.ndarray:
+    """The vertex indices of a block of triangles as int64, each checked to name one of the
+    ``count`` vertices before any conversion (indices beyond int64 arrive as floats or
+    Python integers)."""
+    if block.ndim != 2 or block.shape[1] != 3:
+        raise ReadError(f"mesh {path}: triangles must have 3 vertex indices each")
+    if block.dtype.kind in "iu" and block.size:
+        low, high = block.min(), block.max()
+        if 0 <= low and high < count:
+            return block.astype(np.int64)
+    try:
+        values = [int(value) for value in block.reshape(-1).tolist()]
+    except (TypeError, ValueError, OverflowError):
+        raise ReadError(
+            f"mesh {path}: a face has a vertex index that is not a whole number"
+        ) from None
+    if block.dtype.kind == "f" and not np.array_equal(block, np.floor(block)):
+        raise ReadError(f"mesh {path}: a face has a vertex index that is not a whole number")
+    bad = next((value for value in values if not 0 <= value < count), None)
+    if bad is not None:
         raise ReadError(
             f"mesh {path}: a face refers to vertex index {bad} (0-based) but the mesh has "
-            f"{len(points)} vertices"
+            f"{count} vertices"
         )
-    return TriangleMesh(points, triangles, path.name)
+    return np.array(values, dtype=np.int64).reshape(-1, 3)
 
 
 def read_sizing(path: str | Path, count: int) -> np.ndarray:

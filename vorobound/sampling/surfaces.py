@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import math
+import warnings
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, VoroboundWarning
 from .mesh_io import read_sizing, read_triangle_mesh
+
+LIPSCHITZ_SLACK = 1e-6
+"""A sizing may change by up to (1 + LIPSCHITZ_SLACK) per unit length before a warning."""
 
 
 @dataclass(frozen=True)
@@ -80,11 +84,32 @@ def mesh_surface(path: Path, lfs: float | None = None, sizing: Path | None = Non
     mesh = read_triangle_mesh(path)
     areas = mesh.triangle_areas()
     if sizing is not None:
-        tri_lfs = read_sizing(sizing, len(mesh.points))[mesh.triangles].mean(axis=1)
+        vertex_lfs = read_sizing(sizing, len(mesh.points))
+        _warn_if_steep(mesh, vertex_lfs, sizing)
+        tri_lfs = vertex_lfs[mesh.triangles].mean(axis=1)
     else:
         _positive(lfs, "lfs")
         tri_lfs = np.full(len(mesh.triangles), float(lfs))
     return surface_from_mesh_areas(mesh.name, areas, tri_lfs)
+
+
+def _warn_if_steep(mesh, vertex_lfs: np.ndarray, sizing: Path) -> None:
+    """Warn when the sizing changes faster than 1 per unit length along an edge: a local
+    feature size is 1-Lipschitz, and the sampling bounds assume it."""
+    ends = mesh.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    length = np.linalg.norm(mesh.points[ends[:, 0]] - mesh.points[ends[:, 1]], axis=1)
+    change = np.abs(vertex_lfs[ends[:, 0]] - vertex_lfs[ends[:, 1]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.where(length > 0, change / length, np.where(change > 0, np.inf, 0.0))
+    steepest = float(slope.max())
+    if steepest > 1 + LIPSCHITZ_SLACK:
+        warnings.warn(
+            f"sizing file {sizing.name}: L changes by up to {steepest:.3g} per unit length "
+            "along a mesh edge; a local feature size is 1-Lipschitz and the bounds assume it "
+            "(`vorobound lfs --lipschitz` gives such a sizing)",
+            VoroboundWarning,
+            stacklevel=3,
+        )
 
 
 def surface_from_mesh_areas(name: str, areas: np.ndarray, tri_lfs: np.ndarray) -> Surface:
