@@ -30,7 +30,11 @@ FIRST_CHUNK_SHARE = 1 / 64
 CHUNK_GROWTH = 1.5
 """Each later chunk is this much larger: few chunks, so few rebuilds of the accepted samples'
 search tree, while late chunks, whose candidates are mostly in conflict already, stay cheap."""
-MIN_CHUNK = 1 << 16
+MIN_CHUNK = 1 << 12
+"""Smallest first chunk. A chunk's conflict pairs grow like its size times its share of all
+candidates, so a large first chunk of a small lattice holds hundreds of pairs per candidate:
+1 << 16 took 1.6 GB for a 93 000-candidate mesh lattice that 1 << 12 samples in 0.1 GB, with
+the same result (the visiting order alone decides it)."""
 
 
 @dataclass(frozen=True)
