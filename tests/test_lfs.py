@@ -111,8 +111,8 @@ def test_fitted_midpoints_on_the_coarse_torus_with_l_switching(jittered_torus):
 
 def test_overestimates_stay_small_where_the_largest_error_misses_the_target():
     """Documented in docs/lfs.md: on the 3 072-vertex grid torus (1.5, 1) the default sample
-    misses the 2 % target, but by underestimating L (more samples, never fewer); the largest
-    overestimate stays below 1 %."""
+    misses the 2 % target by underestimating L; its largest overestimate (at the inner equator,
+    where L is smallest) stays below 1 %."""
     mesh = torus_mesh(1.5, 1.0, 96, 32)
     exact = surfaces.TorusShape(1.5, 1.0).lfs_at(mesh.points)
     signed = (quiet_estimate(mesh).lfs - exact) / exact
