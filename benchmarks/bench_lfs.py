@@ -34,7 +34,7 @@ from vorobound.sampling import surfaces  # noqa: E402
 from vorobound.sampling.curved import edge_midpoints  # noqa: E402
 from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh  # noqa: E402
 from vorobound.sampling.lfs import estimate_lfs  # noqa: E402
-from vorobound.sampling.medial import JITTER, _spacing  # noqa: E402
+from vorobound.sampling.medial import JITTER, nearest_spacing  # noqa: E402
 from vorobound.sampling.mesh_io import TriangleMesh  # noqa: E402
 from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
 
@@ -245,7 +245,9 @@ def speed_row(mesh: TriangleMesh) -> tuple[int, float, float, int, float]:
     _, alone = timed(mesh, samples=0)
     random = np.random.default_rng(0)
     points = mesh.points / np.ptp(mesh.points, axis=0).max()
-    moved = points + JITTER * _spacing(points)[:, None] * random.standard_normal(points.shape)
+    moved = points + JITTER * nearest_spacing(points)[:, None] * random.standard_normal(
+        points.shape
+    )
     start = time.perf_counter()
     Delaunay(moved[random.permutation(len(points))])
     base = time.perf_counter() - start

@@ -421,6 +421,8 @@ def test_flat_mesh_is_refused():
         {"lipschitz": 0.0},
         {"lipschitz": math.nan},
         {"lipschitz": math.inf},
+        {"lipschitz": 1e-320},
+        {"lipschitz": 1e308},
         {"sharp_angle": 0.0},
         {"sharp_angle": 180.0},
         {"samples": -1},

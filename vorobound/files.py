@@ -66,9 +66,7 @@ def _direct(path: Path) -> bool:
 
 
 def _temp_for(path: Path) -> Path:
-    folder = path.parent
-    if not folder.is_dir():
-        raise WriteError(f"cannot write {path}: folder {folder} does not exist")
+    folder = checked_destination(path).parent
     try:
         handle, name = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.name}.", dir=folder)
     except OSError as exc:

@@ -44,8 +44,9 @@ def lfs(
         float,
         typer.Option(
             "--lipschitz",
-            help="λ > 0: make L λ-Lipschitz, L(x) ← min_y L(y) + λ|x − y|. The distance to "
-            "the medial axis is already 1-Lipschitz; λ < 1 lowers it (a gentler sizing field).",
+            help="λ in [1e-12, 1e6]: make L λ-Lipschitz, L(x) ← min_y L(y) + λ|x − y|. The "
+            "distance to the medial axis is already 1-Lipschitz; λ < 1 lowers it (a gentler "
+            "sizing field).",
         ),
     ] = 1.0,
     sharp_angle: Annotated[

@@ -27,6 +27,7 @@ from ..bounds.params import QualityParams, SamplingParams
 from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling import conditions
+from ..sampling.ball_io import fill_vtu
 from ..sampling.balls import Balls, make_balls
 from ..sampling.guide import Engine, equal_radii_on_sphere, find_guide_triangles
 from ..sampling.measure import GuideMeasurements, ModeBound, measure_guides, mode_bounds
@@ -348,8 +349,6 @@ def _write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
 
 
 def _write_vtu(path: Path, report: CheckReport) -> None:
-    import meshio
-
     g = report.guides
     count = len(report.balls)
     vertices = np.arange(count).reshape(-1, 1)
@@ -361,8 +360,7 @@ def _write_vtu(path: Path, report: CheckReport) -> None:
         "inside_constraint_set": [blank, g.inside.astype(float)],
     }
     point_data = {"radius": report.balls.radii, "lfs": report.lfs}
-    mesh = meshio.Mesh(report.balls.centers, cells, point_data=point_data, cell_data=cell_data)
-    meshio.write(path, mesh, file_format="vtu")
+    fill_vtu(path, report.balls.centers, cells, point_data, cell_data)
 
 
 def output_writers(report: CheckReport, out_dir: str | Path) -> dict[Path, Callable]:

@@ -14,12 +14,13 @@ checked by :func:`vorobound.sampling.balls.make_balls`.
 from __future__ import annotations
 
 import io
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError, ReadError
-from ..files import atomic_open, atomic_path, checked_destination, write_text
+from ..files import atomic_open, checked_destination, write_set
 from .balls import Balls, make_balls
 from .mesh_io import quiet_meshio
 
@@ -138,27 +139,25 @@ def _numeric(array, path: Path) -> np.ndarray:
 
 def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray]) -> Path:
     """Write balls (centers, radii, extra per-ball arrays) as NPZ, VTU or CSV (columns x, y,
-    z, r and one per extra array, full precision).
+    z, r and one per extra array, full precision), atomically.
 
     All three formats read back with :func:`read_balls`.
     """
     path = checked_output(path)
-    arrays = {"radius": balls.radii, **point_data}
-    if path.suffix.lower() == ".csv":
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
         names = ["x", "y", "z", "r", *point_data]
         table = np.column_stack([balls.centers, balls.radii, *point_data.values()])
-        buffer = io.StringIO()
-        np.savetxt(buffer, table, fmt="%.17g", delimiter=",", header=",".join(names), comments="")
-        write_text(path, buffer.getvalue())
-        return path
-    if path.suffix.lower() == ".npz":
+        return write_set({path: partial(fill_csv, names=names, table=table)})[0]
+    arrays = {"radius": balls.radii, **point_data}
+    if suffix == ".npz":
         x, y, z = balls.centers.T
         with atomic_open(path, "wb") as handle:
             np.savez_compressed(handle, x=x, y=y, z=z, **arrays)
         return path
     cells = [("vertex", np.arange(len(balls)).reshape(-1, 1))]
-    write_vtu(path, balls.centers, cells, arrays, {})
-    return path
+    fill = partial(fill_vtu, points=balls.centers, cells=cells, point_data=arrays)
+    return write_set({path: fill})[0]
 
 
 def checked_output(path: str | Path) -> Path:
@@ -169,11 +168,17 @@ def checked_output(path: str | Path) -> Path:
     return checked_destination(path)
 
 
-def write_vtu(path: Path, points, cells, point_data: dict, cell_data: dict) -> Path:
-    """A VTU (XML, readable by ParaView and meshio) written atomically."""
+def fill_vtu(path: Path, points, cells, point_data: dict, cell_data: dict | None = None) -> None:
+    """Write a VTU (XML, readable by ParaView and meshio) at ``path`` as it is: a writer for
+    :func:`~vorobound.files.write_set`, which makes it atomic."""
     import meshio
 
-    mesh = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
-    with atomic_path(path) as temp:
-        meshio.write(temp, mesh, file_format="vtu")
-    return Path(path)
+    mesh = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data or {})
+    meshio.write(path, mesh, file_format="vtu")
+
+
+def fill_csv(path: Path, names: list[str], table: np.ndarray) -> None:
+    """Write a CSV with a header of ``names`` and full-precision rows at ``path`` as it is (a
+    writer for :func:`~vorobound.files.write_set`)."""
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        np.savetxt(handle, table, fmt="%.17g", delimiter=",", header=",".join(names), comments="")

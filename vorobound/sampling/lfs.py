@@ -23,7 +23,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ..checks import checked_seed
+from ..bounds.params import LIPSCHITZ_RANGE
+from ..checks import checked_number, checked_seed
 from ..errors import InputError, VoroboundError, VoroboundWarning
 from ..progress import Counter, Progress
 from .curved import edge_midpoints
@@ -154,8 +155,7 @@ def estimate_lfs(
         isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 0
     ):
         raise InputError(f"--samples must be a whole number ≥ 0, got {samples!r}")
-    if not (math.isfinite(lipschitz) and lipschitz > 0):
-        raise InputError(f"--lipschitz must be positive and finite, got {lipschitz}")
+    lipschitz = checked_number(lipschitz, "lipschitz", *LIPSCHITZ_RANGE)
     if not (math.isfinite(sharp_angle) and 0 < sharp_angle < 180):
         raise InputError(f"--sharp-angle must be between 0 and 180 degrees, got {sharp_angle}")
     seed = checked_seed(seed)

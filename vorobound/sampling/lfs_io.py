@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
@@ -11,6 +10,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import checked_destination, write_set
+from .ball_io import fill_csv, fill_vtu
 from .lfs import LfsEstimate
 
 FORMATS = (".csv", ".vtu")
@@ -43,18 +43,12 @@ def write_lfs(path: str | Path, estimate: LfsEstimate) -> Path:
 
 
 def _write_csv(path: Path, estimate: LfsEstimate) -> None:
-    buffer = io.StringIO()
-    table = np.column_stack([estimate.mesh.points, estimate.lfs])
-    np.savetxt(buffer, table, fmt="%.17g", delimiter=",", header="x,y,z,lfs", comments="")
-    Path(path).write_text(buffer.getvalue(), encoding="utf-8")
+    fill_csv(path, ["x", "y", "z", "lfs"], np.column_stack([estimate.mesh.points, estimate.lfs]))
 
 
 def _write_vtu(path: Path, estimate: LfsEstimate) -> None:
-    import meshio
-
     mesh = estimate.mesh
     sharp = np.zeros(len(mesh.points), dtype=np.int8)
     sharp[estimate.sharp_edges.reshape(-1)] = 1
     cells = [("triangle", np.asarray(mesh.triangles))]
-    data = {"lfs": estimate.lfs, "sharp": sharp}
-    meshio.write(path, meshio.Mesh(mesh.points, cells, point_data=data), file_format="vtu")
+    fill_vtu(path, mesh.points, cells, {"lfs": estimate.lfs, "sharp": sharp})

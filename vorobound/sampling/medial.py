@@ -119,7 +119,7 @@ def vertex_poles(
 
     counter = Counter(progress, "Delaunay", 1)
     random = np.random.default_rng(seed)
-    jitter = JITTER * _spacing(points)
+    jitter = JITTER * nearest_spacing(points)
     moved = points + jitter[:, None] * random.standard_normal(points.shape)
     order = random.permutation(len(points))  # qhull is twice as fast on shuffled surface samples
     try:
@@ -153,7 +153,7 @@ def vertex_poles(
     return MedialSample(poles[np.sort(first)], len(tets), int((~usable).sum()))
 
 
-def _spacing(points: np.ndarray) -> np.ndarray:
+def nearest_spacing(points: np.ndarray) -> np.ndarray:
     """Distance from each point to its nearest other point, at least SPACING_FLOOR."""
     from scipy.spatial import cKDTree
 
