@@ -6,10 +6,13 @@ import pytest
 
 
 def test_bounds_json_lists_every_equation(run_cli):
-    code, out, _ = run_cli("bounds", "--eps", "0.0047", "--json")
+    code, out, _ = run_cli(
+        "bounds", "--eps", "0.0047", "--mode", "paper", "--target", "additive", "--json"
+    )
     assert code == 0
     data = json.loads(out)
-    assert {"bound", "target", "quantities", "mode"} <= data.keys()
+    assert {"bound", "limit", "target", "quantities", "mode", "premise"} <= data.keys()
+    assert data["target"] == "additive" and data["claim"] == "invalid"
     equations = {q["equation"] for q in data["quantities"].values()}
     for label in (
         "(33)",
@@ -25,13 +28,13 @@ def test_bounds_json_lists_every_equation(run_cli):
         "(52)",
     ):
         assert label in equations
-    assert data["target"] == pytest.approx(0.76 * 0.0047)
+    assert data["limit"] == pytest.approx(0.76 * 0.0047)
 
 
 def test_solve_json_paper_and_rigorous(run_cli):
     values = {}
     for mode in ("paper", "rigorous"):
-        code, out, _ = run_cli("solve", "--mode", mode, "--json")
+        code, out, _ = run_cli("solve", "--mode", mode, "--target", "additive", "--json")
         assert code == 0
         values[mode] = json.loads(out)["eps_star"]
     assert round(values["paper"], 4) == 0.0047
@@ -51,7 +54,9 @@ def test_solve_table(run_cli):
         ["bounds", "--eps", "x"],
         ["bounds"],
         ["bounds", "--eps", "0.01", "--mode", "nope"],
-        ["bounds", "--eps", "0.01", "--lipschitz", "1"],
+        ["bounds", "--eps", "0.01", "--mode", "rigorous", "--lipschitz", "1"],
+        ["bounds", "--eps", "0.01", "--target", "nope"],
+        ["solve", "--target", "both"],
         ["solve", "--rho-f", "1"],
         ["solve", "--sigma", "-0.5"],
         ["solve", "--rho-f", "1.000000000001"],

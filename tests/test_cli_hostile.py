@@ -25,17 +25,17 @@ EXTREME_CASES = [
     ["bounds", "--eps", "0.0047", "--rho-f", "1e308"],
     ["bounds", "--eps", "1e-320"],
     ["bounds", "--eps", "0.0047", "--sigma", "1e308"],
-    ["bounds", "--eps", "0.5", "--sigma", "1.9"],
+    ["bounds", "--eps", "0.5", "--sigma", "1.9", "--mode", "paper", "--target", "additive"],
     ["solve", "--mode", "tight", "--delta-ratio", "1e308"],
     ["solve", "--rho-f", "1e300"],
-    ["solve", "--mode", "tight", "--sigma", "2.5"],
+    ["solve", "--mode", "tight", "--sigma", "1e4"],
     ["sweep", "--mode", "tight", "--delta-ratio", "1e308"],
     ["sweep", "--sigma", "1e308"],
     ["sweep", "--eps", "1e-320"],
     ["sweep", "--sigma", "0.3:1.5:100000", "--rho-f", "1.01:3:100000"],
     ["sweep", "--sigma", "0.3:1.5:10000000000"],
     ["sweep", "--mode", "tight", "--method", "optimize", "--sigma", "0.3:1.5:1000"],
-    ["sweep", "--lipschitz", "1"],
+    ["sweep", "--mode", "paper,rigorous", "--lipschitz", "1"],
     ["advise", "--sphere", "1e200"],
     ["advise", "--area", "1", "--lfs", "1e-200"],
     ["advise", "--area", "1", "--lfs", "1e308"],
@@ -71,7 +71,9 @@ def test_paper_eps_star_for_huge_rho_f_is_a_root_at_the_chain_singularity(run_cl
     from vorobound.bounds.chain import chain_bounds
     from vorobound.bounds.params import QualityParams
 
-    code, out, _ = run_cli("solve", "--rho-f", "100000", "--json")
+    code, out, _ = run_cli(
+        "solve", "--rho-f", "100000", "--mode", "paper", "--target", "additive", "--json"
+    )
     assert code == 0
     star = json.loads(out)["eps_star"]
     quality = QualityParams(rho_f=1e5)
@@ -122,7 +124,9 @@ def test_huge_jobs_is_capped_not_a_crash(run_cli):
 
 
 def test_duplicate_modes_and_values_are_computed_once(run_cli):
-    code, out, _ = run_cli("sweep", "--mode", "paper,paper", "--rho-f", "1.3,1.3", "--json")
+    code, out, _ = run_cli(
+        "sweep", "--mode", "paper,paper", "--target", "ratio,ratio", "--rho-f", "1.3,1.3", "--json"
+    )
     assert code == 0
     import json
 
@@ -133,7 +137,16 @@ def test_lipschitz_mixes_none_with_values(run_cli):
     import json
 
     code, out, _ = run_cli(
-        "sweep", "--mode", "tight", "--lipschitz", "none,0,1", "--json", "--rho-f", "1.38"
+        "sweep",
+        "--mode",
+        "tight",
+        "--target",
+        "additive",
+        "--lipschitz",
+        "none,0,1",
+        "--json",
+        "--rho-f",
+        "1.38",
     )
     assert code == 0
     rows = json.loads(out)
@@ -198,11 +211,11 @@ def test_unexpected_errors_are_reported_as_bugs(run_cli, monkeypatch):
         raise ZeroDivisionError("planted")
 
     monkeypatch.setattr(chain, "chain_bounds", broken)
-    code, out, err = run_cli("bounds", "--eps", "0.0047")
+    code, out, err = run_cli("bounds", "--eps", "0.0047", "--mode", "paper")
     assert code == 70 and out == ""
     assert err.count("\n") == 1 and "bug" in err and "planted" in err
     monkeypatch.setenv("VOROBOUND_DEBUG", "1")
-    code, _, err = run_cli("bounds", "--eps", "0.0047")
+    code, _, err = run_cli("bounds", "--eps", "0.0047", "--mode", "paper")
     assert code == 70 and "Traceback" in err
 
 

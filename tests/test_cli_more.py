@@ -24,12 +24,15 @@ def test_cheng_json(run_cli):
 
 
 def test_tight_mode_json_of_bounds_and_solve(run_cli):
-    code, out, _ = run_cli("bounds", "--eps", "0.0047", "--mode", "tight", "--json")
+    code, out, _ = run_cli(
+        "bounds", "--eps", "0.0047", "--mode", "tight", "--target", "additive", "--json"
+    )
     assert code == 0
     data = json.loads(out)
-    assert data["bound"] == pytest.approx(0.178410 * data["target"], rel=1e-5)
+    assert data["bound"] == pytest.approx(0.178410 * data["limit"], rel=1e-5)
+    assert data["fraction_of_target"] == pytest.approx(0.178410, rel=1e-5)
     assert {"b", "c", "theta", "lfs_j", "lfs_k"} <= data["maximizer"].keys()
-    code, out, _ = run_cli("solve", "--mode", "tight", "--json")
+    code, out, _ = run_cli("solve", "--mode", "tight", "--target", "additive", "--json")
     assert code == 0
     data = json.loads(out)
     assert data["eps_star"] == pytest.approx(0.0247812, rel=1e-5) and "maximizer" in data

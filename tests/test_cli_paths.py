@@ -9,8 +9,12 @@ from vorobound.cli import EXIT_INTERRUPTED, main
 
 TABLE_CASES = [
     (["triangle", "--edges", "3,4,5", "-w", "0,0.2,0.5"], "R − R̂ (Theorem 1)"),
-    (["bounds", "--eps", "0.0047"], "exceeds the target (ρ_f − 1)·δ·L_i"),
-    (["bounds", "--eps", "0.0047", "--mode", "tight"], "closed form, proven"),
+    (
+        ["bounds", "--eps", "0.0047", "--mode", "paper", "--target", "additive"],
+        "exceeds the target (ρ_f − 1)·δ·L_i",
+    ),
+    (["bounds", "--eps", "0.0047"], "closed form, proven"),
+    (["bounds", "--eps", "0.0047"], "meets the target ρ_f = 1.38"),
     (["solve", "--mode", "rigorous"], "eps_star"),
     (["solve", "--mode", "tight", "--lipschitz", "1"], "closed form"),
     (["validate", "--eps", "0.0047", "--samples", "500", "--no-tight"], "holds"),
@@ -34,10 +38,15 @@ def test_tight_sweep_on_two_processes_matches_the_closed_form(run_cli):
     code, out, _ = run_cli(*args, "--method", "optimize", "--jobs", "2")
     assert code == 0
     rows = json.loads(out)
-    assert [(r["lipschitz"], r["claim"]) for r in rows] == [(None, "numerical"), (1.0, "numerical")]
-    closed = {r["lipschitz"]: r["eps_star"] for r in _closed_form_rows(run_cli, args)}
+    keys = [(r["target"], r["lipschitz"], r["claim"]) for r in rows]
+    assert keys == [
+        (target, lam, "numerical") for target in ("additive", "ratio") for lam in (None, 1.0)
+    ]
+    closed = {
+        (r["target"], r["lipschitz"]): r["eps_star"] for r in _closed_form_rows(run_cli, args)
+    }
     for row in rows:
-        assert row["eps_star"] == pytest.approx(closed[row["lipschitz"]], rel=1e-6)
+        assert row["eps_star"] == pytest.approx(closed[row["target"], row["lipschitz"]], rel=1e-6)
 
 
 def _closed_form_rows(run_cli, args):
@@ -58,9 +67,15 @@ def test_tight_figures_and_reproduction(run_cli, tmp_path):
         "tight": "proven",
         "tight λ=1": "proven",
     }
-    certified = next(r for r in data["rows"] if "certificate" in r["quantity"])["values"]
+    rows = {r["quantity"]: r["values"] for r in data["rows"]}
+    additive = rows["ε covered by an interval certificate, additive target"]
+    ratio = rows["ε covered by an interval certificate, ratio target"]
     for mode in ("tight", "tight λ=1"):
-        assert 0.999 * data["eps_star"][mode] == pytest.approx(certified[mode], rel=1e-12)
+        assert 0.999 * data["eps_star"][mode] == pytest.approx(additive[mode], rel=1e-12)
+        assert 0.999 * data["eps_star_ratio"][mode] == pytest.approx(ratio[mode], rel=1e-12)
+        assert data["eps_star_ratio"][mode] < data["eps_star"][mode]
+    h3 = rows["ε up to which H3 alone gives (55), any mode"]
+    assert list(h3.values()) == [pytest.approx(1 - 1 / (2 * 1.38))] * len(h3)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["comparison.png", "figure3.png"]
     code, out, _ = run_cli("figure", "--out", str(tmp_path / "svg"), "--format", "svg", "--json")
     assert code == 0 and len(json.loads(out)["figures"]) == 2
@@ -88,5 +103,5 @@ def test_main_exit_codes(capsys, monkeypatch):
             raise raised
 
         monkeypatch.setattr(chain, "chain_bounds", stop)
-        assert main(["bounds", "--eps", "0.01"]) == code
+        assert main(["bounds", "--eps", "0.01", "--mode", "rigorous"]) == code
         assert capsys.readouterr().err.strip() == message

@@ -14,9 +14,11 @@ def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):
     code, out, _ = run_cli("sweep", "--rho-f", "1.2:1.5:4", "--mode", "paper", "--format", "json")
     assert code == 0
     rows = json.loads(out)
-    assert [r["rho_f"] for r in rows] == pytest.approx([1.2, 1.3, 1.4, 1.5])
+    assert [r["rho_f"] for r in rows] == pytest.approx([1.2, 1.3, 1.4, 1.5] * 2)
+    assert [r["target"] for r in rows] == ["additive"] * 4 + ["ratio"] * 4
     for row in rows:
-        expected = solve_eps_star(QualityParams(rho_f=row["rho_f"]).at(0.01), "paper").eps_star
+        quality = QualityParams(rho_f=row["rho_f"])
+        expected = solve_eps_star(quality, "paper", row["target"]).eps_star
         assert row["eps_star"] == pytest.approx(expected, rel=1e-10)
 
 
@@ -28,26 +30,36 @@ def test_sweep_csv_and_json_round_trip(run_cli, tmp_path):
     assert code == 0
     from_csv = list(csv.DictReader(io.StringIO(target.read_text())))
     from_json = json.loads(as_json)
-    assert len(from_csv) == len(from_json) == 8
+    assert len(from_csv) == len(from_json) == 16  # 2 modes × 2 targets × 2 σ × 2 ρ_f
     for c, j in zip(from_csv, from_json, strict=True):
-        assert c["mode"] == j["mode"] and float(c["eps_star"]) == j["eps_star"]
+        assert c["mode"] == j["mode"] and c["target"] == j["target"]
+        assert float(c["eps_star"]) == j["eps_star"]
         assert float(c["sigma"]) == j["sigma"] and c["lipschitz"] == ""
 
 
 def test_sweep_over_eps_gives_bound_curves(run_cli):
     code, out, _ = run_cli(
-        "sweep", "--eps", "0.001:0.01:5", "--mode", "rigorous", "--format", "json"
+        "sweep", "--eps", "0.001:0.01:5", "--mode", "rigorous,tight", "--format", "json"
     )
     assert code == 0
     rows = json.loads(out)
-    assert len(rows) == 5 and {"eps", "bound", "target"} <= rows[0].keys()
-    assert all(a["bound"] < b["bound"] for a, b in zip(rows, rows[1:], strict=False))
+    assert len(rows) == 20 and {"eps", "bound", "limit", "target"} <= rows[0].keys()
+    for mode in ("rigorous", "tight"):
+        for target in ("additive", "ratio"):
+            curve = [r for r in rows if r["mode"] == mode and r["target"] == target]
+            finite = [r["bound"] for r in curve if r["bound"] is not None]
+            assert all(a < b for a, b in zip(finite, finite[1:], strict=False))
+            expected = [1.38 if target == "ratio" else 0.76 * r["eps"] for r in curve]
+            assert [r["limit"] for r in curve] == pytest.approx(expected)
+    tight_ratio = [r for r in rows if r["mode"] == "tight" and r["target"] == "ratio"]
+    assert all(r["bound"] is not None and r["claim"] == "proven" for r in tight_ratio)
 
 
 def test_advise_sphere_json(run_cli):
     code, out, _ = run_cli("advise", "--sphere", "2", "--mode", "paper,rigorous", "--json")
     assert code == 0
     data = json.loads(out)
+    assert len(data["modes"]) == 4  # 2 modes × 2 targets
     keys = {
         "mode",
         "eps_star",
@@ -61,7 +73,10 @@ def test_advise_sphere_json(run_cli):
         assert keys <= entry.keys()
         assert entry["samples_low"] == pytest.approx(4 * 2**2 / (entry["eps_star"] * 2) ** 2)
         assert entry["ball_radius"] == pytest.approx(2 * entry["eps_star"] * 2)
-        assert entry["reduction_vs_1_500"] == pytest.approx((entry["eps_star"] * 500) ** 2)
+        if entry["claim"] == "invalid":  # no "fewer samples" beside an invalid claim
+            assert entry["reduction_vs_1_500"] is None
+        else:
+            assert entry["reduction_vs_1_500"] == pytest.approx((entry["eps_star"] * 500) ** 2)
     assert "Not covered" in data["guarantee"]
 
 

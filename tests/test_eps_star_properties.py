@@ -1,5 +1,7 @@
 """ε* solvers: success means a root (residual ≈ 0), and ε* moves the right way with ρ_f and λ."""
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -7,6 +9,7 @@ from hypothesis import strategies as st
 
 from vorobound.bounds.eps_star import (
     STATUS_EMPTY,
+    STATUS_EXCEEDS_AT_START,
     STATUS_NO_CROSSING,
     STATUS_OK,
     NoCrossing,
@@ -51,21 +54,29 @@ def test_batch_solver_matches_brentq_row_by_row():
         rng.uniform(0.5, 3, 60),
         rng.uniform(1.01, 5, 60),
     )
-    for mode in ("paper", "rigorous"):
-        stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode)
+    codes = set()
+    for mode, target in itertools.product(("paper", "rigorous"), ("additive", "ratio")):
+        stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode, target=target)
         for s, r, q, star, code in zip(sigma, ratio, rho_f, stars, status, strict=True):
             quality = QualityParams(sigma=s, delta_ratio=r, rho_f=q)
+            codes.add(int(code))
             if code == STATUS_OK:
-                expected = solve_eps_star(quality, mode).eps_star
+                expected = solve_eps_star(quality, mode, target).eps_star
                 assert star == pytest.approx(expected, rel=BATCH_RTOL)
+                if s > np.sqrt(3):  # the constraint set is empty below 1 − √3/σ
+                    assert star > 1 - np.sqrt(3) / s
             elif code == STATUS_EMPTY:
-                assert s > np.sqrt(3)
-                with pytest.raises(NoAdmissibleEps, match="sqrt"):
-                    solve_eps_star(quality, mode)
+                with pytest.raises(NoAdmissibleEps):
+                    solve_eps_star(quality, mode, target)
+            elif code == STATUS_EXCEEDS_AT_START:
+                with pytest.raises(NoAdmissibleEps, match="already") as caught:
+                    solve_eps_star(quality, mode, target)
+                assert not isinstance(caught.value, NoCrossing)
             else:
                 assert code == STATUS_NO_CROSSING
                 with pytest.raises(NoCrossing):
-                    solve_eps_star(quality, mode)
+                    solve_eps_star(quality, mode, target)
+    assert {STATUS_OK, STATUS_EXCEEDS_AT_START} <= codes
 
 
 def test_eps_star_is_monotone_in_rho_f():

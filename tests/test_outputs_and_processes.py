@@ -212,6 +212,7 @@ grid; a table kept in memory would add ~200 bytes per row, 16 MB here)."""
 def _peak_kb(rows_per_axis: int, out: Path) -> int:
     axis = f"0.3:1.5:{rows_per_axis}"
     args = ["sweep", "--sigma", axis, "--rho-f", f"1.01:3:{rows_per_axis}", "--mode", "paper"]
+    args += ["--target", "additive"]
     done = subprocess.run(
         [sys.executable, "-c", MEMORY_PROBE, *args, "--format", "csv", "-o", str(out)],
         capture_output=True,

@@ -5,6 +5,7 @@ import pytest
 
 from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.bounds.tight import tight_supremum
+from vorobound.geometry import weighted_triangles
 from vorobound.reports.check import check_balls, check_surface
 from vorobound.sampling.balls import make_balls
 from vorobound.sampling.measure import BOUND_RTOL, mode_bounds
@@ -40,6 +41,30 @@ def test_realized_gap_is_below_the_tight_supremum(variable_torus):
         supremum = tight_supremum(unit, lipschitz).supremum
         assert (g.radius_gap <= supremum * g.lfs[:, 0] * (1 + BOUND_RTOL)).all()
     assert not any(rows.any() for rows in g.exceeds.values())
+
+
+def test_realized_ratio_is_below_the_tight_ratio_supremum(variable_torus):
+    """Every guide triangle's R/R̂ (eq. (54)) stays below the tight sup of R/R̂ at its ε,
+    with and without λ, and H3's R(1−ε)/(εL_i) stays at most 1 on a sampler sample."""
+    from vorobound.bounds.tight.ratio_form import ratio_supremum_closed_form
+
+    report = variable_torus
+    g, eps = report.guides, report.params.eps
+    assert (g.quality_ratio > 1).any()
+    for lipschitz in (None, 1.0):
+        sup = ratio_supremum_closed_form(eps, QUALITY.sigma, QUALITY.delta_ratio, lipschitz)
+        assert g.quality_ratio.max() <= sup.value * (1 + BOUND_RTOL)
+    summary = report.summary()
+    assert summary["ratio_max"] == pytest.approx(g.quality_ratio.max())
+    assert summary["ratio_bound_violations"] == {"rigorous": 0, "tight": 0, "tight_lipschitz": 0}
+    assert 0.5 < summary["h3_ratio_max"] <= 1 and summary["h3_violations"] == 0
+    # R/R̂ from the geometry core's own shifted orthoradius.
+    p = report.balls.centers[g.triples]
+    w = report.balls.radii[g.triples] ** 2
+    core = weighted_triangles(p, w)
+    assert np.allclose(g.quality_ratio, core.circumradius / core.shifted_orthoradius, rtol=1e-9)
+    h3 = core.circumradius * (1 - eps) / (eps * g.lfs[:, 0])
+    assert np.allclose(g.h3_ratio, h3, rtol=1e-12)
 
 
 def test_measurements_follow_their_definitions(variable_torus):

@@ -18,6 +18,10 @@ _LAZY = {
     "weighted_triangles": "vorobound.geometry",
     "QualityParams": "vorobound.bounds.params",
     "SamplingParams": "vorobound.bounds.params",
+    "Target": "vorobound.bounds.targets",
+    "h3_route": "vorobound.bounds.targets",
+    "eps_star": "vorobound.bounds.guarantee",
+    "bound_at": "vorobound.bounds.guarantee",
 }
 
 __all__ = ["VoroboundError", "__version__", *_LAZY]

@@ -1,32 +1,32 @@
-"""The README's table: every number the paper states beside this project's value per mode.
+"""The README's table: every number the paper states beside this project's value per mode,
+for the paper's additive target and for the ratio target R ≤ ρ_f·R̂ (eq. (54)).
 
 Command: ``vorobound reproduce`` (the same table, with the figures).
 """
 
 from vorobound.bounds.params import QualityParams
-from vorobound.bounds.tight.method import tight_eps_star
-from vorobound.reports.figure_data import TIGHT_SETTINGS
-from vorobound.reports.reproduce import reproduction_rows, summarize_chain, summarize_tight
+from vorobound.reports.reproduce import reproduce
 
 
 def render() -> str:
-    quality = QualityParams()
-    summaries = [summarize_chain(quality, mode) for mode in ("paper", "rigorous")]
-    for lam in TIGHT_SETTINGS:
-        summaries.append(summarize_tight(quality, lam, tight_eps_star(quality, lam)))
+    summaries, rows = reproduce(QualityParams())
     modes = [s.mode.replace("λ=", "λ = ").replace("tight λ", "tight, λ") for s in summaries]
     lines = [
         "| quantity | paper says | " + " | ".join(modes) + " |",
         "|---" * (len(modes) + 2) + "|",
     ]
-    for row in reproduction_rows(quality, summaries):
-        cells = [
-            "—" if row.values[s.mode] is None else f"{row.values[s.mode]:.5g}" for s in summaries
-        ]
+    for row in rows:
+        cells = [_cell(row.values[s.mode]) for s in summaries]
         quantity = row.quantity.replace("|", "\\|")
         lines.append(f"| {quantity} | {row.paper} | " + " | ".join(cells) + " |")
     lines.append("| claim | — | " + " | ".join(s.star.claim for s in summaries) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _cell(value) -> str:
+    if value is None:
+        return "—"
+    return "∞" if value == float("inf") else f"{value:.5g}"
 
 
 if __name__ == "__main__":

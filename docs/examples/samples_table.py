@@ -1,5 +1,6 @@
 """docs/samples.md: real samples of a sphere and two tori, their guide triangles against every
-bound (seed 0, σ = 3/4, δ = 2ε, ρ_f = 1.38; about 10 minutes, 3 GB).
+bound of both targets and against H3 (seed 0, σ = 3/4, δ = 2ε, ρ_f = 1.38; about 10 minutes,
+3 GB).
 
 The test recomputes one row (the torus (1.5, 1) at ε = 0.03, a few seconds) with
 ``quick_check`` and checks it against the table.
@@ -12,11 +13,12 @@ from vorobound.reports.check import check_surface
 from vorobound.sampling.surfaces import SphereShape, TorusShape
 
 CASES = (
-    ("sphere", (1.0,), ("0.03", "tight", "0.01", "0.005", "paper")),
-    ("torus", (3.0, 1.0), ("0.03", "tight", "0.01")),
-    ("torus", (1.5, 1.0), ("0.03", "tight", "0.01")),
+    ("sphere", (1.0,), ("0.03", "tight", "0.01", "ratio", "0.005", "paper")),
+    ("torus", (3.0, 1.0), ("0.03", "tight", "0.01", "ratio")),
+    ("torus", (1.5, 1.0), ("0.03", "tight", "0.01", "ratio")),
 )
-"""Surfaces and ε (numbers, or the paper's / the tight ε*) whose samples fit in memory."""
+"""Surfaces and ε (numbers, or the paper's / the tight additive / the tight ratio ε*) whose
+samples fit in memory."""
 FIRST_HEADER = (
     "| surface | ε | samples | guide triangles | half-covered share | coverage_max | "
     "sparsity_min | max R/(δL_i) | outside constraint set |\n"
@@ -26,16 +28,26 @@ SECOND_HEADER = (
     "| surface | ε | max (R − R̂)/(εL_i) | paper | rigorous | tight | tight, λ = 1 |\n"
     "|---|---|---|---|---|---|---|\n"
 )
+THIRD_HEADER = (
+    "| surface | ε | max R/R̂ | tight sup R/R̂ | tight, λ = 1 | above ρ_f = 1.38 | "
+    "max R(1−ε)/(εL_i) (H3: ≤ 1) |\n"
+    "|---|---|---|---|---|---|---|\n"
+)
 MODES = ("paper", "rigorous", "tight", "tight_lipschitz")
 
 
-def rows(kind: str, dims: tuple, value: str) -> tuple[str, str]:
-    """The two table rows of one surface and ε."""
+def rows(kind: str, dims: tuple, value: str) -> tuple[str, str, str]:
+    """The three table rows of one surface and ε."""
     quality = QualityParams()
-    named = {"paper": PAPER_EPS, "tight": tight_eps_star(quality).eps_star}
+    named = {
+        "paper": PAPER_EPS,
+        "tight": tight_eps_star(quality).eps_star,
+        "ratio": tight_eps_star(quality, target="ratio").eps_star,
+    }
     shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
     eps = named.get(value) or float(value)
-    label = f"{eps:.6g}" + (f" ({value} ε*)" if value in named else "")
+    names = {"paper": "paper ε*", "tight": "tight ε*", "ratio": "tight ratio ε*"}
+    label = f"{eps:.6g}" + (f" ({names[value]})" if value in named else "")
     s = check_surface(shape, eps, quality, seed=0).summary()
     first = (
         f"| {shape.name} | {label} | {s['n_samples']:,} | {s['n_guide_triangles']:,} | "
@@ -51,25 +63,35 @@ def rows(kind: str, dims: tuple, value: str) -> tuple[str, str]:
         text = "n/a" if bound is None else f"{bound:.4g}"
         cells.append(text + ratio + (f", {over} above" if over else ""))
     second = f"| {shape.name} | {label} | {gap:.4g} | " + " | ".join(cells) + " |\n"
-    return first, second
+    sups = [s["ratio_bound"][mode]["value"] for mode in ("tight", "tight_lipschitz")]
+    sup_cells = ["∞" if sup is None else f"{sup:.4g} ({s['ratio_max'] / sup:.3f})" for sup in sups]
+    third = (
+        f"| {shape.name} | {label} | {s['ratio_max']:.4f} | "
+        + " | ".join(sup_cells)
+        + f" | {s['ratio_violations']} | {s['h3_ratio_max']:.4f} |\n"
+    )
+    return first, second, third
 
 
 def render() -> str:
-    pairs = [rows(kind, dims, value) for kind, dims, values in CASES for value in values]
+    rows_ = [rows(kind, dims, value) for kind, dims, values in CASES for value in values]
     return (
         FIRST_HEADER
-        + "".join(first for first, _ in pairs)
+        + "".join(r[0] for r in rows_)
         + "\n"
         + SECOND_HEADER
-        + "".join(second for _, second in pairs)
+        + "".join(r[1] for r in rows_)
+        + "\n"
+        + THIRD_HEADER
+        + "".join(r[2] for r in rows_)
     )
 
 
 def quick_check(block: str) -> None:
     assert block.startswith(FIRST_HEADER)
-    first, second = rows("torus", (1.5, 1.0), "0.03")
+    first, second, third = rows("torus", (1.5, 1.0), "0.03")
     stale = "docs/samples.md is stale: run python scripts/update_docs.py"
-    assert first in block and second in block, stale
+    assert first in block and second in block and third in block, stale
 
 
 if __name__ == "__main__":

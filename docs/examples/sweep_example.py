@@ -3,7 +3,7 @@
 import contextlib
 import io
 
-ARGS = ["sweep", "--rho-f", "1.2:1.5:4", "--mode", "paper,rigorous", "--format", "csv"]
+ARGS = ["sweep", "--rho-f", "1.2:1.5:4", "--mode", "rigorous,tight", "--format", "csv"]
 
 
 def render() -> str:

@@ -11,6 +11,10 @@ b = |p_i p_k|, a = |p_j p_k|, θ the angle at p_i, and R ≤ ε/(1−ε)·L_i.
   the other two angles, each at least arcsin(k_sin): cos θ ≥ 2 k_sin² − 1;
 * eq. (52) then holds with that k_cos;
 * a − sqrt(a² − k) = k/(a + sqrt(a² − k)) ≤ min(sqrt(k), k/a) for 0 ≤ k ≤ a², with a ≥ a_min.
+
+The same bound on k also bounds the ratio target R ≤ ρ_f·R̂ of eq. (54): by eq. (30),
+(R − R̂)/R = (a − sqrt(a² − k))/a, so (R − R̂)/R ≤ sqrt(k)/a_min as printed (``paper``) and
+≤ min(sqrt(k), k/a_min)/a_min (``rigorous``), and R/R̂ ≤ 1/(1 − that) while it is below 1.
 """
 
 from __future__ import annotations
@@ -58,6 +62,9 @@ class ChainBounds:
     bound_obtuse: np.ndarray = _eq("(29)", "θ > π/2: bound on R − R̂")
     bound: np.ndarray = _eq("(29)", "upper bound on R − R̂ (worse case)")
     target: np.ndarray = _eq("(55)", "(ρ_f − 1)·δ·L_i")
+    share_bound: np.ndarray = _eq("(30)", "upper bound on (R − R̂)/R (worse case)")
+    ratio_bound: np.ndarray = _eq("(30), (54)", "upper bound on R/R̂: 1/(1 − that), ∞ from 1 on")
+    share_target: np.ndarray = _eq("(54)", "largest (R − R̂)/R with R ≤ ρ_f·R̂: 1 − 1/ρ_f")
 
     def rows(self):
         """(name, equation, description, value) for every quantity, in chain order."""
@@ -133,6 +140,15 @@ def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> Chain
             bound_obtuse = _gap_bound(k_max_obtuse, edge_min) / (2 * sin_obtuse)
     bound = np.fmax(bound_acute, bound_obtuse)
     bound = np.where(np.isnan(bound_acute) | np.isnan(bound_obtuse), np.nan, bound)
+    k_max = np.fmax(k_max_acute, k_max_obtuse)
+    k_max = np.where(np.isnan(k_max_acute) | np.isnan(k_max_obtuse), np.nan, k_max)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if mode is Mode.paper:
+            share_bound = np.sqrt(k_max) / edge_min  # eq. (30) as printed
+        else:
+            share_bound = _gap_bound(k_max, edge_min) / edge_min
+        ratio_bound = np.where(share_bound < 1, 1 / (1 - share_bound), np.inf)
+    ratio_bound = np.where(np.isnan(share_bound), np.nan, ratio_bound)
     return ChainBounds(
         mode=mode.value,
         eps=e,
@@ -157,6 +173,9 @@ def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> Chain
         bound_obtuse=bound_obtuse,
         bound=bound,
         target=(rho_f - 1) * ratio * e * lfs,
+        share_bound=share_bound,
+        ratio_bound=ratio_bound,
+        share_target=1 - 1 / rho_f,
     )
 
 

@@ -185,10 +185,11 @@ def _candidates(
 ):
     eps, lfs = params.eps, params.lfs
     lo = constraints.edge_min(eps, params.sigma) * lfs
-    hi = constraints.edge_max(eps) * lfs
+    hi = constraints.edge_cap(eps, params.sigma) * eps * lfs
     b = rng.uniform(lo, hi, n)
     c = rng.uniform(lo, hi, n)
-    theta = rng.uniform(0, np.pi, n)
+    theta_lo = np.arcsin(np.clip(constraints.k_sin(eps, params.sigma), 0, 1))
+    theta = rng.uniform(theta_lo, constraints.angle_max(eps, params.sigma), n)
     # L_j, L_k between L_i and their cap: (33), or the Lipschitz cap L_i + λ·edge when lower
     # (drawing below the cap keeps rejection efficient even for a tiny λ).
     excess_hi = 2 * eps / (1 - eps)  # (33): (1+ε)/(1−ε) − 1

@@ -94,6 +94,32 @@ def is_empty(eps, sigma) -> bool:
     return bool(sigma * (1 - eps) > SQRT3)
 
 
+def empty_below(sigma) -> float:
+    """The ε below which the constraint set is empty: 1 − √3/σ for σ > √3, else 0.
+
+    :func:`is_empty` holds exactly for ε < this value. Below it every bound is met vacuously,
+    so an ε* search starts there (the answer is not "no ε*").
+    """
+    return max(0.0, 1 - SQRT3 / float(sigma))
+
+
+def angle_max(eps, sigma):
+    """Largest angle of a feasible triangle: π − 2·arcsin(k_sin).
+
+    Every angle has sine ≥ k_sin (eq. (48)), so the other two angles are each at least
+    arcsin(k_sin) and their sum at most π minus the angle. A consequence of the constraints
+    that only narrows search boxes (numpy floats or arrays).
+    """
+    return np.pi - 2 * np.arcsin(np.clip(k_sin(eps, sigma), 0, 1))
+
+
+def edge_cap(eps, sigma):
+    """Longest edge of a feasible triangle over εL_i: 2R·sin(opposite angle) with
+    R ≤ ε/(1−ε)·L_i (H3), the sine at most sin(angle_max) once that angle is acute."""
+    largest = np.minimum(angle_max(eps, sigma), np.pi / 2)
+    return 2 / (1 - eps) * np.sin(largest)
+
+
 def cos_min(eps, sigma):
     """Valid lower bound 2·k_sin² − 1 on cos θ (docs/errata.md E4; replaces eq. (49)).
 

@@ -8,25 +8,25 @@ eq. (52) needs |k_cos| ≤ 1) before it reaches the target, there is no ε*, and
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import InputError, NoAdmissibleEps
+from . import constraints
 from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
 from .configurations import GuideConfiguration
 from .params import EPS_RANGE, Mode, QualityParams, SamplingParams
+from .targets import Target
 
 SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
 RTOL = 1e-13
 """Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
-SIGMA_EMPTY = math.sqrt(3)
-"""For σ > √3 no guide triangle exists at small ε: every triangle has an angle of at most 60°,
-whose opposite edge is at most √3·R ≤ √3·ε/(1−ε)·L_i (H3), while every edge is at least σεL_i."""
+EMPTY_START_RTOL = 1e-6
+"""Scans for σ > √3 start this far (relative) above the ε below which no guide triangle exists."""
 
 
 class NoCrossing(NoAdmissibleEps):
@@ -54,6 +54,11 @@ class EpsStar:
     """For the tight mode: the worst guide triangle at ε*."""
     lipschitz: float | None = None
     """The Lipschitz constant of the constraint set (tight mode), if any."""
+    target: str = "additive"
+    """Which target ε* is for: additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂)."""
+    proven_lower_bound: float | None = None
+    """When the claim is numerical: an ε* proven by the closed form to be admissible (a lower
+    bound on the tight ε*), or None."""
 
     @property
     def params(self) -> SamplingParams:
@@ -61,23 +66,52 @@ class EpsStar:
         return self.quality.at(self.eps_star)
 
 
-def check_not_empty(quality: QualityParams, mode: str) -> None:
-    """Raise :class:`NoAdmissibleEps` when no guide triangle exists at small ε (σ ≥ 2)."""
-    if quality.sigma > SIGMA_EMPTY:
+def feasible_start(quality: QualityParams, mode: str) -> float:
+    """The ε from which guide triangles exist (0 for σ ≤ √3); raise if there is none at all.
+
+    For σ > √3 the constraint set is empty below 1 − √3/σ (:func:`constraints.empty_below`):
+    every bound holds there vacuously, so ε* is sought above it.
+    """
+    start = constraints.empty_below(quality.sigma)
+    if start * (1 + EMPTY_START_RTOL) >= EPS_RANGE[1]:
         raise NoAdmissibleEps(
-            f"sigma = {quality.sigma:g} > sqrt(3): no triangle satisfies the sparsity "
-            f"conditions (34)-(36) together with H3 at small eps, so the {mode} bound has no eps*"
+            f"sigma = {quality.sigma:g}: no guide triangle satisfies the sparsity conditions "
+            f"(34)-(36) together with H3 for any supported eps, so the {mode} bound has no eps*"
         )
+    return start
 
 
-def relative_gap_function(quality: QualityParams, mode: Mode | str) -> Callable:
-    """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized; NaN where undefined)."""
+def feasible_grid(grid, start: float) -> np.ndarray:
+    """The scan grid restricted to ε above ``start`` (starting just above it when it is > 0)."""
+    grid = np.asarray(grid, dtype=float)
+    if start <= 0:
+        return grid
+    first = start * (1 + EMPTY_START_RTOL)
+    return np.concatenate([[first], grid[grid > first]])
+
+
+def chain_gap(chain, target: Target | str) -> np.ndarray:
+    """bound/target − 1 of a chain for ``target`` (NaN where the chain is undefined)."""
+    if Target(target) is Target.ratio:
+        return chain.share_bound / chain.share_target - 1
+    return chain.bound / chain.target - 1
+
+
+def relative_gap_function(
+    quality: QualityParams, mode: Mode | str, target: Target | str = Target.additive
+) -> Callable:
+    """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized; NaN where undefined).
+
+    For the ratio target the bound is the chain's bound on (R − R̂)/R (eq. (30)) and the
+    target 1 − 1/ρ_f (R ≤ ρ_f·R̂, eq. (54)); for the additive target R − R̂ against
+    (ρ_f − 1)δL_i.
+    """
 
     def gap(eps):
         chain = chain_arrays(
             eps, quality.sigma, quality.delta_ratio, quality.lfs, quality.rho_f, mode
         )
-        return chain.bound / chain.target - 1
+        return chain_gap(chain, target)
 
     return gap
 
@@ -108,7 +142,8 @@ def crossing_bracket(gap: Callable, values: np.ndarray, grid: np.ndarray, mode: 
     undefined = np.flatnonzero(np.isnan(values))
     if positive.size and positive[0] == 0:
         raise NoAdmissibleEps(
-            f"the {mode} bound exceeds the target already at eps = {grid[0]:g}: no admissible eps"
+            f"the {mode} bound exceeds the target already at eps = {grid[0]:g}, the smallest "
+            "eps at which a guide triangle exists or is supported: no admissible eps"
         )
     if undefined.size and (not positive.size or undefined[0] < positive[0]):
         cell = int(undefined[0])
@@ -161,8 +196,10 @@ def find_eps_star(
     )
 
 
-def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> EpsStar:
-    """Largest ε keeping a chain's bound on R − R̂ within (ρ_f − 1)·δ·L_i.
+def solve_eps_star(
+    quality: QualityParams, mode: Mode | str = Mode.paper, target: Target | str = Target.additive
+) -> EpsStar:
+    """Largest ε keeping a chain's bound within the target.
 
     Parameters
     ----------
@@ -170,6 +207,8 @@ def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> Eps
         σ, δ/ε, ρ_f and L_i.
     mode : {"paper", "rigorous"}
         Which chain; the tight mode lives in :mod:`vorobound.bounds.tight`.
+    target : {"additive", "ratio"}
+        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)) through eq. (30).
 
     Raises
     ------
@@ -181,12 +220,14 @@ def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> Eps
     ----------
     Eq. (29), (33)–(55); Figure 3.
     """
-    mode = Mode(mode)
+    mode, target = Mode(mode), Target(target)
     if mode is Mode.tight:
         raise InputError("solve_eps_star handles the chains; use vorobound.bounds.tight")
-    check_not_empty(quality, mode.value)
-    gap = relative_gap_function(quality, mode)
-    return find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value])
+    start = feasible_start(quality, mode.value)
+    gap = relative_gap_function(quality, mode, target)
+    grid = feasible_grid(SCAN_GRID, start)
+    result = find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
+    return replace(result, target=target.value)
 
 
 ROOT_ITERATIONS = 100
@@ -204,29 +245,36 @@ STATUS_EXCEEDS_AT_START = 1
 STATUS_NO_CROSSING = 2
 """The bound stays within the target wherever it is defined."""
 STATUS_EMPTY = 3
-"""σ > √3: no feasible guide triangle at small ε."""
+"""No feasible guide triangle at any supported ε (σ(1 − ε) > √3 up to ε = 0.999)."""
 STATUS_REASONS = {
-    STATUS_EXCEEDS_AT_START: "bound exceeds the target at the smallest eps",
+    STATUS_EXCEEDS_AT_START: "bound exceeds the target at the smallest eps with guide triangles",
     STATUS_NO_CROSSING: "bound never reaches the target where it is defined",
-    STATUS_EMPTY: "sigma > sqrt(3): no feasible guide triangle",
+    STATUS_EMPTY: "no feasible guide triangle at any supported eps",
 }
 """Why a batch row has no ε* (for the empty cells of a sweep)."""
 
 
 def solve_eps_star_batch(
-    sigma, delta_ratio, rho_f, mode: Mode | str, grid=BATCH_SCAN_GRID
+    sigma,
+    delta_ratio,
+    rho_f,
+    mode: Mode | str,
+    grid=BATCH_SCAN_GRID,
+    target: Target | str = Target.additive,
 ) -> tuple[np.ndarray, np.ndarray]:
     """ε* for many parameter sets at once (closed-form chains).
 
     Same definition as :func:`solve_eps_star`, found by a vectorized scan of ``grid`` and
     bisection of each row's bracket to full precision. ε* does not depend on L_i. The caller
-    validates the parameters (e.g. through :class:`QualityParams`).
+    validates the parameters (e.g. through :class:`QualityParams`). Where σ > √3 the
+    constraint set is empty below 1 − √3/σ and the bound counts as met there (vacuously).
 
     Parameters
     ----------
     sigma, delta_ratio, rho_f : array_like
         Broadcast together; one ε* per element.
     mode : {"paper", "rigorous"}
+    target : {"additive", "ratio"}
 
     Returns
     -------
@@ -240,10 +288,13 @@ def solve_eps_star_batch(
     )
     shape = sigma.shape
     s, r, q = (x.reshape(-1, 1) for x in (sigma, ratio, rho_f))
+    start = np.maximum(0.0, 1 - constraints.SQRT3 / s)  # constraints.empty_below, per row
+    first_eps = np.where(start > 0, start * (1 + EMPTY_START_RTOL), grid[0])
 
     def gap_rows(eps, index):
         chain = chain_arrays(eps, s[index], r[index], 1.0, q[index], mode)
-        return chain.bound / chain.target - 1
+        values = chain_gap(chain, target)
+        return np.where(np.asarray(eps) < first_eps[index], -1.0, values)  # vacuous below
 
     with np.errstate(invalid="ignore"):
         values = gap_rows(grid[None, :], slice(None))
@@ -277,7 +328,18 @@ def solve_eps_star_batch(
         f_lo[found], f_hi[found] = values[found, cell[crosses] - 1], at_edge[crosses]
     status[first_nan == 0] = STATUS_NO_CROSSING
     status[first_pos == 0] = STATUS_EXCEEDS_AT_START
-    status[s[:, 0] > SIGMA_EMPTY] = STATUS_EMPTY
+    # Rows with an empty start: is the bound already above the target at the first ε with
+    # guide triangles? Then there is no admissible ε (the vacuous range below is not one).
+    late = np.flatnonzero((start[:, 0] > 0) & (status == STATUS_OK))
+    if late.size:
+        with np.errstate(invalid="ignore"):
+            at_start = gap_at(first_eps[late, 0], late)
+        status[late[at_start > 0]] = STATUS_EXCEEDS_AT_START
+        # Bracket from the first feasible ε (the scan's lower end may lie in the empty range).
+        raise_lo = late[(at_start <= 0) & (lo[late] < first_eps[late, 0])]
+        lo[raise_lo] = first_eps[raise_lo, 0]
+        f_lo[raise_lo] = gap_at(first_eps[raise_lo, 0], raise_lo)
+    status[first_eps[:, 0] >= EPS_RANGE[1]] = STATUS_EMPTY
     ok = status == STATUS_OK
     rows = np.flatnonzero(ok)
     lo[rows] = _bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)

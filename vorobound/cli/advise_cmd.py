@@ -15,9 +15,11 @@ from .options import (
     Lipschitz,
     RhoF,
     Sigma,
+    TargetsOpt,
     params_dict,
     parse_modes,
     parse_numbers,
+    parse_targets,
     quality_params,
 )
 from .progress import progress_bar
@@ -86,7 +88,8 @@ def advise(
     lipschitz: Lipschitz = None,
     mode: Annotated[
         str, typer.Option("--mode", help="Comma list of modes: paper, rigorous, tight.")
-    ] = "paper,rigorous,tight",
+    ] = "rigorous,tight",
+    target: TargetsOpt = "additive,ratio",
     area: Annotated[float | None, typer.Option("--area", help="Surface area (with --lfs).")] = None,
     lfs: Annotated[
         float | None, typer.Option("--lfs", help="Constant local feature size L.")
@@ -108,16 +111,19 @@ def advise(
     ] = None,
     as_json: Json = False,
 ) -> None:
-    """Largest ε per mode, ball radius δ·L, spacing σ·ε·L and sample counts for a surface.
+    """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
+    surface, and the ε to use.
 
-    Sample counts are a covering lower and a packing upper estimate (exact bounds on a
-    sphere; docs/advisor.md), and the reduction against ε = 1/500 by the same formula. Each
-    mode's ε* says how strong it is: proven, numerical or invalid.
+    The recommendation is the most conservative proven or certified ε* among the targets asked
+    for (default: both), and says which target binds. Sample counts are a covering lower and a
+    packing upper estimate (exact bounds on a sphere; docs/advisor.md). Each row says how strong
+    its ε* is: proven, certified, numerical or invalid.
     """
     from ..reports.advisor import GUARANTEE
     from ..reports.advisor import advise as run_advice
 
     modes = parse_modes(mode)
+    targets = parse_targets(target)
     quality = quality_params(sigma, delta_ratio, rho_f)
     from ..sampling.surfaces import planar_area
 
@@ -125,14 +131,16 @@ def advise(
         surface, lfs_source = _surface(area, lfs, sphere, torus, mesh, sizing, progress)
         # Without a surface, lengths are reported per unit L (counts are dropped below).
         basis = surface or planar_area(1.0, 1.0)
-        advice = run_advice(quality, basis, modes, lipschitz, progress=progress)
+        advice = run_advice(quality, basis, modes, lipschitz, progress=progress, targets=targets)
     entries = []
-    for a in advice:
+    for a in advice.rows:
         entry = {
             "mode": a.mode,
+            "target": a.target,
             "eps_star": a.eps_star,
             "claim": a.claim,
             "method": a.method,
+            "proven_lower_bound": a.proven_lower_bound,
             "ball_radius": a.ball_radius,
             "min_spacing": a.min_spacing,
             "samples_low": a.samples_low,
@@ -143,6 +151,28 @@ def advise(
         if surface is None:
             entry.update(samples_low=None, samples_high=None)
         entries.append(entry)
+    rec = advice.recommendation
+    recommendation = None
+    if rec is not None:
+        recommendation = {
+            "eps": rec.eps,
+            "binding_target": rec.binding_target,
+            "mode": rec.mode,
+            "claim": rec.claim,
+            "eps_per_target": rec.per_target,
+            "ball_radius": rec.ball_radius,
+            "min_spacing": rec.min_spacing,
+            "samples_low": None if surface is None else rec.samples_low,
+            "samples_high": None if surface is None else rec.samples_high,
+            "reduction_vs_1_500": rec.reduction_vs_1_500,
+        }
+    h3 = advice.h3_route
+    h3_entry = {
+        "eps_star": h3.eps_star,
+        "claim": h3.claim,
+        "premise": h3.premise,
+        "statement": "H3 alone gives R <= rho_f*delta*L_i (eq. (55)); not eq. (54)",
+    }
     surface_info = (
         None
         if surface is None
@@ -161,30 +191,64 @@ def advise(
                 "params": params_dict(quality, include_lfs=False),
                 "lipschitz": lipschitz,
                 "surface": surface_info,
+                "recommendation": recommendation,
                 "modes": entries,
+                "h3_route": h3_entry,
                 "guarantee": GUARANTEE,
             }
         )
         return
     title = "Sampling advice" + (f" for {surface.name}" if surface else " (lengths per unit L)")
+    table = [
+        (
+            e["mode"],
+            e["target"],
+            fmt(e["eps_star"], 5),
+            e["claim"],
+            fmt(e["ball_radius"], 5),
+            fmt(e["min_spacing"], 5),
+            "—"
+            if e["samples_low"] is None
+            else f"{e['samples_low']:,.0f} – {e['samples_high']:,.0f}",
+            _versus_baseline(e["reduction_vs_1_500"]),
+        )
+        for e in entries
+    ]
+    table.append(("H3 alone", "(55) only", fmt(h3.eps_star, 5), "given H3", "", "", "", "—"))
     print_table(
         title,
-        ("mode", "ε*", "claim", "ball radius δL", "spacing σεL", "samples (low–high)", "vs 1/500"),
-        [
-            (
-                e["mode"],
-                fmt(e["eps_star"], 5),
-                e["claim"],
-                fmt(e["ball_radius"], 5),
-                fmt(e["min_spacing"], 5),
-                "—"
-                if e["samples_low"] is None
-                else f"{e['samples_low']:,.0f} – {e['samples_high']:,.0f}",
-                f"{e['reduction_vs_1_500']:.2f}× fewer",
-            )
-            for e in entries
-        ],
+        (
+            "mode",
+            "target",
+            "ε*",
+            "claim",
+            "ball radius δL",
+            "spacing σεL",
+            "samples (low–high)",
+            "vs 1/500",
+        ),
+        table,
     )
+    if rec is None:
+        print("recommended ε: none (no target asked for has a proven or certified ε*)")
+    else:
+        counts = (
+            "" if surface is None else f", {rec.samples_low:,.0f} – {rec.samples_high:,.0f} samples"
+        )
+        print(
+            f"recommended ε = {fmt(rec.eps, 5)} ({rec.claim}; {rec.mode}, binding target "
+            f"{rec.binding_target}): ball radius {fmt(rec.ball_radius, 5)}{counts}, "
+            f"{_versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
+        )
     if surface is not None:
         print(f"local feature size L: {lfs_source}")
     print(GUARANTEE)
+
+
+def _versus_baseline(reduction: float | None) -> str:
+    """Sample count at ε = 1/500 over the count at ε*, in words ("—" when not trusted)."""
+    if reduction is None:
+        return "—"
+    if reduction >= 1:
+        return f"{reduction:.2f}× fewer"
+    return f"{1 / reduction:.2f}× more"

@@ -14,6 +14,8 @@ from .options import (
     ModeOpt,
     RhoF,
     Sigma,
+    TargetChoice,
+    TargetOpt,
     TightMethodOpt,
     params_dict,
     quality_params,
@@ -28,99 +30,112 @@ def bounds(
     delta_ratio: DeltaRatio = 2.0,
     lfs: Lfs = 1.0,
     rho_f: RhoF = 1.38,
-    mode: ModeOpt = ModeChoice.paper,
+    mode: ModeOpt = ModeChoice.tight,
+    target: TargetOpt = TargetChoice.ratio,
     lipschitz: Lipschitz = None,
     method: TightMethodOpt = MethodChoice.auto,
     as_json: Json = False,
 ) -> None:
-    """Every quantity of the chain (33)–(53) at one ε, and whether the bound meets the target.
+    """A mode's bound at one ε, against a target: every quantity of the chain (33)–(53), or the
+    tight supremum.
 
-    The target is (ρ_f − 1)·δ·L_i: with R̂ ≤ δ L_i it gives R ≤ ρ_f δ L_i (eq. (54)–(55)).
+    Targets: ratio, R ≤ ρ_f·R̂ (eq. (54)); additive, R − R̂ ≤ (ρ_f − 1)·δ·L_i, which with
+    R̂ ≤ δ·L_i gives R ≤ ρ_f·δ·L_i (eq. (55)). Every bound rests on property H3 (an assumption
+    from the VoroCrust literature).
     """
-    params = quality_params(sigma, delta_ratio, rho_f, lfs).at(eps)
     from ..bounds.constraints import is_empty
+    from ..bounds.guarantee import bound_at
+    from ..bounds.targets import H3_STATUS, STATEMENT, Target
 
+    params = quality_params(sigma, delta_ratio, rho_f, lfs).at(eps)
     if is_empty(params.eps, params.sigma):
         raise VoroboundError(
             f"no guide triangle is feasible at eps = {eps:g}, sigma = {sigma:g} "
             "(sigma*(1-eps) > sqrt(3)): every bound is vacuous there"
         )
-    if mode is ModeChoice.tight:
-        return _tight_bounds(params, lipschitz, method, as_json)
-    if lipschitz is not None:
-        raise VoroboundError("--lipschitz applies to --mode tight only")
-    from ..bounds.chain import chain_bounds
-    from ..bounds.claims import CHAIN_CLAIM
-
-    chain = chain_bounds(params, mode.value)
-    bound, target = float(chain.bound), float(chain.target)
-    if bound != bound:  # NaN: the chain's own formulas are undefined here
+    with progress_bar(not as_json and mode is ModeChoice.tight) as progress:
+        if mode is ModeChoice.tight:
+            progress("tight supremum", 0, None)
+        result = bound_at(params, mode.value, target.value, lipschitz, method.value)
+    if result.fraction != result.fraction:  # NaN: the chain's own formulas are undefined here
         raise VoroboundError(
             f"the {mode.value} chain is not defined at eps = {eps:g}, sigma = {sigma:g} "
             "(a square root of a negative number in eq. (51)-(52): no feasible guide triangle "
             "or |k_cos| > 1)"
         )
-    quantities = {
-        name: {"equation": eq, "description": text, "value": float(value)}
-        for name, eq, text, value in chain.rows()
-    }
-    if as_json:
-        print_json(
-            {
-                "mode": mode.value,
-                "claim": CHAIN_CLAIM[mode.value],
-                "params": params_dict(params.quality, params.eps),
-                "quantities": quantities,
-                "bound": bound,
-                "target": target,
-                "meets_target": bound <= target,
-            }
-        )
-        return
-    rows = [
-        (name, q["equation"], fmt(q["value"]), q["description"]) for name, q in quantities.items()
-    ]
-    print_table(
-        f"Chain (33)–(53), mode {mode.value} ({CHAIN_CLAIM[mode.value]}), ε = {eps:g}",
-        ("quantity", "eq.", "value", "meaning"),
-        rows,
-    )
-    verdict = "meets" if bound <= target else "exceeds"
-    print(f"bound on R − R̂ = {fmt(bound)} {verdict} the target (ρ_f − 1)·δ·L_i = {fmt(target)}")
-
-
-def _tight_bounds(params, lipschitz, method, as_json) -> None:
-    from ..bounds.tight.method import tight_bound
-
-    with progress_bar(not as_json) as progress:
-        progress("tight supremum", 0, None)
-        result = tight_bound(params, lipschitz, method.value)
+    statement = STATEMENT[Target(target.value)]
     payload = {
-        "mode": "tight",
+        "mode": mode.value,
+        "target": target.value,
+        "target_statement": statement,
         "method": result.method,
         "claim": result.claim,
         "params": params_dict(params.quality, params.eps),
         "lipschitz": lipschitz,
         "bound": result.value,
-        "target": params.target,
-        "meets_target": result.value <= params.target,
-        "maximizer": result.maximizer,
+        "limit": result.limit,
+        "fraction_of_target": result.fraction,
+        "meets_target": result.meets_target,
+        "premise": H3_STATUS,
     }
-    if result.optimizer is not None:
-        payload["infimum"] = result.optimizer.infimum
-        payload["minimizer"] = result.optimizer.minimizer
-        payload["evidence"] = result.optimizer.evidence
-        payload["infimum_evidence"] = result.optimizer.infimum_evidence
+    if target is TargetChoice.ratio:
+        payload["share_bound"] = result.fraction * (1 - 1 / rho_f)
+        if result.value == float("inf"):
+            payload["bound_note"] = UNBOUNDED
+    if mode is ModeChoice.tight:
+        _add_tight(payload, result.detail)
+    else:
+        payload["quantities"] = {
+            name: {"equation": eq, "description": text, "value": float(value)}
+            for name, eq, text, value in result.detail.rows()
+        }
     if as_json:
         print_json(payload)
         return
+    quantity = "R/R̂" if target is TargetChoice.ratio else "R − R̂"
+    limit = "ρ_f" if target is TargetChoice.ratio else "(ρ_f − 1)·δ·L_i"
+    if mode is ModeChoice.tight:
+        _print_tight(params, lipschitz, result, quantity)
+    else:
+        rows = [
+            (name, q["equation"], fmt(q["value"]), q["description"])
+            for name, q in payload["quantities"].items()
+        ]
+        print_table(
+            f"Chain (33)–(53), mode {mode.value} ({result.claim}), ε = {eps:g}",
+            ("quantity", "eq.", "value", "meaning"),
+            rows,
+        )
+    verdict = "meets" if result.meets_target else "exceeds"
+    shown = "∞ (" + UNBOUNDED + ")" if result.value == float("inf") else fmt(result.value)
+    print(
+        f"bound on {quantity} = {shown} {verdict} the target {limit} = "
+        f"{fmt(result.limit)} ({fmt(result.fraction, 6)} of it; {result.claim})"
+    )
+    print(f"premise: {H3_STATUS}")
+
+
+UNBOUNDED = "no finite bound: the bound on (R - R^)/R is 1 or more, so R^ may be 0"
+
+
+def _add_tight(payload: dict, tight) -> None:
+    payload["maximizer"] = tight.maximizer
+    if tight.optimizer is not None:
+        payload["infimum"] = tight.optimizer.infimum
+        payload["minimizer"] = tight.optimizer.minimizer
+        payload["evidence"] = tight.optimizer.evidence
+        payload["infimum_evidence"] = tight.optimizer.infimum_evidence
+
+
+def _print_tight(params, lipschitz, result, quantity: str) -> None:
+    tight = result.detail
     rows = [
-        ("sup R − R̂ (tight bound)", fmt(result.value)),
-        ("target (ρ_f − 1)·δ·L_i", fmt(params.target)),
+        (f"sup {quantity} (tight bound)", fmt(result.value)),
         ("method, claim", f"{result.method}, {result.claim}"),
     ]
-    if result.optimizer is not None:
-        rows.insert(1, ("inf R − R̂", fmt(result.optimizer.infimum)))
-    rows += [(f"maximizer {k}", fmt(v)) for k, v in vars(result.maximizer).items()]
-    title = f"Tight supremum, ε = {params.eps:g}, λ = {lipschitz}"
+    if tight.optimizer is not None:
+        name = "inf (R − R̂)/R" if quantity == "R/R̂" else "inf R − R̂"
+        rows.insert(1, (name, fmt(tight.optimizer.infimum)))
+    rows += [(f"maximizer {k}", fmt(v)) for k, v in vars(tight.maximizer).items()]
+    title = f"Tight supremum of {quantity}, ε = {params.eps:g}, λ = {lipschitz}"
     print_table(title, ("quantity", "value"), rows)

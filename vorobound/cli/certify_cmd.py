@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
-from .options import DeltaRatio, Json, RhoF, Sigma
+from .options import DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
 from .progress import progress_bar
 from .render import fmt, print_json, print_table
 
@@ -25,7 +25,11 @@ CertLipschitz = Annotated[
 ]
 CertEps = Annotated[
     float | None,
-    typer.Option("--eps", help="Certify every ε in (0, EPS] (default: --fraction × tight ε*)."),
+    typer.Option(
+        "--eps",
+        help="Certify every ε in (0, EPS] (default: --fraction × the tight ε* that "
+        "`vorobound solve --mode tight` prints for the same target).",
+    ),
 ]
 Fraction = Annotated[
     float, typer.Option("--fraction", help="Without --eps, certify this fraction of tight ε*.")
@@ -56,6 +60,7 @@ def certify(
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     rho_f: RhoF = PAPER_RHO_F,
     lipschitz: CertLipschitz = None,
+    target: TargetOpt = TargetChoice.ratio,
     eps: CertEps = None,
     fraction: Fraction = 0.999,
     out: Out = None,
@@ -64,36 +69,51 @@ def certify(
     max_boxes: MaxBoxes = None,
     as_json: Json = False,
 ) -> None:
-    """Prove with interval arithmetic that R − R̂ ≤ (ρ_f − 1)·δ·L_i for every ε ≤ EPS.
+    """Prove with interval arithmetic that the target holds for every ε ≤ EPS: R ≤ ρ_f·R̂
+    (ratio, eq. (54)) or R − R̂ ≤ (ρ_f − 1)·δ·L_i (additive).
 
     Covers every guide triangle of the constraint set (33)–(36), H3, pairwise sparsity and the
     optional Lipschitz conditions, by bisecting boxes (ε a coordinate) until each violates a
-    constraint or has an outward-rounded bound ≤ the target. Exit code 1, with a feasible
-    counterexample, if EPS is above the true ε*. --check re-verifies a saved certificate.
+    constraint or has an outward-rounded bound within the target. Exit code 1, with a feasible
+    counterexample, if EPS is above the true ε*. --check re-verifies a saved certificate. H3
+    itself is an assumption from the VoroCrust literature.
     """
     if check is not None:
         return _check(check, as_json)
-    from ..bounds.certify import NotCertified, Target, certify_target, search_limits
+    from ..bounds.certify import CertifyRequest, NotCertified, certify_request, search_limits
 
-    target = Target.of(sigma, delta_ratio, rho_f, lipschitz, eps=eps, fraction=fraction)
     limits = search_limits(max_depth, max_boxes)
     with progress_bar(not as_json) as progress:
+        request = CertifyRequest.of(
+            sigma,
+            delta_ratio,
+            rho_f,
+            lipschitz,
+            eps=eps,
+            fraction=fraction,
+            target=target.value,
+            progress=progress,
+        )
         try:
-            result = certify_target(target, **limits, progress=progress)
+            result = certify_request(request, **limits, progress=progress)
         except NotCertified as failure:
-            _report_failure(failure, as_json)
+            _report_failure(failure, as_json, target.value)
             raise typer.Exit(EXIT_NOT_CERTIFIED) from None
     if out is not None:
         from ..bounds.certify.certificate import write_certificate
 
         write_certificate(out, result.certificate())
     search = result.search
+    from ..bounds.targets import H3_STATUS
+
     payload = {
         "certified": True,
         "claim": "certified",
+        "target": request.target,
+        "statement": result.certificate()["statement"],
         "eps_certified": result.eps_certified,
-        "eps_star_tight": target.eps_star_tight,
-        "eps_star_tight_status": target.eps_star_status,
+        "eps_star_tight": request.eps_star_tight,
+        "eps_star_tight_status": request.eps_star_status,
         "ratio": result.ratio,
         "boxes": search.boxes,
         "max_depth": search.max_depth,
@@ -105,25 +125,29 @@ def certify(
             "rho_f": rho_f,
             "lipschitz": lipschitz,
         },
+        "premise": H3_STATUS,
     }
     if as_json:
         print_json(payload)
         return
     rows = [
+        ("target", payload["statement"].split(": ", 1)[-1].split(", with R^")[0]),
         ("certified: every ε ≤", fmt(result.eps_certified, 12)),
-        ("tight ε* (closed form)", f"{fmt(target.eps_star_tight, 12)} ({target.eps_star_status})"),
+        ("tight ε*", f"{fmt(request.eps_star_tight, 12)} ({request.eps_star_status})"),
         ("certified / tight", fmt(result.ratio, 8)),
         ("boxes", str(search.boxes)),
         ("deepest bisection", str(search.max_depth)),
         ("seconds", fmt(search.seconds, 3)),
         ("certificate", "not written (use --out)" if out is None else str(out)),
     ]
+    lam = "none" if lipschitz is None else f"{lipschitz:g}"
     print_table(
-        f"Interval certificate (σ = {sigma:g}, δ/ε = {delta_ratio:g}, ρ_f = {rho_f:g}, "
-        f"λ = {'none' if lipschitz is None else f'{lipschitz:g}'})",
+        f"Interval certificate, {request.target} target (σ = {sigma:g}, δ/ε = "
+        f"{delta_ratio:g}, ρ_f = {rho_f:g}, λ = {lam})",
         ("quantity", "value"),
         rows,
     )
+    print(f"premise: {H3_STATUS}")
 
 
 def _check(path: Path, as_json: bool) -> None:
@@ -139,6 +163,7 @@ def _check(path: Path, as_json: bool) -> None:
     out = {
         "valid": True,
         "certificate": str(path),
+        "target": report.target,
         "eps_certified": report.eps_max,
         "params": {
             "sigma": report.sigma,
@@ -158,6 +183,7 @@ def _check(path: Path, as_json: bool) -> None:
         return
     rows = [
         ("valid", "yes: every leaf re-verified, the leaves tile the domain"),
+        ("target", report.target),
         ("every ε ≤", fmt(report.eps_max, 12)),
         (
             "σ, δ/ε, ρ_f, λ",
@@ -170,7 +196,7 @@ def _check(path: Path, as_json: bool) -> None:
     print_table(f"Certificate {path}", ("quantity", "value"), rows)
 
 
-def _report_failure(failure, as_json: bool) -> None:
+def _report_failure(failure, as_json: bool, target: str) -> None:
     """Print why certification stopped: the counterexample, or the unresolved box."""
     from ..bounds.certify.interval import DIMENSIONS, nearest_float
     from ..bounds.certify.search import absolute_configuration
@@ -191,7 +217,12 @@ def _report_failure(failure, as_json: bool) -> None:
             "excess_k": float(tri.excess_k[0]),
             "ratio_interval": [found.ratio_lower, found.ratio_upper],
             "ratio_float": found.ratio_float,
-            "units": "L_i = 1; ratio = (R - R^)/((rho_f - 1) delta L_i)",
+            "units": "L_i = 1; ratio = "
+            + (
+                "((R - R^)/R)/(1 - 1/rho_f), above 1 exactly where R > rho_f R^"
+                if target == "ratio"
+                else "(R - R^)/((rho_f - 1) delta L_i)"
+            ),
         }
     if failure.box is not None:
         payload["box"] = [[nearest_float(lo), nearest_float(hi)] for lo, hi in failure.box]

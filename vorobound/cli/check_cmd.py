@@ -164,6 +164,16 @@ def _print_summary(s: dict) -> None:
             ),
             ("max (R − R̂)/(εL_i)", fmt(s["gap_ratio_max"], 6), "realized gap (Theorem 1)"),
             (
+                "max R/R̂",
+                fmt(s["ratio_max"], 6),
+                f"≤ ρ_f = {p['rho_f']:g}, eq. (54) ({s['ratio_violations']} above)",
+            ),
+            (
+                "max R(1−ε)/(εL_i)",
+                fmt(s["h3_ratio_max"], 6),
+                f"≤ 1 if H3 holds (an assumption; {s['h3_violations']} above)",
+            ),
+            (
                 "outside constraint set",
                 f"{s['outside_constraint_set']:,}",
                 ", ".join(f"{k}: {v}" for k, v in s["constraint_violations"].items() if v)
@@ -187,6 +197,22 @@ def _print_summary(s: dict) -> None:
                 else f"{s['violations'][mode]:,}",
             )
             for mode, b in s["bound"].items()
+        ],
+    )
+    print_table(
+        "Bounds on R/R̂ at this ε (ratio target, eq. (54))",
+        ("mode", "claim", "bound", "realized max / bound", "triangles above"),
+        [
+            (
+                mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
+                b["claim"],
+                "none (∞)" if b["value"] is None else fmt(b["value"], 6),
+                "n/a"
+                if b["value"] is None or s["ratio_max"] is None
+                else fmt(s["ratio_max"] / b["value"], 4),
+                f"{s['ratio_bound_violations'].get(mode, 0):,}",
+            )
+            for mode, b in s["ratio_bound"].items()
         ],
     )
     for name, key in (("sparsity", "sparsity_worst"), ("Lipschitz", "lipschitz_worst")):

@@ -28,6 +28,31 @@ class MethodChoice(str, Enum):
     optimize = "optimize"
 
 
+class TargetChoice(str, Enum):
+    additive = "additive"
+    ratio = "ratio"
+
+
+TARGET_HELP = (
+    "ratio: R ≤ ρ_f·R̂, eq. (54), the form of VoroCrust's Lemma 9; additive: R − R̂ ≤ "
+    "(ρ_f − 1)·δ·L_i, the paper's target, which gives (55) R ≤ ρ_f·δ·L_i but not (54)."
+)
+TargetOpt = Annotated[TargetChoice, typer.Option("--target", help=TARGET_HELP)]
+TargetsOpt = Annotated[
+    str,
+    typer.Option("--target", help="Comma list of targets: additive, ratio. " + TARGET_HELP),
+]
+
+
+def parse_targets(text: str) -> list[str]:
+    """``--target`` as a comma list of additive, ratio (duplicates dropped, order kept)."""
+    names = [t.strip() for t in text.split(",")]
+    bad = [t for t in names if t not in TargetChoice.__members__]
+    if bad or not names:
+        raise InputError(f"--target: expected additive or ratio, got {text!r}")
+    return list(dict.fromkeys(names))
+
+
 TightMethodOpt = Annotated[
     MethodChoice,
     typer.Option(
@@ -38,9 +63,9 @@ TightMethodOpt = Annotated[
 ]
 
 MODE_HELP = (
-    "paper: the printed chain (33)–(53), invalid (docs/errata.md E4); rigorous: the corrected "
-    "chain, proven; tight: the supremum over the constraint set (docs/tight.md says where it is "
-    "proven and where it is numerical)."
+    "tight: the supremum over the constraint set (proven in closed form where docs/tight.md "
+    "says so, else numerical); rigorous: the corrected chain, proven; paper: the printed chain "
+    "(33)–(53), invalid (docs/errata.md E4), kept to reproduce the paper."
 )
 
 Eps = Annotated[float, typer.Option("--eps", help="Sampling density ε, 0 < ε < 1.")]

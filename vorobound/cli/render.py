@@ -40,15 +40,26 @@ def print_json(payload) -> None:
 
 
 def print_table(title: str, columns: Sequence[str], rows: Iterable[Sequence[str]]) -> None:
+    """A rich table that never cuts a cell short: narrow columns fold their text onto more
+    lines (no "…"), and output that is not a terminal is laid out as wide as it needs."""
+    import shutil
+    import sys
+
     from rich.console import Console
     from rich.table import Table
 
+    rows = [list(row) for row in rows]
     table = Table(title=title)
     for name in columns:
-        table.add_column(name)
+        table.add_column(name, overflow="fold")
     for row in rows:
         table.add_row(*row)
-    Console().print(table)
+    width = None
+    if not sys.stdout.isatty():
+        cells = [list(columns), *rows]
+        widest = [max(len(str(r[i])) for r in cells) for i in range(len(columns))]
+        width = max(shutil.get_terminal_size((100, 24)).columns, sum(widest) + 3 * len(widest) + 4)
+    Console(width=width).print(table)
 
 
 def fmt(value, digits: int = 10) -> str:

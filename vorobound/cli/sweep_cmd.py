@@ -16,7 +16,15 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
-from .options import Json, MethodChoice, TightMethodOpt, parse_modes, parse_values
+from .options import (
+    Json,
+    MethodChoice,
+    TargetsOpt,
+    TightMethodOpt,
+    parse_modes,
+    parse_targets,
+    parse_values,
+)
 from .progress import progress_bar
 from .render import fmt, jsonable, print_table
 
@@ -45,7 +53,8 @@ def sweep(
     ] = None,
     mode: Annotated[
         str, typer.Option("--mode", help="Comma list of modes: paper, rigorous, tight.")
-    ] = "paper,rigorous",
+    ] = "rigorous,tight",
+    target: TargetsOpt = "additive,ratio",
     lfs: Annotated[float, typer.Option("--lfs", help="Local feature size L_i.")] = 1.0,
     format: Annotated[
         TableFormat, typer.Option("--format", help="table for people, csv or json for programs.")
@@ -68,7 +77,8 @@ def sweep(
         typer.Option("--yes", help="Run tight grids estimated to take longer than 10 minutes."),
     ] = False,
 ) -> None:
-    """Sweep the parameters: ε* per (mode, λ, σ, ρ_f, δ/ε), or with --eps the bound per ε.
+    """Sweep the parameters: ε* per (mode, target, λ, σ, ρ_f, δ/ε), or with --eps the bound
+    per ε (on R − R̂ for the additive target, on R/R̂ for the ratio target).
 
     A row whose parameters admit no ε* has an empty ε* and its reason in the note column;
     every other problem stops the sweep with an error. Example:
@@ -91,6 +101,7 @@ def sweep(
         eps=None if eps is None else tuple(parse_values(eps, "--eps")),
         lfs=lfs,
         method=method.value,
+        targets=tuple(parse_targets(target)),
     )
     workers = usable_workers(jobs, spec.tight_rows)
     check_size(spec, workers, max_rows=max_rows, allow_long=yes)

@@ -1,4 +1,5 @@
-"""Sampling-parameter advice: largest ε per mode, ball radius, spacing, expected sample counts.
+"""Sampling-parameter advice: largest ε per mode and target, ball radius, spacing, expected
+sample counts, and the recommended ε (the most conservative proven or certified one).
 
 Sample counts for a surface S with local feature size L (docs/advisor.md):
 
@@ -17,20 +18,26 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..bounds.eps_star import EpsStar, solve_eps_star
+from ..bounds.claims import CERTIFIED, NUMERICAL, PROVEN
+from ..bounds.guarantee import eps_star
 from ..bounds.params import Mode, QualityParams, checked_lipschitz
+from ..bounds.targets import H3Route, Target, h3_route
 from ..constants import BASELINE_EPS
 from ..errors import InputError
 from ..progress import Progress
 from ..sampling.surfaces import Surface
 
 GUARANTEE = (
-    "What eps <= eps_star gives: every guide triangle of the mode's constraint set has "
-    "R - R_hat <= (rho_f - 1)*delta*L_i, so R <= rho_f*delta*L_i (the R - R_hat step of the "
-    "VoroCrust quality analysis, eq. (54)-(55)), with the strength stated per mode: proven "
-    "(algebra in docs/errata.md or docs/tight.md), certified (an interval certificate, "
-    "`vorobound certify`), numerical (optimizer evidence only) or invalid (the printed chain). "
-    "Not covered: the rest of VoroCrust's proof (topology, approximation and other lemmas) may "
+    "What eps <= eps_star gives, per target: every guide triangle of the mode's constraint set "
+    "has R <= rho_f*R_hat (ratio target, eq. (54), the form of VoroCrust's Lemma 9) or "
+    "R - R_hat <= (rho_f - 1)*delta*L_i (additive target, which gives R <= rho_f*delta*L_i, "
+    "eq. (55), but not (54)). The recommended eps is the smallest proven or certified eps_star "
+    "among the targets asked for. Every bound assumes property H3 (R <= eps/(1-eps)*L_i for "
+    "guide triangles), taken from the VoroCrust literature and not derived here; "
+    "'vorobound check' measures it on a sample. Strength per row: proven (algebra in "
+    "docs/errata.md or docs/tight.md), certified (an interval certificate, `vorobound "
+    "certify`), numerical (optimizer evidence only) or invalid (the printed chain). Not "
+    "covered: the rest of VoroCrust's proof (topology, approximation and its other lemmas) may "
     "need its own, possibly smaller, limit on eps; check those conditions separately."
 )
 CONSTRAINT_SETS = {
@@ -39,11 +46,15 @@ CONSTRAINT_SETS = {
     "tight": "the supremum over guide triangles allowed by (33)-(36), R <= eps/(1-eps) L_i "
     "and pairwise sparsity (closed form, docs/tight.md)",
 }
+TRUSTED = (PROVEN, CERTIFIED)
+"""Claims strong enough for a recommendation (and for a "fewer samples" comparison)."""
 
 
 @dataclass(frozen=True)
 class ModeAdvice:
     mode: str
+    target: str
+    """additive or ratio (:mod:`vorobound.bounds.targets`)."""
     eps_star: float
     ball_radius: float
     """δ·L at the smallest local feature size of the surface."""
@@ -51,14 +62,53 @@ class ModeAdvice:
     """σ·ε·L at the smallest local feature size."""
     samples_low: float
     samples_high: float
-    reduction_vs_1_500: float
-    """Sample count at ε = 1/500 divided by the count at ε* (same formula)."""
+    reduction_vs_1_500: float | None
+    """Sample count at ε = 1/500 divided by the count at ε* (same formula); None unless the
+    claim is proven or certified."""
     constraint_set: str
     """Which guide triangles the bound covers."""
     claim: str
     """Strength of ε*: proven, certified, numerical or invalid (:mod:`vorobound.bounds.claims`)."""
     method: str
     """How ε* was found (chain, closed form, optimizer)."""
+    proven_lower_bound: float | None = None
+    """For a numerical ε*: the closed form's proven admissible ε, if any."""
+
+    @property
+    def trusted_eps(self) -> float | None:
+        """The ε this row guarantees: ε* if proven or certified, else its proven lower bound."""
+        if self.claim in TRUSTED:
+            return self.eps_star
+        return self.proven_lower_bound if self.claim == NUMERICAL else None
+
+
+@dataclass(frozen=True)
+class Recommendation:
+    """The ε to use: the most conservative of the targets' best proven or certified ε*."""
+
+    eps: float
+    binding_target: str
+    """The target that sets it (its best trusted ε* is the smallest)."""
+    mode: str
+    """The mode whose ε* it is."""
+    claim: str
+    per_target: dict[str, float]
+    """Best trusted ε per target asked for."""
+    ball_radius: float
+    min_spacing: float
+    samples_low: float
+    samples_high: float
+    reduction_vs_1_500: float
+
+
+@dataclass(frozen=True)
+class Advice:
+    """Everything ``advise`` found: one row per (mode, target), the H3 row and the choice."""
+
+    rows: list[ModeAdvice]
+    recommendation: Recommendation | None
+    """None when no row is proven or certified (then nothing is recommended)."""
+    h3_route: H3Route
 
 
 def covering_count(surface: Surface, eps: float) -> float:
@@ -77,51 +127,75 @@ def _finite_count(count: float, surface: Surface) -> float:
     return count
 
 
-def solve_mode(
-    quality: QualityParams, mode: Mode | str, lipschitz: float | None, progress: Progress | None
-) -> EpsStar:
-    """ε* of one mode (the tight mode through :func:`vorobound.bounds.tight.method`)."""
-    mode = Mode(mode)
-    if mode is Mode.tight:
-        from ..bounds.tight import method
-
-        return method.tight_eps_star(quality, lipschitz, progress=progress)
-    return solve_eps_star(quality, mode)
-
-
 def advise(
     quality: QualityParams,
     surface: Surface,
     modes: list[str],
     lipschitz: float | None = None,
     progress: Progress | None = None,
-) -> list[ModeAdvice]:
-    """Advice for each mode: ε*, ball radius, spacing and sample counts on ``surface``."""
+    targets: list[str] = ("additive", "ratio"),
+) -> Advice:
+    """Advice for each (mode, target): ε*, ball radius, spacing and sample counts on
+    ``surface``, the H3 row, and the recommended ε."""
     lipschitz = checked_lipschitz(lipschitz)
     for name, value in (("area", surface.area), ("integral of 1/L²", surface.inv_lfs_sq_integral)):
         if not (math.isfinite(value) and value > 0):
             raise InputError(f"{surface.name}: its {name} is not a positive finite number")
-    out = []
-    for name in dict.fromkeys(modes):  # each mode once, in the order given
-        mode = Mode(name)
-        star = solve_mode(quality, mode, lipschitz, progress)
-        label, constraint = mode.value, CONSTRAINT_SETS[mode.value]
-        if mode is Mode.tight and lipschitz is not None:
-            label = f"tight λ={lipschitz:g}"
-            constraint += f", plus {lipschitz:g}-Lipschitz L"
-        eps = star.eps_star
-        out.append(
-            ModeAdvice(
-                mode=label,
-                eps_star=eps,
-                ball_radius=quality.delta_ratio * eps * surface.lfs_min,
-                min_spacing=quality.sigma * eps * surface.lfs_min,
-                samples_low=covering_count(surface, eps),
-                samples_high=packing_count(surface, eps, quality.sigma),
-                reduction_vs_1_500=(eps / BASELINE_EPS) ** 2,
-                constraint_set=constraint,
-                claim=star.claim,
-                method=star.method,
-            )
-        )
-    return out
+    rows = []
+    for target in dict.fromkeys(Target(t) for t in targets):
+        for name in dict.fromkeys(modes):  # each mode once, in the order given
+            mode = Mode(name)
+            lam = lipschitz if mode is Mode.tight else None
+            star = eps_star(quality, mode, target, lam, progress=progress)
+            rows.append(_row(quality, surface, mode, target, lam, star))
+    return Advice(rows, _recommend(quality, surface, rows), h3_route(quality))
+
+
+def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
+    label, constraint = mode.value, CONSTRAINT_SETS[mode.value]
+    if lam is not None:
+        label = f"tight λ={lam:g}"
+        constraint += f", plus {lam:g}-Lipschitz L"
+    eps = star.eps_star
+    return ModeAdvice(
+        mode=label,
+        target=target.value,
+        eps_star=eps,
+        ball_radius=quality.delta_ratio * eps * surface.lfs_min,
+        min_spacing=quality.sigma * eps * surface.lfs_min,
+        samples_low=covering_count(surface, eps),
+        samples_high=packing_count(surface, eps, quality.sigma),
+        reduction_vs_1_500=(eps / BASELINE_EPS) ** 2 if star.claim in TRUSTED else None,
+        constraint_set=constraint,
+        claim=star.claim,
+        method=star.method,
+        proven_lower_bound=star.proven_lower_bound,
+    )
+
+
+def _recommend(quality, surface, rows: list[ModeAdvice]) -> Recommendation | None:
+    """Per target the largest trusted ε over the modes; then the smallest over the targets."""
+    best: dict[str, ModeAdvice] = {}
+    for row in rows:
+        if row.trusted_eps is None:
+            continue
+        if row.target not in best or row.trusted_eps > best[row.target].trusted_eps:
+            best[row.target] = row
+    targets = {row.target for row in rows}
+    if not best or set(best) != targets:
+        return None  # some target asked for has no proven or certified ε*
+    binding = min(best.values(), key=lambda row: row.trusted_eps)
+    eps = binding.trusted_eps
+    claim = binding.claim if binding.claim in TRUSTED else PROVEN
+    return Recommendation(
+        eps=eps,
+        binding_target=binding.target,
+        mode=binding.mode,
+        claim=claim,
+        per_target={t: row.trusted_eps for t, row in best.items()},
+        ball_radius=quality.delta_ratio * eps * surface.lfs_min,
+        min_spacing=quality.sigma * eps * surface.lfs_min,
+        samples_low=covering_count(surface, eps),
+        samples_high=packing_count(surface, eps, quality.sigma),
+        reduction_vs_1_500=(eps / BASELINE_EPS) ** 2,
+    )

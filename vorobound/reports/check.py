@@ -24,13 +24,20 @@ from pathlib import Path
 import numpy as np
 
 from ..bounds.params import QualityParams, SamplingParams
+from ..bounds.targets import H3_STATUS
 from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling import conditions
 from ..sampling.ball_io import fill_vtu
 from ..sampling.balls import Balls, make_balls
 from ..sampling.guide import Engine, equal_radii_on_sphere, find_guide_triangles
-from ..sampling.measure import GuideMeasurements, ModeBound, measure_guides, mode_bounds
+from ..sampling.measure import (
+    GuideMeasurements,
+    ModeBound,
+    measure_guides,
+    mode_bounds,
+    ratio_bounds,
+)
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
 UNDEFINED_BOUND = (
@@ -38,6 +45,9 @@ UNDEFINED_BOUND = (
     "number): no bound, so no violations are counted"
 )
 """File name (without extension) of the histogram of the realized gap."""
+NO_RATIO_BOUND = "no finite bound on R/R^ at this eps: the mode's bound on (R - R^)/R reaches 1"
+H3_RTOL = 1e-9
+"""A guide triangle breaks H3 when R(1−ε)/(εL_i) > 1 + H3_RTOL (rounding of R)."""
 LIPSCHITZ_SOURCES = {
     "exact": "exact: a local feature size is 1-Lipschitz",
     "measured": "measured: the largest |L_i - L_j|/|p_i - p_j| over neighbouring samples and "
@@ -70,6 +80,9 @@ class CheckReport:
     half_covered: int
     guides: GuideMeasurements
     bounds: list[ModeBound]
+    """Each mode's bound on R − R̂ (additive target)."""
+    ratio_bounds: list[ModeBound]
+    """Each proven mode's bound on R/R̂ (ratio target, eq. (54))."""
     sparsity: conditions.PairReport
     lipschitz_pairs: conditions.PairReport
     coverage_max: float | None
@@ -115,6 +128,19 @@ class CheckReport:
             "lipschitz_worst": self._pairs(self.lipschitz_pairs),
             "rho_max": _max(g.rho),
             "quality_violations": int((g.rho > self.params.rho_f).sum()),
+            "ratio_max": _max(g.quality_ratio),
+            "ratio_violations": int((g.quality_ratio > self.params.rho_f).sum()),
+            "ratio_bound": {
+                b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
+                | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
+                for b in self.ratio_bounds
+            },
+            "ratio_bound_violations": {
+                mode: int(rows.sum()) for mode, rows in (g.exceeds_ratio or {}).items()
+            },
+            "h3_ratio_max": _max(g.h3_ratio),
+            "h3_violations": int((g.h3_ratio > 1 + H3_RTOL).sum()),
+            "h3_premise": H3_STATUS,
             "gap_ratio_max": _max(g.gap_ratio),
             "gap_ratio_min": None if count == 0 else _finite(g.gap_ratio.min()),
             "orthoradius_sq_max": _max(g.orthoradius_sq / (self.params.delta * g.lfs[:, 0]) ** 2),
@@ -251,8 +277,9 @@ def _check(
         coverage, where, probes = _coverage(shape, balls, params.eps, search.guide, seed)
     with stages("bounds", announce=True):
         bounds = mode_bounds(params, lipschitz)
+        ratios = ratio_bounds(params, lipschitz)
     with stages("measure", announce=True):
-        guides = measure_guides(search.guide, lfs, params, lipschitz, bounds)
+        guides = measure_guides(search.guide, lfs, params, lipschitz, bounds, ratios)
     return CheckReport(
         source=source,
         params=params,
@@ -266,6 +293,7 @@ def _check(
         half_covered=search.half_covered,
         guides=guides,
         bounds=bounds,
+        ratio_bounds=ratios,
         sparsity=sparse,
         lipschitz_pairs=lipschitz_pairs,
         coverage_max=coverage,
@@ -325,6 +353,8 @@ def triangle_columns(report: CheckReport) -> dict[str, np.ndarray]:
         "radius_gap": g.radius_gap,
         "rho": g.rho,
         "gap_ratio": g.gap_ratio,
+        "quality_ratio": g.quality_ratio,
+        "h3_ratio": g.h3_ratio,
         "a_over_eps_lfs": g.edges[:, 0],
         "b_over_eps_lfs": g.edges[:, 1],
         "c_over_eps_lfs": g.edges[:, 2],
@@ -335,6 +365,8 @@ def triangle_columns(report: CheckReport) -> dict[str, np.ndarray]:
         columns[f"breaks_{name}"] = rows.astype(np.int64)
     for mode, rows in g.exceeds.items():
         columns[f"exceeds_{mode}"] = rows.astype(np.int64)
+    for mode, rows in (g.exceeds_ratio or {}).items():
+        columns[f"exceeds_ratio_{mode}"] = rows.astype(np.int64)
     return columns
 
 
@@ -357,6 +389,8 @@ def _write_vtu(path: Path, report: CheckReport) -> None:
     cell_data = {
         "rho": [blank, g.rho],
         "gap_ratio": [blank, g.gap_ratio],
+        "quality_ratio": [blank, np.where(np.isfinite(g.quality_ratio), g.quality_ratio, np.nan)],
+        "h3_ratio": [blank, g.h3_ratio],
         "inside_constraint_set": [blank, g.inside.astype(float)],
     }
     point_data = {"radius": report.balls.radii, "lfs": report.lfs}

@@ -1,6 +1,7 @@
-"""Parameter sweeps: ε* tables over σ, ρ_f, δ/ε, λ and mode, or bound curves over ε.
+"""Parameter sweeps: ε* tables over σ, ρ_f, δ/ε, λ, mode and target, or bound curves over ε.
 
-Rows stream out in a fixed nested-loop order (mode, λ, σ, ρ_f, δ/ε[, ε]) and are computed in
+Rows stream out in a fixed nested-loop order (mode, target, λ, σ, ρ_f, δ/ε[, ε]) and are
+computed in
 chunks, so memory stays bounded whatever the grid size: the chain modes evaluate
 ``CHUNK_ROWS`` rows at a time (each row costs about ``BYTES_PER_CHAIN_ROW`` while its chunk is
 being solved), and the tight rows run one at a time per worker process. A grid is sized by
@@ -30,6 +31,7 @@ from ..bounds.params import (
     QualityParams,
     checked_lipschitz,
 )
+from ..bounds.targets import Target
 from ..checks import checked_number
 from ..errors import InputError, NoAdmissibleEps, VoroboundError
 from ..progress import Counter, Progress
@@ -51,16 +53,20 @@ MAX_TIGHT_SECONDS = 600.0
 
 @dataclass(frozen=True)
 class SweepRow:
-    """One row of a sweep (``eps``/``bound``/``target`` for bound curves, else ``eps_star``)."""
+    """One row of a sweep (``eps``/``bound``/``limit`` for bound curves, else ``eps_star``)."""
 
     mode: str
+    target: str
+    """additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂, eq. (54))."""
     lipschitz: float | None
     sigma: float
     rho_f: float
     delta_ratio: float
     eps: float | None = None
     bound: float | None = None
-    target: float | None = None
+    """Bound curves: the bound on R − R̂ (additive) or on R/R̂ (ratio; empty where none)."""
+    limit: float | None = None
+    """Bound curves: (ρ_f − 1)δL_i, or ρ_f."""
     eps_star: float | None = None
     claim: str = ""
     """proven, numerical or invalid (:mod:`vorobound.bounds.claims`)."""
@@ -68,8 +74,9 @@ class SweepRow:
     """Why a result cell is empty (no admissible ε); empty otherwise."""
 
 
-EPS_STAR_COLUMNS = ("mode", "lipschitz", "sigma", "rho_f", "delta_ratio", "eps_star")
-CURVE_COLUMNS = ("mode", "lipschitz", "sigma", "rho_f", "delta_ratio", "eps", "bound", "target")
+HEAD_COLUMNS = ("mode", "target", "lipschitz", "sigma", "rho_f", "delta_ratio")
+EPS_STAR_COLUMNS = (*HEAD_COLUMNS, "eps_star")
+CURVE_COLUMNS = (*HEAD_COLUMNS, "eps", "bound", "limit")
 TRAILING_COLUMNS = ("claim", "note")
 
 
@@ -98,11 +105,13 @@ class SweepSpec:
     lfs: float = 1.0
     method: str = "auto"
     """How tight rows are evaluated (:class:`vorobound.bounds.tight.method.TightMethod`)."""
+    targets: tuple[Target, ...] = (Target.additive,)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         set_(self, "modes", _unique(Mode(m) for m in self.modes))
-        for name in ("sigma", "rho_f", "delta_ratio", "lipschitz", "modes"):
+        set_(self, "targets", _unique(Target(t) for t in self.targets))
+        for name in ("sigma", "rho_f", "delta_ratio", "lipschitz", "modes", "targets"):
             if not getattr(self, name):
                 raise InputError(f"the sweep's {name} axis is empty")
         for name, (low, high, open_low) in AXIS_RANGES.items():
@@ -128,13 +137,15 @@ class SweepSpec:
 
     @property
     def tight_rows(self) -> int:
-        return self.per_mode * len(self.lipschitz) if Mode.tight in self.modes else 0
+        if Mode.tight not in self.modes:
+            return 0
+        return self.per_mode * len(self.lipschitz) * len(self.targets)
 
     @property
     def rows(self) -> int:
         """Rows of the whole sweep (arithmetic on the axis lengths; nothing is built)."""
         chains = sum(1 for m in self.modes if m is not Mode.tight)
-        return chains * self.per_mode + self.tight_rows
+        return chains * self.per_mode * len(self.targets) + self.tight_rows
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -158,14 +169,16 @@ def _optimizer_share(spec: SweepSpec) -> float:
     import itertools
 
     from ..bounds.tight.closed_form import closed_form_is_exact, tight_eps_star_closed_form
+    from ..bounds.tight.ratio_form import ratio_eps_star_closed_form
 
     step = max(1, spec.tight_rows // ESTIMATE_SAMPLE)
     tasks = list(itertools.islice(_tight_tasks(spec), 0, None, step))
     slow = 0
-    for eps, lam, sigma, rho_f, ratio, _, _ in tasks:
+    for eps, lam, sigma, rho_f, ratio, _, _, target in tasks:
+        solve = ratio_eps_star_closed_form if target is Target.ratio else tight_eps_star_closed_form
         try:
             if eps is None:
-                exact = tight_eps_star_closed_form(sigma, ratio, rho_f, lam).status.name == "exact"
+                exact = solve(sigma, ratio, rho_f, lam).status.name == "exact"
             else:
                 exact = closed_form_is_exact(eps, sigma, ratio, lam)
         except VoroboundError:
@@ -209,10 +222,11 @@ def iter_sweep(
         if mode is Mode.tight:
             yield from _tight_rows(spec, jobs, progress)
         else:
-            yield from _chain_rows(spec, mode)
+            for target in spec.targets:
+                yield from _chain_rows(spec, mode, target)
 
 
-def _chain_rows(spec: SweepSpec, mode: Mode) -> Iterator[SweepRow]:
+def _chain_rows(spec: SweepSpec, mode: Mode, target: Target) -> Iterator[SweepRow]:
     axes = [np.asarray(spec.sigma), np.asarray(spec.rho_f), np.asarray(spec.delta_ratio)]
     if spec.eps is not None:
         axes.append(np.asarray(spec.eps))
@@ -223,11 +237,12 @@ def _chain_rows(spec: SweepSpec, mode: Mode) -> Iterator[SweepRow]:
         index = np.unravel_index(np.arange(start, min(start + CHUNK_ROWS, total)), shape)
         sigma, rho_f, ratio = (axis[i] for axis, i in zip(axes[:3], index[:3], strict=True))
         if spec.eps is None:
-            stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode)
+            stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode, target=target)
             for s, q, r, star, code in zip(sigma, rho_f, ratio, stars, status, strict=True):
                 ok = code == STATUS_OK
                 yield SweepRow(
                     mode.value,
+                    target.value,
                     None,
                     float(s),
                     float(q),
@@ -240,49 +255,69 @@ def _chain_rows(spec: SweepSpec, mode: Mode) -> Iterator[SweepRow]:
             eps = axes[3][index[3]]
             with np.errstate(invalid="ignore"):
                 chain = chain_arrays(eps, sigma, ratio, spec.lfs, rho_f, mode)
-            for s, q, r, e, b, t in zip(
-                sigma, rho_f, ratio, eps, chain.bound, chain.target, strict=True
-            ):
+            if target is Target.ratio:
+                bounds, limits = chain.ratio_bound, np.broadcast_to(rho_f, eps.shape)
+            else:
+                bounds, limits = chain.bound, chain.target
+            for s, q, r, e, b, t in zip(sigma, rho_f, ratio, eps, bounds, limits, strict=True):
                 defined = bool(np.isfinite(b))
+                if defined:
+                    note = ""
+                elif np.isnan(b):
+                    note = "the chain is not defined at this eps"
+                else:
+                    note = "no finite bound on R/R^: the bound on (R - R^)/R reaches 1"
                 yield SweepRow(
                     mode.value,
+                    target.value,
                     None,
                     float(s),
                     float(q),
                     float(r),
                     eps=float(e),
                     bound=float(b) if defined else None,
-                    target=float(t),
+                    limit=float(t),
                     claim=claim,
-                    note="" if defined else "the chain is not defined at this eps",
+                    note=note,
                 )
 
 
 def _tight_tasks(spec: SweepSpec) -> Iterator[tuple]:
-    for lam in spec.lipschitz:
-        for sigma in spec.sigma:
-            for rho_f in spec.rho_f:
-                for ratio in spec.delta_ratio:
-                    for eps in spec.eps if spec.eps is not None else (None,):
-                        yield (eps, lam, sigma, rho_f, ratio, spec.lfs, spec.method)
+    for target in spec.targets:
+        for lam in spec.lipschitz:
+            for sigma in spec.sigma:
+                for rho_f in spec.rho_f:
+                    for ratio in spec.delta_ratio:
+                        for eps in spec.eps if spec.eps is not None else (None,):
+                            yield (eps, lam, sigma, rho_f, ratio, spec.lfs, spec.method, target)
 
 
 def tight_row(task: tuple) -> SweepRow:
     """One tight row (module level, so worker processes can run it)."""
-    from ..bounds.tight.method import tight_bound, tight_eps_star
+    from ..bounds.guarantee import bound_at, eps_star
 
-    eps, lam, sigma, rho_f, ratio, lfs, method = task
+    eps, lam, sigma, rho_f, ratio, lfs, method, target = task
     quality = QualityParams(sigma, ratio, rho_f, lfs)
-    head = ("tight", lam, sigma, rho_f, ratio)
+    head = ("tight", Target(target).value, lam, sigma, rho_f, ratio)
     if eps is not None:
         params = quality.at(eps)
+        limit = rho_f if Target(target) is Target.ratio else params.target
         try:
-            bound = tight_bound(params, lam, method)
+            bound = bound_at(params, Mode.tight, target, lam, method)
         except InputError as exc:  # an empty constraint set at this ε
-            return SweepRow(*head, eps=eps, target=params.target, note=str(exc))
-        return SweepRow(*head, eps=eps, bound=bound.value, target=params.target, claim=bound.claim)
+            return SweepRow(*head, eps=eps, limit=limit, note=str(exc))
+        finite = math.isfinite(bound.value)
+        note = "" if finite else "no finite bound on R/R^: R^ can reach 0"
+        return SweepRow(
+            *head,
+            eps=eps,
+            bound=bound.value if finite else None,
+            limit=limit,
+            claim=bound.claim,
+            note=note,
+        )
     try:
-        star = tight_eps_star(quality, lam, method)
+        star = eps_star(quality, Mode.tight, target, lam, method)
     except NoAdmissibleEps as exc:
         return SweepRow(*head, note=str(exc))
     return SweepRow(*head, eps_star=star.eps_star, claim=star.claim)

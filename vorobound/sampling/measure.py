@@ -4,8 +4,9 @@ For a guide triangle with vertices relabelled as in Section 3 (A = p_i the verte
 L, then B = p_j and C = p_k in cyclic order) this records L_i, L_j, L_k, the circumradius R, the
 signed squared orthoradius R̂² of the balls as given, the realized quality ratio R/(δL_i), the
 gap (R − R̂)/(εL_i) of Theorem 1 (R̂ of the triangle with the minimum weight subtracted, the
-quantity every bound mode bounds), the edges over εL_i, which conditions of the constraint set
-it breaks, and which mode's bound it exceeds.
+quantity the additive target bounds), the ratio R/R̂ of eq. (54) (the ratio target), H3's
+ratio R(1−ε)/(εL_i) (at most 1 where H3 holds), the edges over εL_i, which conditions of the
+constraint set it breaks, and which mode's bound it exceeds.
 
 References
 ----------
@@ -37,6 +38,19 @@ class ModeBound:
     """λ of the constraint set the bound is over (None: no Lipschitz condition)."""
     claim: str
     """proven, numerical or invalid (docs/errata.md, docs/tight.md)."""
+
+
+def ratio_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
+    """The bound on R/R̂ (ratio target, eq. (54)) of the rigorous and tight modes at
+    ``params.eps`` (``tight_lipschitz`` with the sample's λ as in :func:`mode_bounds`)."""
+    from ..bounds.guarantee import bound_at
+
+    out = [ModeBound("rigorous", bound_at(params, "rigorous", "ratio").value, None, "proven")]
+    for mode, lam in (("tight", None), ("tight_lipschitz", lipschitz)):
+        if mode == "tight" or lam is not None:
+            tight = bound_at(params, "tight", "ratio", lam)
+            out.append(ModeBound(mode, float(tight.value), lam, tight.claim))
+    return out
 
 
 def mode_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
@@ -85,6 +99,11 @@ class GuideMeasurements:
     """R/(δL_i): the realized quality ratio, to compare with ρ_f of eq. (55)."""
     gap_ratio: np.ndarray
     """(R − R̂)/(εL_i)."""
+    quality_ratio: np.ndarray
+    """R/R̂ with R̂ = R − (R − R̂) the shifted orthoradius: the ratio target of eq. (54)
+    (inf where R̂ = 0)."""
+    h3_ratio: np.ndarray
+    """R·(1−ε)/(ε·L_i): property H3 says at most 1."""
     edges: np.ndarray
     """(m, 3) a, b, c over εL_i (a = |BC|, b = |CA|, c = |AB|, eq. (7)–(9))."""
     sin_theta: np.ndarray
@@ -93,6 +112,8 @@ class GuideMeasurements:
     """Constraint name ↦ rows breaking it (the constraint set with the sample's λ)."""
     exceeds: dict[str, np.ndarray]
     """Mode ↦ rows whose R − R̂ exceeds that mode's bound."""
+    exceeds_ratio: dict[str, np.ndarray] | None = None
+    """Mode ↦ rows whose R/R̂ exceeds that mode's bound on it (ratio target)."""
 
     def __len__(self) -> int:
         return len(self.triples)
@@ -112,6 +133,7 @@ def measure_guides(
     params: SamplingParams,
     lipschitz: float | None,
     bounds: list[ModeBound],
+    ratio_bounds: list[ModeBound] | None = None,
 ) -> GuideMeasurements:
     """Measure every guide triangle (see the module docstring).
 
@@ -127,6 +149,8 @@ def measure_guides(
         λ of the sample's L (adds the Lipschitz conditions to the constraint set).
     bounds : list of ModeBound
         From :func:`mode_bounds`.
+    ratio_bounds : list of ModeBound, optional
+        From :func:`ratio_bounds` (bounds on R/R̂).
 
     References
     ----------
@@ -146,6 +170,13 @@ def measure_guides(
     )
     limits = constraints.ConstraintParams(params.eps, params.sigma, lipschitz)
     gap = geometry.radius_gap
+    circumradius = geometry.circumradius
+    shifted = circumradius - gap  # R̂ of the min-weight-shifted triangle (≥ 0 up to rounding)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        quality_ratio = np.where(shifted > 0, circumradius / shifted, np.inf)
+    exceeds_ratio = {
+        bound.mode: quality_ratio > bound.value * (1 + BOUND_RTOL) for bound in ratio_bounds or ()
+    }
     return GuideMeasurements(
         triples=triples,
         lfs=vertex_lfs,
@@ -154,8 +185,11 @@ def measure_guides(
         radius_gap=gap,
         rho=geometry.circumradius / (params.delta * lfs_i),
         gap_ratio=gap / unit,
+        quality_ratio=quality_ratio,
+        h3_ratio=circumradius * (1 - params.eps) / unit,
         edges=np.column_stack([a, b, c]) / unit[:, None],
         sin_theta=geometry.sin_theta,
         violated=constraints.violations(config, limits),
         exceeds={bound.mode: gap > bound.value * lfs_i * (1 + BOUND_RTOL) for bound in bounds},
+        exceeds_ratio=exceeds_ratio,
     )

@@ -1,4 +1,5 @@
-"""Interval certificates that the tight bound meets the target for every ε up to ε_max.
+"""Interval certificates that the tight bound meets a target (additive or ratio, eq. (54)) for
+every ε up to ε_max.
 
 ``certify`` runs the branch-and-bound of :mod:`.search` over boxes enclosed with
 :mod:`.interval` (python-flint ``arb``, outward rounded) and returns the tree;
@@ -18,7 +19,7 @@ from .interval import Setting, nearest_float
 from .search import MAX_BOXES, MAX_DEPTH, Counterexample, NotCertified, SearchResult, search
 
 DEFAULT_FRACTION = 0.999
-"""Without an explicit ε_max, certify this fraction of the tight ε* (closed form)."""
+"""Without an explicit ε_max, certify this fraction of the tight ε* (what ``solve`` prints)."""
 FRACTION_RANGE = (1e-6, 1.5)
 """Accepted fractions of ε* (above 1 the search is expected to find a counterexample)."""
 MAX_DEPTH_LIMIT = 10_000
@@ -26,17 +27,22 @@ MAX_BOXES_LIMIT = 10**10
 
 
 @dataclass(frozen=True)
-class Target:
-    """What to certify: validated parameters, ε_max and the tight ε* it is compared with."""
+class CertifyRequest:
+    """What to certify: validated parameters, the target, ε_max and the tight ε* it is
+    compared with."""
 
     setting: Setting
     eps_star_tight: float | None
-    """The tight ε* of :func:`~vorobound.bounds.tight.closed_form.tight_eps_star_closed_form`;
-    None when there is none (the bound never or always exceeds the target) and ``eps`` was
-    given explicitly."""
+    """The tight ε* of :func:`~vorobound.bounds.tight.method.tight_eps_star` for the same
+    target (the closed form where it is proven exact, else the optimizer); None when there is
+    none and ``eps`` was given explicitly."""
     eps_star_status: str
-    """Whether that ε* is the tight one (proven exact) or a proven lower bound on it, or why
-    there is none."""
+    """How strong that ε* is (proven exact, or numerical with the closed form's proven lower
+    bound), or why there is none."""
+
+    @property
+    def target(self) -> str:
+        return self.setting.target
 
     @classmethod
     def of(
@@ -48,49 +54,79 @@ class Target:
         *,
         eps: float | None = None,
         fraction: float = DEFAULT_FRACTION,
-    ) -> Target:
+        target: str = "additive",
+        progress: Progress | None = None,
+    ) -> CertifyRequest:
         """Validate the parameters (InputError) and fix ε_max: ``eps``, else ``fraction``·ε*."""
-        from ..tight.closed_form import tight_eps_star_closed_form
+        from ..params import QualityParams
+        from ..targets import Target
 
         sigma = checked_number(sigma, "sigma", *SIGMA_RANGE)
         delta_ratio = checked_number(delta_ratio, "delta_ratio", *DELTA_RATIO_RANGE)
         rho_f = checked_number(rho_f, "rho_f", 1.0, RHO_F_MAX, open_low=True)
         lipschitz = checked_lipschitz(lipschitz)
+        try:
+            target = Target(target).value
+        except ValueError:
+            raise InputError(f"target must be additive or ratio, got {target!r}") from None
+        quality = QualityParams(sigma, delta_ratio, rho_f)
         if eps is None:
-            tight = tight_eps_star_closed_form(sigma, delta_ratio, rho_f, lipschitz)
             fraction = checked_number(fraction, "fraction", *FRACTION_RANGE)
-            eps = min(fraction * tight.eps_star, EPS_RANGE[1])
-            star, status = tight.eps_star, tight.status.value
+            star, status, base = _tight_eps_star(quality, lipschitz, target, progress)
+            eps = min(fraction * base, EPS_RANGE[1])
         else:
             # An explicit ε_max needs no ε*: the search proves the claim or finds a
-            # counterexample (the closed form may have no root at these parameters).
+            # counterexample (there may be no ε* at these parameters).
             eps = checked_number(eps, "eps", *EPS_RANGE)
             try:
-                tight = tight_eps_star_closed_form(sigma, delta_ratio, rho_f, lipschitz)
-                star, status = tight.eps_star, tight.status.value
+                star, status, _ = _tight_eps_star(quality, lipschitz, target, progress)
             except VoroboundError as exc:
                 star, status = None, f"none: {exc}"
         if sigma * (1 - eps) >= 2:
             raise InputError(f"sigma*(1 - eps) must be below 2, got sigma={sigma:g}, eps={eps:g}")
-        setting = Setting.of(sigma, delta_ratio, rho_f, lipschitz, eps)
+        setting = Setting.of(sigma, delta_ratio, rho_f, lipschitz, eps, target)
         return cls(setting, star, status)
+
+
+def _tight_eps_star(quality, lipschitz, target: str, progress) -> tuple[float, str, float]:
+    """(ε*, its status, the ε* a default certificate covers a fraction of), from the one tight
+    solver ``solve`` uses too.
+
+    A proven ε* is certified as such. Where it is numerical, the default certifies the closed
+    form's proven lower bound when there is one (the search is fast there); beyond it the
+    bisection must resolve a maximizer that no closed form describes, which can exhaust the
+    box limit (``--eps`` asks for it explicitly). Without a proven lower bound the numerical
+    ε* itself is tried.
+    """
+    from ..claims import PROVEN
+    from ..tight.method import tight_eps_star
+
+    result = tight_eps_star(quality, lipschitz, progress=progress, target=target)
+    if result.claim == PROVEN:
+        return result.eps_star, "proven exact (closed form)", result.eps_star
+    lower = result.proven_lower_bound
+    if lower is None:
+        status = "numerical (optimizer; no proven lower bound, so it is certified itself)"
+        return result.eps_star, status, result.eps_star
+    status = f"numerical (optimizer); the default certifies its proven lower bound {lower:.12g}"
+    return result.eps_star, status, lower
 
 
 @dataclass(frozen=True)
 class CertifyResult:
     """A finished certification: every ε in (0, eps_certified] meets the target."""
 
-    target: Target
+    request: CertifyRequest
     search: SearchResult
 
     @property
     def eps_certified(self) -> float:
-        return nearest_float(self.target.setting.eps_max)
+        return nearest_float(self.request.setting.eps_max)
 
     @property
     def ratio(self) -> float | None:
         """eps_certified / eps_star_tight (None when there is no tight ε*)."""
-        star = self.target.eps_star_tight
+        star = self.request.eps_star_tight
         return None if star is None else self.eps_certified / star
 
     def certificate(self) -> dict:
@@ -106,11 +142,12 @@ def certify(
     *,
     eps: float | None = None,
     fraction: float = DEFAULT_FRACTION,
+    target: str = "additive",
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
 ) -> CertifyResult:
-    """Prove R − R̂ ≤ (ρ_f − 1)δL_i for every ε ≤ ε_max and every feasible guide triangle.
+    """Prove the target for every ε ≤ ε_max and every feasible guide triangle.
 
     Parameters
     ----------
@@ -119,9 +156,11 @@ def certify(
     lipschitz : float, optional
         λ of the optional Lipschitz conditions.
     eps : float, optional
-        ε_max; by default ``fraction`` times the closed-form tight ε*.
+        ε_max; by default ``fraction`` times the tight ε* of the same target.
     fraction : float
         Used when ``eps`` is not given.
+    target : {"additive", "ratio"}
+        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)).
     max_depth, max_boxes : int
         Limits of the search.
     progress : Progress, optional
@@ -141,8 +180,17 @@ def certify(
     ----------
     Theorem 1, eq. (33)–(37), (54)–(55), property H3; docs/tight.md.
     """
-    target = Target.of(sigma, delta_ratio, rho_f, lipschitz, eps=eps, fraction=fraction)
-    return certify_target(target, max_depth=max_depth, max_boxes=max_boxes, progress=progress)
+    request = CertifyRequest.of(
+        sigma,
+        delta_ratio,
+        rho_f,
+        lipschitz,
+        eps=eps,
+        fraction=fraction,
+        target=target,
+        progress=progress,
+    )
+    return certify_request(request, max_depth=max_depth, max_boxes=max_boxes, progress=progress)
 
 
 def search_limits(max_depth: int | None = None, max_boxes: int | None = None) -> dict:
@@ -157,16 +205,16 @@ def search_limits(max_depth: int | None = None, max_boxes: int | None = None) ->
     }
 
 
-def certify_target(
-    target: Target,
+def certify_request(
+    request: CertifyRequest,
     *,
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
 ) -> CertifyResult:
-    """:func:`certify` for parameters already validated by :meth:`Target.of`."""
+    """:func:`certify` for parameters already validated by :meth:`CertifyRequest.of`."""
     limits = search_limits(max_depth, max_boxes)
-    return CertifyResult(target, search(target.setting, **limits, progress=progress))
+    return CertifyResult(request, search(request.setting, **limits, progress=progress))
 
 
 __all__ = [
@@ -174,10 +222,10 @@ __all__ = [
     "CheckReport",
     "Counterexample",
     "NotCertified",
-    "Target",
+    "CertifyRequest",
     "certificate_payload",
     "check_certificate",
     "certify",
-    "certify_target",
+    "certify_request",
     "search_limits",
 ]

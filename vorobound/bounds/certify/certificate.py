@@ -1,10 +1,12 @@
 """Certificates: the bisection tree as JSON, and a checker that re-verifies it from scratch.
 
 A certificate states: for every ε in (0, ε_max] and every guide triangle of the constraint set
-of :mod:`vorobound.bounds.constraints` at σ, δ/ε, ρ_f (and λ), R − R̂ ≤ (ρ_f − 1)·δ·L_i. It
-stores the parameters and the bisection tree of the root box in pre-order: a split is the index
-of the halved coordinate, a leaf is the name of a constraint that fails on all of the box, or
-``[enclosure, bound]`` with a float ``bound ≤ 1`` above that enclosure of (R − R̂)/target.
+of :mod:`vorobound.bounds.constraints` at σ, δ/ε, ρ_f (and λ), its target holds:
+R − R̂ ≤ (ρ_f − 1)·δ·L_i (``additive``) or R ≤ ρ_f·R̂ (``ratio``, eq. (54)). It stores the
+parameters and the bisection tree of the root box in pre-order: a split is the index of the
+halved coordinate, a leaf is the name of a constraint that fails on all of the box, or
+``[enclosure, bound]`` with a float ``bound ≤ 1`` above that enclosure of the target's
+fraction. Format version 1 (before targets) is read as the additive target.
 
 :func:`check_certificate` trusts nothing but the parameters: it rebuilds the root box from them
 (the box every feasible configuration lies in), replays the splits at exact rational midpoints
@@ -38,23 +40,35 @@ from ..params import (
     checked_lipschitz,
 )
 from . import interval
-from .interval import DIMENSIONS, ENCLOSURES, Setting, nearest_float
+from .interval import DIMENSIONS, Setting, nearest_float
 from .search import MAX_DEPTH, Leaf, SearchResult
 
 FORMAT = "vorobound-certificate"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+READABLE_VERSIONS = (1, 2)
+"""Versions the checker reads (version 1 has no target: it is the additive one)."""
 CHECK_PROGRESS_EVERY = 4096
 """Nodes between two progress reports of the checker."""
 STATEMENT = (
     "For every eps in (0, eps_max] and every guide triangle satisfying the constraint set "
     "(33)-(36), H3, pairwise sparsity (and the Lipschitz conditions if lipschitz is given) at "
-    "sigma, delta_ratio: R - R^ <= (rho_f - 1) * delta * L_i, with R^ the orthoradius after "
-    "subtracting the minimum weight (Theorem 1)."
+    "sigma, delta_ratio: {target}, with R^ the orthoradius after subtracting the minimum "
+    "weight (Theorem 1). H3 is an assumption taken from the VoroCrust literature."
 )
+TARGET_STATEMENTS = {
+    "additive": "R - R^ <= (rho_f - 1) * delta * L_i",
+    "ratio": "R <= rho_f * R^ (eq. (54))",
+}
 ENCLOSURE_REASONS = {
-    "circumradius": "R - R^ <= R <= eps/(1-eps) L_i (R^ >= 0 and H3)",
-    "chord": "R - R^ = R (a - a^)/a <= R |d|/a (triangle inequality on the chord B^C^)",
-    "exact": "Theorem 1: a - a^ = (2 a.d - |d|^2)/(a + a^)",
+    "additive": {
+        "circumradius": "R - R^ <= R <= eps/(1-eps) L_i (R^ >= 0 and H3)",
+        "chord": "R - R^ = R (a - a^)/a <= R |d|/a (triangle inequality on the chord B^C^)",
+        "exact": "Theorem 1: a - a^ = (2 a.d - |d|^2)/(a + a^)",
+    },
+    "ratio": {
+        "chord": "1 - R^/R = (a - a^)/a <= |d|/a (triangle inequality on the chord B^C^)",
+        "exact": "Theorem 1: a - a^ = (2 a.d - |d|^2)/(a + a^), over a",
+    },
 }
 
 
@@ -80,12 +94,13 @@ def certificate_payload(result: SearchResult) -> dict:
     return {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
-        "statement": STATEMENT,
+        "statement": STATEMENT.format(target=TARGET_STATEMENTS[setting.target]),
+        "target": setting.target,
         "parameters": _parameters(setting),
         "dimensions": list(DIMENSIONS),
         "root_box": [[str(lo), str(hi)] for lo, hi in setting.root_box()],
         "precision_bits": interval.PRECISION_BITS,
-        "enclosures": ENCLOSURE_REASONS,
+        "enclosures": ENCLOSURE_REASONS[setting.target],
         "summary": {
             "boxes": result.boxes,
             "leaves": leaves,
@@ -161,6 +176,8 @@ class CheckReport:
 
     eps_max: float
     """Every ε in (0, eps_max] is certified."""
+    target: str
+    """additive or ratio (what is certified)."""
     sigma: float
     delta_ratio: float
     rho_f: float
@@ -169,7 +186,7 @@ class CheckReport:
     leaves: int
     max_depth: int
     largest_bound: float
-    """Largest stored bound of (R − R̂)/target over the bound leaves (≤ 1)."""
+    """Largest stored bound of the target's fraction over the bound leaves (≤ 1)."""
     seconds: float
 
 
@@ -243,6 +260,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
     params = _parameters(setting)
     return CheckReport(
         eps_max=params["eps_max"],
+        target=setting.target,
         sigma=params["sigma"],
         delta_ratio=params["delta_ratio"],
         rho_f=params["rho_f"],
@@ -274,8 +292,12 @@ def _check_leaf(index: int, node, box, setting: Setting, names: set[str]) -> flo
                 f"node {index}: constraint {node} does not fail on the whole box"
             )
         return 0.0
-    if not (isinstance(node, list) and len(node) == 2 and node[0] in ENCLOSURES):
-        raise CertificateError(f"node {index}: not a split, a constraint or [enclosure, bound]")
+    valid = interval.enclosure_names(setting.target)
+    if not (isinstance(node, list) and len(node) == 2 and node[0] in valid):
+        raise CertificateError(
+            f"node {index}: not a split, a constraint or [enclosure, bound] with an enclosure "
+            f"of the {setting.target} target ({', '.join(valid)})"
+        )
     name, bound = node
     if isinstance(bound, bool) or not isinstance(bound, int | float) or not math.isfinite(bound):
         raise CertificateError(f"node {index}: bound {bound!r} is not a finite number")
@@ -297,12 +319,15 @@ def _setting(payload: dict) -> Setting:
         payload.get("format") != FORMAT
         or isinstance(version, bool)
         or not isinstance(version, int)
-        or version != FORMAT_VERSION
+        or version not in READABLE_VERSIONS
     ):
         raise CertificateError(
-            f"not a {FORMAT} (version {FORMAT_VERSION}) file: format "
+            f"not a {FORMAT} (version {' or '.join(map(str, READABLE_VERSIONS))}) file: format "
             f"{payload.get('format')!r}, version {payload.get('format_version')!r}"
         )
+    target = payload.get("target") if version >= 2 else "additive"
+    if target not in interval.TARGETS:
+        raise CertificateError(f"certificate target must be additive or ratio, got {target!r}")
     if payload.get("dimensions", list(DIMENSIONS)) != list(DIMENSIONS):
         raise CertificateError(f"certificate coordinates must be {list(DIMENSIONS)}")
     params = payload.get("parameters")
@@ -318,4 +343,4 @@ def _setting(payload: dict) -> Setting:
         raise CertificateError(f"certificate parameters: {exc}") from None
     if sigma * (1 - eps_max) >= 2:
         raise CertificateError("certificate parameters: sigma*(1 - eps_max) must be below 2")
-    return Setting.of(sigma, ratio, rho_f, lam, eps_max)
+    return Setting.of(sigma, ratio, rho_f, lam, eps_max, target)

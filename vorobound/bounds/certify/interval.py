@@ -8,11 +8,14 @@ the units of :class:`vorobound.bounds.constraints.ScaledConfiguration`, in which
 divides by ε, so ε is a box coordinate down to 0. Every interval operation is ``arb`` ball
 arithmetic, rounded outward, so an enclosure contains the exact value at every point of the box.
 
-The quantity bounded is the ratio (R − R̂)/((ρ_f − 1)δL_i) of eq. (55). Three enclosures, each
-a valid upper bound at every feasible point of a box (docs/tight.md, "Certificates"):
+The quantity bounded is the target's fraction: (R − R̂)/((ρ_f − 1)δL_i) for the additive
+target (eq. (55)), or ((R − R̂)/R)/(1 − 1/ρ_f) for the ratio target R ≤ ρ_f·R̂ (eq. (54)); either
+is ≤ 1 exactly where its target holds. The enclosures, each a valid upper bound at every
+feasible point of a box (docs/tight.md, "Certificates"):
 
-* ``circumradius``: R − R̂ ≤ R ≤ ε/(1−ε)·L_i (R̂ ≥ 0 and H3);
-* ``chord``: R − R̂ = R(a − â)/a ≤ R·|d|/a with d the shift of the chord BC (Theorem 1 via E2);
+* ``circumradius`` (additive only): R − R̂ ≤ R ≤ ε/(1−ε)·L_i (R̂ ≥ 0 and H3);
+* ``chord``: (R − R̂)/R = (a − â)/a ≤ |d|/a with d the shift of the chord BC (Theorem 1 via
+  E2), times R for the additive target;
 * ``exact``: Theorem 1 itself, a − â = (2 a⃗·d − |d|²)/(a + â), free of cancellation.
 
 References
@@ -37,7 +40,17 @@ DIMENSIONS = ("eps", "edge_b", "edge_c", "cos_theta", "excess_j", "excess_k")
 """Box coordinates, in this order (see the module docstring)."""
 EPS, EDGE_B, EDGE_C, COS_THETA, EXCESS_J, EXCESS_K = range(6)
 ENCLOSURES = ("circumradius", "chord", "exact")
-"""Names of the upper enclosures of (R − R̂)/target, in the order they are tried."""
+"""Names of the upper enclosures of the additive target's fraction, in the order tried."""
+RATIO_ENCLOSURES = ("chord", "exact")
+"""Names of the enclosures of the ratio target's fraction (R − R̂ ≤ R says nothing there)."""
+TARGETS = ("additive", "ratio")
+"""The targets a certificate can be about (:mod:`vorobound.bounds.targets`)."""
+
+
+def enclosure_names(target: str) -> tuple[str, ...]:
+    """The enclosures that are valid for ``target``."""
+    return RATIO_ENCLOSURES if target == "ratio" else ENCLOSURES
+
 
 Box = tuple[tuple[fmpq, fmpq], ...]
 """Closed intervals [lo, hi] with exact rational ends, one per coordinate of DIMENSIONS."""
@@ -79,14 +92,22 @@ class Setting:
     rho_f: fmpq
     lipschitz: fmpq | None
     eps_max: fmpq
+    target: str = "additive"
+    """``"additive"`` (R − R̂ ≤ (ρ_f − 1)δL_i) or ``"ratio"`` (R ≤ ρ_f·R̂, eq. (54))."""
 
     @classmethod
-    def of(cls, sigma, delta_ratio, rho_f, lipschitz, eps_max) -> Setting:
+    def of(cls, sigma, delta_ratio, rho_f, lipschitz, eps_max, target="additive") -> Setting:
         """From floats (each converted exactly)."""
+        if target not in TARGETS:
+            raise ValueError(f"target must be one of {TARGETS}, got {target!r}")
         lam = None if lipschitz is None else exact_rational(lipschitz)
-        return cls(
-            *(exact_rational(v) for v in (sigma, delta_ratio, rho_f)), lam, exact_rational(eps_max)
-        )
+        values = (exact_rational(v) for v in (sigma, delta_ratio, rho_f))
+        return cls(*values, lam, exact_rational(eps_max), target)
+
+    def scale(self) -> arb:
+        """The target in the enclosures' units: ρ_f − 1, or 1 − 1/ρ_f for the ratio target."""
+        rho_f = arb(self.rho_f)
+        return 1 - 1 / rho_f if self.target == "ratio" else rho_f - 1
 
     def root_box(self) -> Box:
         """A box holding every feasible configuration at every ε in (0, ε_max].
@@ -286,43 +307,57 @@ def weights(point: Scaled, setting: Setting) -> Weights:
 
 
 def enclosures(
-    point: Scaled, setting: Setting, names: Sequence[str] = ENCLOSURES
+    point: Scaled, setting: Setting, names: Sequence[str] | None = None
 ) -> dict[str, arb]:
-    """Upper enclosures of (R − R̂)/((ρ_f − 1)δL_i) on the feasible part of the box.
+    """Upper enclosures of the target's fraction on the feasible part of the box.
 
     Parameters
     ----------
     point : Scaled
         The box.
     setting : Setting
-        σ, δ/ε, ρ_f, λ.
-    names : sequence of {"circumradius", "chord", "exact"}
-        Which valid bounds to evaluate (module docstring).
+        σ, δ/ε, ρ_f, λ and the target.
+    names : sequence of {"circumradius", "chord", "exact"}, optional
+        Which valid bounds to evaluate (module docstring); default: all valid for the target.
 
     Returns
     -------
     dict
-        Name ↦ ball whose upper end bounds the ratio at every feasible point of the box.
+        Name ↦ ball whose upper end bounds the fraction at every feasible point of the box.
+
+    Raises
+    ------
+    KeyError
+        For a name that is not an enclosure of the setting's target.
 
     References
     ----------
-    Eq. (16), (25)–(29), (55), property H3.
+    Eq. (16)–(17), (25)–(29), (54)–(55), property H3.
     """
+    valid = enclosure_names(setting.target)
+    names = valid if names is None else names
     w = weights(point, setting)
     ratio = arb(setting.delta_ratio)
-    scale = arb(setting.rho_f) - 1
+    scale = setting.scale()
+    # In scaled units (a − â)/a = (δ/ε)²ε·q with q = shift or numerator/a²; the additive
+    # fraction is that times R/(εL_i) over (ρ_f − 1)·δ/ε, the ratio one over 1 − 1/ρ_f.
+    size = ratio * point.eps
+    factor = w.radius if setting.target == "additive" else ratio
     out = {}
     for name in names:
+        if name not in valid:
+            raise KeyError(name)
         if name == "circumradius":
             out[name] = w.radius / (scale * ratio)
         elif name == "chord":
-            shift = (w.shift_sq / _square(w.edge_a)).sqrt()
-            out[name] = ratio * point.eps * shift * w.radius / scale
-        elif name == "exact":
-            numerator = _gap_numerator(point, w, ratio)
-            out[name] = ratio * point.eps * numerator * w.radius / (scale * _square(w.edge_a))
+            # |d|²/a² = n_B n_C + (n_B − n_C)(g_j − g_k)/a² (step 3's identity over a²): a
+            # enters once, so a wide range of θ (and hence of a) costs little.
+            share_sq = w.n_b * w.n_c + (w.n_b - w.n_c) * (w.g_j - w.g_k) / _square(w.edge_a)
+            shift = share_sq.nonnegative_part().sqrt()
+            out[name] = size * shift * factor / scale
         else:
-            raise KeyError(name)
+            numerator = _gap_numerator(point, w, ratio)
+            out[name] = size * numerator * factor / (scale * _square(w.edge_a))
     return out
 
 
@@ -347,16 +382,18 @@ def _gap_numerator(point: Scaled, w: Weights, ratio: arb) -> arb:
 
 def best_enclosure(point: Scaled, setting: Setting) -> tuple[str, arb]:
     """The enclosure with the smallest upper end, as (name, ball)."""
+    names = enclosure_names(setting.target)
     values = enclosures(point, setting)
-    finite = [name for name in ENCLOSURES if values[name].is_finite()]
+    finite = [name for name in names if values[name].is_finite()]
     if not finite:
-        return ENCLOSURES[0], values[ENCLOSURES[0]]
+        return names[0], values[names[0]]
     name = min(finite, key=lambda n: values[n].upper())
     return name, values[name]
 
 
 def exact_ratio_at(values: Sequence[arb], setting: Setting) -> arb:
-    """Enclosure of the exact (R − R̂)/target at one configuration (for counterexamples).
+    """Enclosure of the exact fraction of the target at one configuration (for
+    counterexamples).
 
     Uses the true R = a/(2 sin θ) (no H3 bound), so its lower end is a valid lower bound.
     """
@@ -379,8 +416,8 @@ def exact_ratio_at(values: Sequence[arb], setting: Setting) -> arb:
         shift_sq,
     )
     numerator = _gap_numerator(point, w, ratio)
-    scale = arb(setting.rho_f) - 1
-    return ratio * point.eps * numerator * w.radius / (scale * w.edge_a * w.edge_a)
+    factor = w.radius if setting.target == "additive" else ratio
+    return ratio * point.eps * numerator * factor / (setting.scale() * w.edge_a * w.edge_a)
 
 
 @contextlib.contextmanager

@@ -65,12 +65,13 @@ Node = int | Leaf
 
 @dataclass(frozen=True)
 class Counterexample:
-    """A feasible configuration whose R − R̂ exceeds the target, checked in intervals."""
+    """A feasible configuration that breaks the target, checked in intervals."""
 
     point: tuple[float, ...]
     """(ε, b/(εL_i), c/(εL_i), cos θ, (L_j/L_i − 1)/ε, (L_k/L_i − 1)/ε); exact floats."""
     ratio_lower: float
-    """Lower end of the interval enclosure of (R − R̂)/((ρ_f − 1)δL_i) at the point (> 1)."""
+    """Lower end of the interval enclosure of the target's fraction at the point (> 1):
+    (R − R̂)/((ρ_f − 1)δL_i), or ((R − R̂)/R)/(1 − 1/ρ_f) for the ratio target."""
     ratio_upper: float
     ratio_float: float
     """The same ratio in floating point (geometry core), for comparison."""
@@ -141,7 +142,7 @@ def counterexample_at(point: tuple[float, ...], setting: Setting) -> Counterexam
 
 
 def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
-    """(R − R̂)/target at ``point`` in floats, or None if ``feasible_mask`` rejects it."""
+    """The target's fraction at ``point`` in floats, or None if ``feasible_mask`` rejects it."""
     from ..configurations import feasible_mask
     from ..params import QualityParams
 
@@ -156,7 +157,10 @@ def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
     lam = None if setting.lipschitz is None else nearest_float(setting.lipschitz)
     if not feasible_mask(tri, params, lam)[0]:
         return None
-    return float(tri.radius_gap(params)[0] / params.target)
+    gap = float(tri.radius_gap(params)[0])
+    if setting.target == "ratio":
+        return gap / float(tri.circumradius[0]) / (1 - 1 / params.rho_f)
+    return gap / params.target
 
 
 def absolute_configuration(point: tuple[float, ...]):
@@ -263,9 +267,13 @@ def widest(box: Box, scales) -> int:
 
 
 def _refuted(setting: Setting, found: Counterexample) -> str:
+    if setting.target == "ratio":
+        what = "(R - R^)/R at least {:.9f} times 1 - 1/rho_f, so R > rho_f R^"
+    else:
+        what = "(R - R^) at least {:.9f} times (rho_f - 1) delta L_i"
     return (
-        f"eps_max = {nearest_float(setting.eps_max):.17g} is not certifiable: a feasible guide "
-        f"triangle has (R - R^)/target >= {found.ratio_lower:.9f}"
+        f"eps_max = {nearest_float(setting.eps_max):.17g} is not certifiable for the "
+        f"{setting.target} target: a feasible guide triangle has {what.format(found.ratio_lower)}"
     )
 
 

@@ -1,27 +1,32 @@
 """One entry point for the tight bound: the closed form where it is proven exact, else the
 optimizer.
 
-``method="auto"`` uses the closed form of :mod:`vorobound.bounds.tight.closed_form` wherever
-docs/tight.md proves it to be the supremum itself (the worst vertex is feasible), and the
-numerical optimizer elsewhere; ``"optimize"`` forces the optimizer (the independent check).
-Every result says which method produced it and how strong its claim is.
+``method="auto"`` uses the closed forms of :mod:`vorobound.bounds.tight.closed_form` (additive
+target) and :mod:`vorobound.bounds.tight.ratio_form` (ratio target) wherever docs/tight.md
+proves them to be the supremum itself (the worst vertex is feasible), and the numerical
+optimizer elsewhere; ``"optimize"`` forces the optimizer (the independent check). Every result
+says which method produced it and how strong its claim is; a numerical ε* also carries the
+closed form's proven lower bound when there is one.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import Enum
 
+from ...errors import VoroboundError
 from ...progress import Progress
 from ..claims import NUMERICAL, PROVEN
 from ..configurations import GuideConfiguration
-from ..eps_star import EpsStar, NoCrossing, check_not_empty
+from ..eps_star import EpsStar, NoCrossing, feasible_start
 from ..params import EPS_RANGE, QualityParams, SamplingParams, checked_lipschitz
+from ..targets import Target, target_share
 from .closed_form import (
     ClosedFormStatus,
     tight_eps_star_closed_form,
     tight_supremum_closed_form,
 )
+from .ratio_form import ratio_eps_star_closed_form, ratio_supremum_closed_form
 from .scan import TightResult, solve_tight, tight_supremum
 
 CLOSED_FORM = "closed form"
@@ -39,10 +44,11 @@ class TightMethod(str, Enum):
 
 @dataclass(frozen=True)
 class TightBound:
-    """The tight bound on R − R̂ at one ε."""
+    """The tight bound at one ε: sup R − R̂ (additive target) or sup R/R̂ (ratio target)."""
 
     value: float
-    """sup R − R̂ over the constraint set (absolute units)."""
+    """sup R − R̂ over the constraint set (absolute units), or sup R/R̂ (inf where R̂ can
+    reach 0)."""
     maximizer: GuideConfiguration
     method: str
     """"closed form" or "optimizer"."""
@@ -50,22 +56,60 @@ class TightBound:
     """proven or numerical (:mod:`vorobound.bounds.claims`)."""
     optimizer: TightResult | None = None
     """The optimizer's full result (infimum, evidence) when the optimizer produced the value."""
+    target: str = "additive"
+    fraction: float = 0.0
+    """The bound as a fraction of the target: sup(R − R̂)/((ρ_f − 1)δL_i), or
+    sup((R − R̂)/R)/(1 − 1/ρ_f); at most 1 where the target is met."""
 
 
 def tight_bound(
-    params: SamplingParams, lipschitz: float | None = None, method: TightMethod | str = "auto"
+    params: SamplingParams,
+    lipschitz: float | None = None,
+    method: TightMethod | str = "auto",
+    target: Target | str = Target.additive,
 ) -> TightBound:
     """The tight bound at ``params.eps`` (see the module docstring for ``method``)."""
-    method = TightMethod(method)
+    method, target = TightMethod(method), Target(target)
     lipschitz = checked_lipschitz(lipschitz)
+    share = target_share(target, params.rho_f) if target is Target.ratio else None
     if method is TightMethod.auto:
-        closed = tight_supremum_closed_form(
-            params.eps, params.sigma, params.delta_ratio, params.lfs, lipschitz
-        )
-        if closed.status is ClosedFormStatus.exact:
-            return TightBound(closed.value, closed.maximizer, CLOSED_FORM, PROVEN)
-    result = tight_supremum(params, lipschitz)
-    return TightBound(result.supremum, result.maximizer, OPTIMIZER, NUMERICAL, result)
+        if target is Target.ratio:
+            ratio = ratio_supremum_closed_form(
+                params.eps, params.sigma, params.delta_ratio, lipschitz
+            )
+            if ratio.status is ClosedFormStatus.exact:
+                maximizer = ratio.vertex.maximizer
+                return TightBound(
+                    ratio.value,
+                    maximizer,
+                    CLOSED_FORM,
+                    PROVEN,
+                    None,
+                    target.value,
+                    ratio.share / share,
+                )
+        else:
+            closed = tight_supremum_closed_form(
+                params.eps, params.sigma, params.delta_ratio, params.lfs, lipschitz
+            )
+            if closed.status is ClosedFormStatus.exact:
+                return TightBound(
+                    closed.value,
+                    closed.maximizer,
+                    CLOSED_FORM,
+                    PROVEN,
+                    None,
+                    target.value,
+                    closed.value / params.target,
+                )
+    result = tight_supremum(params, lipschitz, target=target)
+    if target is Target.ratio:
+        top = result.supremum
+        value = float("inf") if top >= 1 else 1 / (1 - top)
+        fraction = top / share
+    else:
+        value, fraction = result.supremum, result.supremum / params.target
+    return TightBound(value, result.maximizer, OPTIMIZER, NUMERICAL, result, target.value, fraction)
 
 
 def tight_eps_star(
@@ -73,25 +117,32 @@ def tight_eps_star(
     lipschitz: float | None = None,
     method: TightMethod | str = "auto",
     progress: Progress | None = None,
+    target: Target | str = Target.additive,
 ) -> EpsStar:
-    """The tight ε* (see the module docstring for ``method``).
+    """The tight ε* for ``target`` (see the module docstring for ``method``).
 
     The closed form's ε* is the tight ε* itself when the worst vertex is feasible there
-    (docs/tight.md, steps 5–6); it is used then, and the optimizer otherwise.
+    (docs/tight.md, steps 5–6 and "The ratio target"); it is used then. Otherwise the
+    optimizer's ε* is returned (numerical), with the closed form's root as
+    ``proven_lower_bound`` when guide triangles exist there (it is then proven admissible).
     """
-    method = TightMethod(method)
+    method, target = TightMethod(method), Target(target)
     lipschitz = checked_lipschitz(lipschitz)
-    check_not_empty(quality, "tight")
+    feasible_start(quality, "tight")
+    lower = None
     if method is TightMethod.auto:
         if lipschitz == 0:
             raise NoCrossing(
                 "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide "
                 "triangle: the tight bound never reaches the target (no crossing), so no eps*"
             )
-        closed = tight_eps_star_closed_form(
-            quality.sigma, quality.delta_ratio, quality.rho_f, lipschitz
-        )
-        if closed.status is ClosedFormStatus.exact:
+        try:
+            closed = _closed_eps_star(quality, lipschitz, target)
+        except NoCrossing:
+            raise
+        except VoroboundError:
+            closed = None  # the root lies where no guide triangle exists: no proof from it
+        if closed is not None and closed.status is ClosedFormStatus.exact:
             star = closed.eps_star
             maximizer = tight_supremum_closed_form(
                 star, quality.sigma, quality.delta_ratio, quality.lfs, lipschitz
@@ -107,5 +158,17 @@ def tight_eps_star(
                 claim=PROVEN,
                 maximizer=maximizer,
                 lipschitz=lipschitz,
+                target=target.value,
             )
-    return solve_tight(quality, lipschitz, progress=progress)
+        lower = None if closed is None else closed.eps_star
+    result = solve_tight(quality, lipschitz, progress=progress, target=target)
+    return replace(result, proven_lower_bound=lower)
+
+
+def _closed_eps_star(quality: QualityParams, lipschitz: float | None, target: Target):
+    """The closed-form ε* of ``target`` (its ``status`` says exact or a proven lower bound)."""
+    if target is Target.ratio:
+        return ratio_eps_star_closed_form(
+            quality.sigma, quality.delta_ratio, quality.rho_f, lipschitz
+        )
+    return tight_eps_star_closed_form(quality.sigma, quality.delta_ratio, quality.rho_f, lipschitz)

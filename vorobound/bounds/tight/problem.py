@@ -1,8 +1,10 @@
-"""The tight bound's problem: R − R̂ and the feasible guide triangles in normalized coordinates.
+"""The tight bound's problem: the objective and the feasible guide triangles in normalized
+coordinates.
 
-The chain (33)–(53) bounds each term of (29) separately; the tight bound maximizes Theorem 1's
-R − R̂ (``GuideTriangles.radius_gap``) over the whole constraint set of
-:mod:`vorobound.bounds.constraints`, in normalized coordinates
+The chain (33)–(53) bounds each term of (29) separately; the tight bound maximizes, over the
+whole constraint set of :mod:`vorobound.bounds.constraints`, Theorem 1's R − R̂
+(``GuideTriangles.radius_gap``) for the additive target, or (R − R̂)/R = 1 − R̂/R for the ratio
+target R ≤ ρ_f·R̂ of eq. (54) (:mod:`vorobound.bounds.targets`), in normalized coordinates
 
     x = (b/(εL_i), c/(εL_i), θ, s_j, s_k),   L_j = L_i(1 + s_j·2ε/(1−ε)·min(1, λ)), s ∈ [0, 1],
 
@@ -20,6 +22,7 @@ from ...errors import InputError
 from .. import constraints
 from ..configurations import GuideConfiguration, GuideTriangles
 from ..params import SamplingParams, checked_lipschitz
+from ..targets import Target, target_share
 
 PROJECTION_STEPS = 6
 """Newton steps onto active constraints (quadratic convergence: three or four suffice)."""
@@ -42,6 +45,8 @@ class Problem:
 
     params: SamplingParams
     lipschitz: float | None
+    target: Target = Target.additive
+    """What is maximized: R − R̂ (additive) or (R − R̂)/R (ratio, eq. (54))."""
 
     @property
     def lfs_scale(self) -> float:
@@ -59,9 +64,13 @@ class Problem:
 
     @property
     def unit(self) -> float:
-        """δ²L_i·min(1, λ): R − R̂ over it is of order one at every ε and λ (weights are
-        O(δ²L_i·λε), eq. (37))."""
-        return self.params.delta**2 * self.params.lfs * self.lfs_scale
+        """The objective's natural size, so that objective/unit is of order one at every ε
+        and λ: δ²L_i·min(1, λ) for R − R̂ (weights are O(δ²L_i·λε), eq. (37)), and that over
+        εL_i (the size of R) for (R − R̂)/R."""
+        size = self.params.delta**2 * self.lfs_scale
+        if self.target is Target.ratio:
+            return size / self.params.eps
+        return size * self.params.lfs
 
     def box(self) -> tuple[np.ndarray, np.ndarray]:
         """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ k_sin (48)."""
@@ -73,9 +82,10 @@ class Problem:
                 "(sigma*(1-eps) > sqrt(3))"
             )
         theta_lo = np.arcsin(k_sin)
-        # An obtuse θ leaves two acute angles, each ≥ arcsin(k_sin).
-        theta_hi = max(np.pi / 2, np.pi - 2 * theta_lo)
-        edge_hi = 2 / (1 - eps)  # (34)–(35) over εL_i
+        # The other two angles are each ≥ arcsin(k_sin); near σ(1−ε) = √3 both ends of θ and
+        # of the edges close in on the equilateral triangle.
+        theta_hi = float(constraints.angle_max(eps, sigma))
+        edge_hi = float(constraints.edge_cap(eps, sigma))  # (34)–(35) and H3 over εL_i
         lo = np.array([sigma, sigma, theta_lo, 0.0, 0.0])
         hi = np.array([edge_hi, edge_hi, theta_hi, 1.0, 1.0])
         return lo, hi
@@ -170,13 +180,32 @@ class Problem:
         pairs += [("R̂ = 0 (w_B = c², w_C = b²)", np.abs(self.plateau_equations(x)[1:]).max())]
         return [name for name, slack in pairs if name and abs(slack) <= ACTIVE_ATOL]
 
-    def scaled_gap(self, x) -> np.ndarray:
-        """(R − R̂)/unit at the coordinates ``x``, eq. (29)."""
-        return self.triangles(x).radius_gap(self.params) / self.unit
+    def objective(self, x) -> np.ndarray:
+        """The maximized quantity over :attr:`unit` at the coordinates ``x``: R − R̂ (eq. (29))
+        or, for the ratio target, (R − R̂)/R = (a − â)/a (eq. (17))."""
+        tri = self.triangles(x)
+        gap = tri.radius_gap(self.params)
+        if self.target is Target.ratio:
+            gap = gap / tri.circumradius
+        return gap / self.unit
+
+    def limit(self) -> float:
+        """The target in the objective's units: (ρ_f − 1)δL_i (eq. (55)), or 1 − 1/ρ_f, the
+        largest (R − R̂)/R with R ≤ ρ_f·R̂ (eq. (54))."""
+        if self.target is Target.ratio:
+            return target_share(self.target, self.params.rho_f)
+        return self.params.target
 
     def ratio(self, scaled: float) -> float:
-        """A scaled R − R̂ as a fraction of the target (ρ_f − 1)δL_i, eq. (55)."""
-        return scaled * self.unit / self.params.target
+        """A scaled objective as a fraction of the target (1 means the target is just met)."""
+        return scaled * self.unit / self.limit()
+
+    def plateau_value(self) -> float:
+        """The objective's largest possible value over :attr:`unit`: R ≤ ε/(1−ε)·L_i (H3) for
+        R − R̂, and 1 for (R − R̂)/R (R̂ ≥ 0); both are reached where R̂ = 0."""
+        if self.target is Target.ratio:
+            return 1 / self.unit
+        return self.params.eps / (1 - self.params.eps) * self.params.lfs / self.unit
 
     def feasible(self, x) -> np.ndarray:
         """True where ``x`` lies in the constraint set (θ in (0, π) and every constraint)."""
@@ -233,15 +262,15 @@ def project(problem: Problem, x: np.ndarray, extra: Callable | None = None) -> n
 def onto_plateau(problem: Problem, x: np.ndarray) -> np.ndarray | None:
     """A feasible point with R̂ = 0 and R maximal near ``x``, or None.
 
-    R − R̂ ≤ R ≤ ε/(1−ε)·L_i for every feasible triangle, so such a point is a global maximizer.
+    R − R̂ ≤ R ≤ ε/(1−ε)·L_i and (R − R̂)/R ≤ 1 for every feasible triangle, so such a point is
+    a global maximizer of either objective.
     """
     tri = problem.triangles(x)
     if not tri.radius_gap(problem.params)[0] >= (1 - PLATEAU_TRIGGER) * tri.circumradius[0]:
         return None
     with np.errstate(all="ignore"):
         y = project(problem, x, problem.plateau_equations)
-    r_max = problem.params.eps / (1 - problem.params.eps) * problem.params.lfs / problem.unit
-    reached = problem.scaled_gap(y)[0] >= r_max * (1 - AGREE_RTOL)
+    reached = problem.objective(y)[0] >= problem.plateau_value() * (1 - AGREE_RTOL)
     return y if reached and problem.feasible(y)[0] else None
 
 
@@ -256,10 +285,13 @@ def describe(problem: Problem, x: np.ndarray) -> GuideConfiguration:
     return GuideConfiguration.of(problem.triangles(x), problem.params)
 
 
-def checked_problem(params: SamplingParams, lipschitz: float | None) -> Problem:
-    """The problem for ``params`` and ``lipschitz``; raises if λ is invalid or the set is empty."""
+def checked_problem(
+    params: SamplingParams, lipschitz: float | None, target: Target | str = Target.additive
+) -> Problem:
+    """The problem for ``params``, ``lipschitz`` and ``target``; raises if λ is invalid or the
+    set is empty."""
     if not isinstance(params, SamplingParams):
         raise InputError(f"params must be SamplingParams, got {type(params).__name__}")
-    problem = Problem(params, checked_lipschitz(lipschitz))
+    problem = Problem(params, checked_lipschitz(lipschitz), Target(target))
     problem.box()
     return problem

@@ -40,8 +40,9 @@ from ...errors import VoroboundWarning
 from ...progress import Progress, silent
 from ..claims import NUMERICAL
 from ..configurations import GuideConfiguration, sample_feasible
-from ..eps_star import EpsStar, NoCrossing, check_not_empty, find_eps_star
+from ..eps_star import EpsStar, NoCrossing, feasible_grid, feasible_start, find_eps_star
 from ..params import QualityParams, SamplingParams, checked_lipschitz
+from ..targets import Target
 from .problem import AGREE_RTOL, Problem, checked_problem, describe
 from .search import SearchEvidence, best_feasible, best_of_sample, extremum, polish
 
@@ -59,12 +60,13 @@ VERIFY_ROUNDS = 3
 
 @dataclass(frozen=True)
 class TightResult:
-    """Extremes of R − R̂ over the feasible guide triangles at one ε (numerical optimization)."""
+    """Extremes of the objective over the feasible guide triangles at one ε (numerical
+    optimization): R − R̂, or (R − R̂)/R for the ratio target."""
 
     supremum: float
-    """max R − R̂ of eq. (29), without the chain (33)–(53)."""
+    """max R − R̂ of eq. (29) (ratio target: max (R − R̂)/R, eq. (17)), without the chain."""
     infimum: float
-    """min R − R̂."""
+    """min of the same."""
     maximizer: GuideConfiguration
     """The worst guide triangle."""
     minimizer: GuideConfiguration
@@ -73,6 +75,7 @@ class TightResult:
     infimum_evidence: SearchEvidence
     eps: float
     lipschitz: float | None
+    target: str = "additive"
 
 
 def tight_supremum(
@@ -82,8 +85,10 @@ def tight_supremum(
     *,
     dense_samples: int = DENSE_SAMPLES,
     de_maxiter: int = DE_MAXITER,
+    target: Target | str = Target.additive,
 ) -> TightResult:
-    """Supremum and infimum of R − R̂ over all feasible guide triangles at ``params.eps``.
+    """Supremum and infimum of R − R̂ (or of (R − R̂)/R) over all feasible guide triangles at
+    ``params.eps``.
 
     Parameters
     ----------
@@ -95,6 +100,8 @@ def tight_supremum(
         Seeds the dense sample, the choice of starts and differential evolution.
     dense_samples, de_maxiter : int
         Budgets of the dense feasible sample and of the global search.
+    target : {"additive", "ratio"}
+        Maximize R − R̂, or (R − R̂)/R = 1 − R̂/R (the ratio target R ≤ ρ_f·R̂, eq. (54)).
 
     Returns
     -------
@@ -105,7 +112,7 @@ def tight_supremum(
     ----------
     Eq. (29), (33)–(37), property H3 of Section 4.1.
     """
-    problem = checked_problem(params, lipschitz)
+    problem = checked_problem(params, lipschitz, target)
     lipschitz = problem.lipschitz
     if lipschitz == 0:
         return _constant_lfs_result(problem)
@@ -123,6 +130,7 @@ def tight_supremum(
         infimum_evidence=inf_evidence,
         eps=params.eps,
         lipschitz=lipschitz,
+        target=problem.target.value,
     )
 
 
@@ -141,15 +149,19 @@ def _constant_lfs_result(problem: Problem) -> TightResult:
         dense_sample_extreme=None,
         methods=("exact: equal weights give R̂ = R",),
     )
-    return TightResult(0.0, 0.0, config, config, evidence, evidence, problem.params.eps, 0.0)
+    return TightResult(
+        0.0, 0.0, config, config, evidence, evidence, problem.params.eps, 0.0, problem.target.value
+    )
 
 
 class _WarmScan:
     """ε ↦ sup(R − R̂)/target, polishing from the last maximizer, known global ones and the
     best points of a small sample (which catch a change of the maximizer's structure)."""
 
-    def __init__(self, quality, lipschitz, pool: list[np.ndarray], seed: int, advance: Callable):
-        self.quality, self.lipschitz, self.seed = quality, lipschitz, seed
+    def __init__(
+        self, quality, lipschitz, pool: list[np.ndarray], seed: int, advance: Callable, target
+    ):
+        self.quality, self.lipschitz, self.seed, self.target = quality, lipschitz, seed, target
         self.pool, self.last = pool, pool[-1]
         self.advance = advance
         self.found: dict[float, tuple[np.ndarray, float]] = {}
@@ -158,7 +170,7 @@ class _WarmScan:
     def ratio(self, eps: float) -> float:
         eps = float(eps)
         if eps not in self.found:
-            problem = Problem(self.quality.at(eps), self.lipschitz)
+            problem = Problem(self.quality.at(eps), self.lipschitz, self.target)
             rng = np.random.default_rng(self.seed)
             tri = sample_feasible(problem.params, SCAN_SAMPLES, rng, self.lipschitz)
             sample = problem.coordinates(tri)
@@ -193,8 +205,10 @@ def solve_tight(
     dense_samples: int = DENSE_SAMPLES,
     de_maxiter: int = DE_MAXITER,
     grid: np.ndarray = TIGHT_SCAN_GRID,
+    target: Target | str = Target.additive,
 ) -> EpsStar:
-    """Largest ε whose numerical tight bound sup(R − R̂) stays within (ρ_f − 1)·δ·L_i.
+    """Largest ε whose numerical tight bound stays within the target: sup(R − R̂) within
+    (ρ_f − 1)·δ·L_i, or sup R/R̂ within ρ_f (``target="ratio"``, eq. (54)).
 
     Scans ``grid`` upwards, warm-starting each ε from the previous maximizer, up to the
     first crossing; refines it with brentq (:func:`vorobound.bounds.eps_star.find_eps_star`);
@@ -212,7 +226,10 @@ def solve_tight(
     seed, dense_samples, de_maxiter : int
         As in :func:`tight_supremum`, for the global searches.
     grid : array_like
-        Increasing ε values scanned for the first crossing.
+        Increasing ε values scanned for the first crossing (those below the ε from which
+        guide triangles exist, σ > √3, are dropped: the target holds vacuously there).
+    target : {"additive", "ratio"}
+        Which target (:mod:`vorobound.bounds.targets`).
 
     Returns
     -------
@@ -224,15 +241,16 @@ def solve_tight(
     ----------
     Eq. (29), (33)–(37), (54)–(55).
     """
-    check_not_empty(quality, "tight")
+    target = Target(target)
+    start = feasible_start(quality, "tight")
     lipschitz = checked_lipschitz(lipschitz)
     if lipschitz == 0:
         raise NoCrossing(
             "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide triangle: "
             "the tight bound never reaches the target (no crossing), so no eps*"
         )
-    grid = np.asarray(grid, dtype=float)
-    checked_problem(quality.at(float(grid[0])), lipschitz)
+    grid = feasible_grid(grid, start)
+    checked_problem(quality.at(float(grid[0])), lipschitz, target)
     report = progress or silent
     counts: dict[str, int] = {}
 
@@ -243,7 +261,7 @@ def solve_tight(
     def global_max(eps: float) -> tuple[np.ndarray, float]:
         """Maximizer and sup(R − R̂)/target at ``eps`` by the full search."""
         advance("global search")
-        problem = Problem(quality.at(eps), lipschitz)
+        problem = Problem(quality.at(eps), lipschitz, target)
         rng = np.random.default_rng(seed)
         sample = problem.coordinates(sample_feasible(problem.params, dense_samples, rng, lipschitz))
         x, value, _ = extremum(problem, 1.0, sample, rng, de_maxiter)
@@ -251,7 +269,7 @@ def solve_tight(
 
     pool = [global_max(float(grid[0]))[0]]
     for _ in range(VERIFY_ROUNDS):
-        scan = _WarmScan(quality, lipschitz, pool, seed, advance)
+        scan = _WarmScan(quality, lipschitz, pool, seed, advance, target)
         stop = scan.first_crossing(grid)
         bracket = grid[max(stop - 1, 0) : stop + 1]
         result = find_eps_star(
@@ -273,6 +291,7 @@ def solve_tight(
     return replace(
         result,
         residual=float(best - 1),
-        maximizer=describe(Problem(result.params, lipschitz), x_best),
+        maximizer=describe(Problem(result.params, lipschitz, target), x_best),
         lipschitz=lipschitz,
+        target=target.value,
     )

@@ -33,7 +33,7 @@ def _slsqp(problem: Problem, x0: np.ndarray, sign: float, maxiter: int):
 
     lo, hi = problem.box()
     result = minimize(
-        lambda x: with_jacobian(lambda p: -sign * problem.scaled_gap(p), x, lo, hi),
+        lambda x: with_jacobian(lambda p: -sign * problem.objective(p), x, lo, hi),
         np.clip(x0, lo, hi),
         jac=True,
         method="SLSQP",
@@ -66,7 +66,7 @@ def _global_search(problem: Problem, sign: float, seed: int, maxiter: int) -> np
 
     lo, hi = problem.box()
     result = differential_evolution(
-        lambda x: -sign * problem.scaled_gap(x),
+        lambda x: -sign * problem.objective(x),
         list(zip(lo, hi, strict=True)),
         constraints=NonlinearConstraint(problem.slacks, 0, np.inf),
         vectorized=True,
@@ -83,7 +83,7 @@ def _global_search(problem: Problem, sign: float, seed: int, maxiter: int) -> np
 def best_feasible(problem: Problem, candidates: list[np.ndarray], sign: float):
     """(coordinates, scaled R − R̂) of the best feasible candidate; raises if there is none."""
     points = np.column_stack(candidates)
-    values = np.where(problem.feasible(points), sign * problem.scaled_gap(points), -np.inf)
+    values = np.where(problem.feasible(points), sign * problem.objective(points), -np.inf)
     best = int(np.argmax(values))
     if not np.isfinite(values[best]):
         raise InputError(
@@ -95,7 +95,7 @@ def best_feasible(problem: Problem, candidates: list[np.ndarray], sign: float):
 
 def best_of_sample(problem: Problem, sample: np.ndarray, sign: float, count: int):
     """Indices of the ``count`` best sample points and the signed scaled values of all."""
-    values = sign * problem.scaled_gap(sample) if sample.shape[1] else np.empty(0)
+    values = sign * problem.objective(sample) if sample.shape[1] else np.empty(0)
     return np.argsort(-values)[:count], values
 
 
@@ -136,7 +136,7 @@ def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: in
     x, value = best_feasible(problem, polished + [de_x], sign)
     unit, scale = problem.unit, max(abs(value), np.finfo(float).tiny)
     local = np.column_stack(polished)
-    local = sign * problem.scaled_gap(local)[problem.feasible(local)]
+    local = sign * problem.objective(local)[problem.feasible(local)]
     agree = local >= sign * value - AGREE_RTOL * scale
     dense = float(sign * sample_values.max() * unit) if sample_values.size else None
     if dense is not None and sign * (dense / unit - value) > AGREE_RTOL * scale:
@@ -151,7 +151,7 @@ def extremum(problem: Problem, sign: float, sample: np.ndarray, rng, maxiter: in
         agreeing_starts=int(agree.sum()),
         spread_of_local_optima=float(np.ptp(local[agree]) / scale) if agree.any() else None,
         other_local_optima=tuple(sorted({float(f"{sign * v * unit:.12g}") for v in local[~agree]})),
-        global_search_value=float(problem.scaled_gap(de_x)[0] * unit),
+        global_search_value=float(problem.objective(de_x)[0] * unit),
         active_constraints=tuple(problem.active(x)),
         dense_samples=int(sample.shape[1]),
         dense_sample_extreme=dense,
