@@ -13,12 +13,20 @@ same measurements, rendered by docs/examples/lfs_*.py from the functions here:
 * speed: wall time against the vertex count, with the bare scipy Delaunay triangulation of the
   same (jittered) vertices as the in-run baseline (ratio column); target: 10⁵ vertices in
   ≤ 30 s on 2 cores;
-* a cube: L near its sharp edges, in units of the mesh edge length.
+* a cube: L near its sharp edges, in units of the mesh edge length;
+* CAD parts (issue table): the meshes a new user exports (long thin triangles, sharp edges),
+  the true range of L against the estimate;
+* triangulation independence: L of a coarse and a fine triangulation of each CAD test part at
+  common surface points (target: within 5 %), and the advised sample counts (within 10 %);
+* CAD speed: a 10⁵-face CAD-like part through ``lfs`` (target ≤ 60 s) and ``advise --mesh``
+  (≤ 90 s), stage split and CPU seconds next to wall; and meshes of growing size for the
+  growth exponent (``--big`` adds the 10⁶-vertex torus, target ≤ 10 min and ≤ 8 GB).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -30,13 +38,14 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import numpy as np  # noqa: E402
 
 from vorobound.errors import VoroboundWarning  # noqa: E402
-from vorobound.sampling import surfaces  # noqa: E402
+from vorobound.sampling import cad_meshes, surfaces  # noqa: E402
 from vorobound.sampling.curved import edge_midpoints  # noqa: E402
 from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh  # noqa: E402
 from vorobound.sampling.lfs import estimate_lfs  # noqa: E402
 from vorobound.sampling.medial import JITTER, nearest_spacing  # noqa: E402
 from vorobound.sampling.mesh_io import TriangleMesh  # noqa: E402
 from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
+from vorobound.sampling.mesh_shape import uniform_in_triangle  # noqa: E402
 
 MEDIAN_TARGET, WORST_TARGET, SECONDS_TARGET = 1e-3, 0.02, 30.0
 
@@ -276,10 +285,143 @@ def cube_rows(divisions=(4, 8, 16)) -> list[tuple[int, float, float, float, int]
     return rows
 
 
+def issue_meshes() -> list[tuple[str, TriangleMesh, str, float]]:
+    """The five meshes of the issue that reported 50x overestimates: (label, mesh, true range
+    of L, its upper end)."""
+    return [
+        (
+            "cylinder r = 1, length 100, 32 segments, 2 rings, flat caps",
+            cad_meshes.capped_cylinder(1.0, 100.0, 32, 2),
+            "≤ 1",
+            1.0,
+        ),
+        (
+            "same cylinder, r = 10⁻³",
+            cad_meshes.capped_cylinder(1e-3, 100.0, 32, 2),
+            "≤ 10⁻³",
+            1e-3,
+        ),
+        ("box 100 × 1 × 1 (12 triangles)", cad_meshes.bar(), "≤ 0.5", 0.5),
+        ("plate 100 × 100 × 1 (12 triangles)", cad_meshes.plate(), "≤ 0.5", 0.5),
+        (
+            "same cylinder, 200 rings along its length",
+            cad_meshes.capped_cylinder(1.0, 100.0, 32, 200),
+            "≤ 1",
+            1.0,
+        ),
+    ]
+
+
+def issue_row(mesh: TriangleMesh) -> tuple[float, float, float, float]:
+    """(smallest, largest L at the vertices, largest L at 20 000 surface points, seconds)."""
+    estimate, seconds = timed(mesh)
+    surface = estimate.at(surface_points(mesh, 20_000))
+    return float(estimate.lfs.min()), float(estimate.lfs.max()), float(surface.max()), seconds
+
+
+def surface_points(mesh: TriangleMesh, count: int, seed: int = 0) -> np.ndarray:
+    """Points uniform by area on the mesh's triangles."""
+    rng = np.random.default_rng(seed)
+    areas = mesh.triangle_areas()
+    triangle = rng.choice(len(areas), count, p=areas / areas.sum())
+    u, v = uniform_in_triangle(rng, count)
+    p = mesh.points[mesh.triangles[triangle]]
+    return p[:, 0] + u[:, None] * (p[:, 1] - p[:, 0]) + v[:, None] * (p[:, 2] - p[:, 0])
+
+
+@dataclass(frozen=True)
+class Agreement:
+    """L of the coarse and fine copies of one part at common points, and their advice."""
+
+    name: str
+    vertices: tuple[int, int]
+    median: float
+    p99: float
+    largest: float
+    over_target: float
+    """Share of the points where the two differ by more than 5 %."""
+    integral_ratio: float
+    """∫dA/L² of the coarse copy over the fine one (the advised counts are proportional)."""
+    feature_ratio: float
+    """∫ds/L along the features, coarse over fine (the feature-ball counts)."""
+    seconds: tuple[float, float]
+
+
+def agreement(name: str, coarse: TriangleMesh, fine: TriangleMesh) -> Agreement:
+    a, ta = timed(coarse)
+    b, tb = timed(fine)
+    points = surface_points(fine, 20_000)
+    la, lb = a.at(points), b.at(points)
+    rel = np.abs(la - lb) / np.minimum(la, lb)
+    return Agreement(
+        name,
+        (len(coarse.points), len(fine.points)),
+        float(np.median(rel)),
+        float(np.percentile(rel, 99)),
+        float(rel.max()),
+        float((rel > 0.05).mean()),
+        a.surface().inv_lfs_sq_integral / b.surface().inv_lfs_sq_integral,
+        a.feature_inv_lfs / b.feature_inv_lfs if b.feature_inv_lfs else 1.0,
+        (ta, tb),
+    )
+
+
+def cad_speed_meshes(big: bool = False) -> list[TriangleMesh]:
+    """CAD-like parts of growing size (an L-bracket with a bore, ever finer), the largest with
+    about 10⁵ faces; with ``big`` the 10⁶-vertex torus of the issue as well."""
+    meshes = [
+        cad_meshes.l_bracket(spacing=step, rings=rings, segments=segments)
+        for step, rings, segments in ((0.2, 8, 16), (0.1, 24, 32), (0.05, 60, 64))
+    ]
+    if big:
+        meshes.append(torus_mesh(3.0, 1.0, 2000, 500))
+    return meshes
+
+
+def cad_speed_row(mesh: TriangleMesh) -> dict:
+    """Wall and CPU seconds of the estimate (with its stage split) and of the advice."""
+    import resource
+
+    from vorobound.bounds.params import QualityParams
+    from vorobound.reports.advisor import advise
+
+    stages: dict[str, float] = {}
+    last = [time.perf_counter(), None]
+
+    def progress(task, done=None, total=None):
+        now = time.perf_counter()
+        if last[1] is not None:
+            stages[last[1]] = stages.get(last[1], 0.0) + now - last[0]
+        last[0], last[1] = now, task
+
+    cpu, wall = time.process_time(), time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)
+        estimate = estimate_lfs(mesh, progress=progress)
+    progress("end")
+    lfs_wall, lfs_cpu = time.perf_counter() - wall, time.process_time() - cpu
+    advise(QualityParams(0.75, 2.0, 1.38), estimate.surface(), ["rigorous", "tight"])
+    return {
+        "faces": len(mesh.triangles),
+        "vertices": len(mesh.points),
+        "lfs_wall": lfs_wall,
+        "lfs_cpu": lfs_cpu,
+        "advise_wall": time.perf_counter() - wall,
+        "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20,
+        "stages": stages,
+        "sites": len(estimate.sites.points),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="skip the meshes over 40k vertices")
+    parser.add_argument("--cad", action="store_true", help="only the CAD tables")
+    parser.add_argument("--big", action="store_true", help="add the 10^6-vertex torus (slow)")
     args = parser.parse_args()
+    cad_tables(args.big)
+    if args.cad:
+        return
     print("\n## Accuracy (relative error of L at the vertices): vertices only | default sample")
     print(
         f"{'mesh':44s} {'median':>8s} {'largest':>8s} {'time':>7s} | {'samples':>7s} "
@@ -323,6 +465,40 @@ def main() -> None:
     print(f"{'divisions':>9s} {'h':>6s} {'on edges':>8s} {'one step in':>11s} {'midpoints':>9s}")
     for count, h, on_edge, one_in, added in cube_rows():
         print(f"{count:9d} {h:6.3f} {on_edge:8.3f} {one_in:11.3f} {added:9d}")
+
+
+def cad_tables(big: bool) -> None:
+    print("\n## CAD parts of the issue: true range of L and the estimate")
+    for label, mesh, truth, _ in issue_meshes():
+        low, high, surface, seconds = issue_row(mesh)
+        print(
+            f"{label:62s} {truth:>7s}  {low:.4g} – {high:.4g} "
+            f"(surface max {surface:.4g}) {seconds:.1f}s"
+        )
+    print("\n## Coarse vs fine triangulation of one part (relative difference of L)")
+    for name, (coarse, fine) in cad_meshes.coarse_and_fine().items():
+        a = agreement(name, coarse, fine)
+        print(
+            f"{name:9s} {a.vertices[0]:>6d}/{a.vertices[1]:<7d} median {a.median:.1e} p99 "
+            f"{a.p99:.2e} max {a.largest:.2e}  ∫1/L² ratio {a.integral_ratio:.4f}  feature "
+            f"{a.feature_ratio:.4f}  {a.seconds[0]:.1f}s / {a.seconds[1]:.1f}s"
+        )
+    print("\n## CAD speed (targets at 1e5 faces: lfs <= 60 s, advise <= 90 s)")
+    rows = []
+    for mesh in cad_speed_meshes(big):
+        row = cad_speed_row(mesh)
+        rows.append(row)
+        split = ", ".join(f"{k} {v:.1f}s" for k, v in row["stages"].items() if v >= 0.05)
+        print(
+            f"{row['faces']:>8d} faces {row['vertices']:>8d} vertices: lfs {row['lfs_wall']:.1f}s "
+            f"wall {row['lfs_cpu']:.1f}s CPU, advise {row['advise_wall']:.1f}s, peak "
+            f"{row['peak_gb']:.2f} GB, {row['sites']:,} sites ({split})"
+        )
+    if len(rows) >= 2:
+        a, b = rows[-2], rows[-1]
+        exponent = math.log(b["lfs_cpu"] / a["lfs_cpu"]) / math.log(b["faces"] / a["faces"])
+        print(f"growth exponent (CPU seconds vs faces, last two): {exponent:.2f}")
+    print(f"load average: {os.getloadavg()[0]:.2f} (the machine is shared)")
 
 
 if __name__ == "__main__":

@@ -256,6 +256,8 @@ def test_cli_failure_prints_a_counterexample(run_cli):
         ["--rho-f", "nan"],
         ["--max-depth", "0"],
         ["--check", "/nonexistent/cert.json"],
+        # No proven ε* and no proven lower bound: no default to certify (it ran 20+ minutes).
+        ["--sigma", "1.9", "--target", "ratio"],
     ],
 )
 def test_cli_bad_input_is_one_line_and_exit_2(run_cli, args):

@@ -63,8 +63,10 @@ def test_cube_warns_about_sharp_edges(run_cli, tmp_path):
     path = write_mesh(tmp_path / "cube.obj", cube_mesh(1.0, 3))
     code, out, err = run_cli("lfs", path, "--json")
     assert code == 0
-    assert json.loads(out)["sharp_edges"] == 36
-    assert "warning:" in err and "smooth surfaces only" in err
+    data = json.loads(out)
+    assert data["sharp_edges"] == 36 and data["patches"] == 6 and data["feature_corners"] == 8
+    assert data["lfs_max"] == pytest.approx(1.0, rel=1e-6)  # half the side: no 50x overshoot
+    assert "warning:" in err and "piecewise-smooth" in err
 
 
 @pytest.mark.parametrize(

@@ -113,6 +113,26 @@ def test_unreadable_mesh_file_is_one_line(run_cli, tmp_path):
     assert code == 2 and len(err.strip().splitlines()) == 1
 
 
+def test_a_mode_without_eps_star_does_not_abort_the_advice(run_cli):
+    """σ = 1.8: the rigorous chain has no admissible ε; the tight rows and the
+    recommendation (from the tight closed form's proven lower bound) still come out."""
+    code, out, err = run_cli("advise", "--sphere", "1", "--sigma", "1.8", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    rigorous = [m for m in data["modes"] if m["mode"] == "rigorous"]
+    assert len(rigorous) == 2
+    for row in rigorous:
+        assert row["eps_star"] is None and row["claim"] == "none"
+        assert "no admissible eps" in row["note"]
+    tight = [m for m in data["modes"] if m["mode"] == "tight"]
+    assert all(m["eps_star"] > 0 and m["note"] is None for m in tight)
+    rec = data["recommendation"]
+    assert rec is not None and rec["mode"] == "tight" and rec["claim"] == "proven"
+    assert rec["eps"] <= min(m["eps_star"] for m in tight)
+    code, out, _ = run_cli("advise", "--sphere", "1", "--sigma", "1.8")
+    assert code == 0 and "no ε* for rigorous, target additive" in out
+
+
 def test_advise_on_a_mesh_estimates_its_feature_size_and_says_so(run_cli, tmp_path):
     """A torus mesh with nothing else given: L is estimated from the mesh, and the sample
     counts match the analytic torus within the estimator's error."""

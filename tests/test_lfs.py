@@ -12,12 +12,14 @@ from hypothesis import strategies as st
 from vorobound.errors import InputError, VoroboundWarning
 from vorobound.sampling import lfs as lfs_module
 from vorobound.sampling import surfaces
+from vorobound.sampling.cad_meshes import capped_cylinder
 from vorobound.sampling.curved import edge_midpoints
 from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh
 from vorobound.sampling.lfs import AUTO_SAMPLES, estimate_lfs
 from vorobound.sampling.lipschitz import lipschitz_envelope
 from vorobound.sampling.mesh_io import TriangleMesh
-from vorobound.sampling.mesh_quality import dihedral_angles, prepare_mesh, vertex_normals
+from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals
+from vorobound.sampling.patches import find_patches
 
 MEDIAN_RTOL = 1e-3
 """Target of the issue: median relative error of L at the vertices."""
@@ -68,9 +70,17 @@ def jittered_torus():
 
 
 def test_sphere_is_exact_to_rounding_from_its_vertices():
+    """The poles of a sphere's vertices are its centre; L at the vertices is exact to
+    rounding. Between them `at` uses the face sites, which lie on the PN surface, inside the
+    sphere by about 3e-5·R at this resolution: never above R."""
     mesh = icosphere(2.5, 3)
     estimate = estimate_lfs(mesh, samples=0)
     assert relative_errors(estimate, 2.5).max() < 1e-9
+    probes = estimate.sites.points[estimate.sites.kind == 1]
+    between = estimate.at(probes)
+    assert between.max() <= 2.5 * (1 + 1e-12) and between.min() >= 2.5 * (1 - 1e-4)
+    poles = estimate.medial_points
+    assert np.abs(poles).max() < 1e-9 * 2.5  # the centre
     assert estimate.warnings == () and len(estimate.sharp_edges) == 0
     assert estimate.sample_count == len(mesh.points) and estimate.added_samples == 0
 
@@ -93,10 +103,11 @@ def test_torus_vertices_meet_the_accuracy_targets(torus_estimates, shape):
 def test_fitted_midpoints_make_the_coarse_torus_meet_the_targets(coarse_torus):
     mesh, vertices_only, default, exact = coarse_torus
     before, after = relative_errors(vertices_only, exact), relative_errors(default, exact)
-    assert np.median(before) > MEDIAN_RTOL  # the vertices alone miss it (documented)
+    # L = r on this torus: half the thickness along the normal is exact, so the vertices
+    # alone now meet the targets (the poles alone missed the median, docs/lfs.md).
+    assert np.median(before) <= MEDIAN_RTOL and before.max() <= WORST_RTOL
     assert default.sample_count == len(mesh.points) + len(mesh.points) * 3
     assert np.median(after) <= MEDIAN_RTOL and after.max() <= WORST_RTOL
-    assert after.max() < before.max() / 3
 
 
 def test_fitted_midpoints_on_the_coarse_torus_with_l_switching(jittered_torus):
@@ -202,7 +213,9 @@ def test_midpoint_budget_takes_the_longest_edges():
 
     assert lengths(some.edges).min() >= np.sort(lengths(every.edges))[-100]
     estimate = quiet_estimate(mesh, samples=len(mesh.points) + 100)
-    assert estimate.added_samples == 100 and estimate.sample_count == len(mesh.points) + 100
+    on_features = len(np.unique(estimate.feature_segments))
+    assert estimate.added_samples == 100
+    assert estimate.sample_count == len(mesh.points) - on_features + 100
 
 
 def test_default_sample_is_all_midpoints_or_none(monkeypatch):
@@ -214,18 +227,25 @@ def test_default_sample_is_all_midpoints_or_none(monkeypatch):
     assert estimate_lfs(mesh, samples=2562).added_samples == 1920
 
 
-def test_no_midpoint_near_sharp_edges():
-    mesh = cube_mesh(1.0, 16)
+def test_flat_patches_get_no_midpoints():
+    """A cube's faces are flat: their thickness bound is exact, so no poles are fitted."""
+    estimate = quiet_estimate(cube_mesh(1.0, 16))
+    assert estimate.added_samples == 0 and estimate.patches == 6
+
+
+def test_no_midpoint_on_a_feature_edge():
+    """Fitted midpoints go on the curved wall of a capped cylinder, never on its rims."""
+    mesh = capped_cylinder(radius=1.0, length=4.0, segments=24, rings=12)
     estimate = quiet_estimate(mesh)
     prepared = prepare_mesh(mesh)
-    sharp = dihedral_angles(prepared) > 30.0
-    added = edge_midpoints(prepared, vertex_normals(prepared), sharp, ALL_EDGES)
-    assert estimate.added_samples == len(added.points) > 0
+    patches = find_patches(prepared, 30.0)
+    excluded = np.zeros(len(prepared.edges), dtype=bool)
+    rims = {tuple(e) for e in np.sort(patches.feature_edges, axis=1).tolist()}
+    excluded = np.array([tuple(e) in rims for e in prepared.edges.tolist()])
+    added = edge_midpoints(prepared, vertex_normals(prepared), excluded, ALL_EDGES)
+    assert excluded.sum() == 2 * 24 and 0 < estimate.added_samples <= len(added.points)
     points = prepared.centre + prepared.scale * added.points
-    on_face = np.isclose(np.abs(points), 1.0, atol=1e-12).sum(axis=1)
-    assert (on_face == 1).all()  # flat where the mesh is flat, never on a cube edge
-    gap = np.sort(1 - np.abs(points), axis=1)[:, 1]  # distance to the nearest cube edge
-    assert gap.min() >= 2 * 2.0 / 16  # two rings of vertices away from every sharp edge
+    assert (np.abs(points[:, 2] - 0) > 1e-9).all() and (np.abs(points[:, 2] - 4.0) > 1e-9).all()
 
 
 def test_vertex_normals_are_exact_on_a_sphere_and_blind_to_orientation():
@@ -241,11 +261,16 @@ def test_vertex_normals_are_exact_on_a_sphere_and_blind_to_orientation():
         assert np.allclose(cosine, 1.0, rtol=0, atol=1e-12)
 
 
-def test_vertex_values_are_one_lipschitz_and_at_reproduces_them():
+def test_vertex_values_are_one_lipschitz_and_at_stays_at_or_below_them():
     mesh = torus_mesh(1.5, 1.0, 40, 16)
     estimate = quiet_estimate(mesh)
     _assert_lipschitz(mesh.points, estimate.lfs, 1.0)
-    assert np.allclose(estimate.at(mesh.points), estimate.lfs, rtol=ROUNDING, atol=0)
+    # `at` spreads site values over their pieces: at a vertex it is never above the vertex's
+    # own L, and below it only by the face sites' own error (they lie on the PN surface,
+    # a few per cent off on this very coarse torus, edges up to 0.6·L).
+    at = estimate.at(mesh.points)
+    assert (at <= estimate.lfs * (1 + ROUNDING)).all()
+    assert (at >= estimate.lfs * 0.95).all()
     probes = np.random.default_rng(0).uniform(-2.5, 2.5, (300, 3))
     _assert_lipschitz(
         np.vstack([mesh.points, probes]), estimate.at(np.vstack([mesh.points, probes])), 1.0
@@ -253,22 +278,23 @@ def test_vertex_values_are_one_lipschitz_and_at_reproduces_them():
 
 
 @pytest.mark.parametrize("slope", [0.1, 0.5])
-def test_lipschitz_repair_lowers_to_the_largest_lambda_lipschitz_function(slope):
+def test_lipschitz_repair_is_the_envelope_of_the_site_values(slope):
+    """L at the sites is min over sites of raw + λ·distance (brute force), and ``at`` is
+    min over sites of value + λ·max(0, distance − piece radius), everywhere."""
     mesh = torus_mesh(1.5, 1.0, 40, 16)
-    raw = quiet_estimate(mesh)
     repaired = quiet_estimate(mesh, lipschitz=slope)
     assert repaired.lipschitz == slope
     _assert_lipschitz(mesh.points, repaired.lfs, slope)
-    assert (repaired.lfs <= raw.lfs * (1 + ROUNDING)).all()
-    distance = np.linalg.norm(mesh.points[:, None] - mesh.points[None], axis=2)
-    brute = (raw.lfs[None, :] + slope * distance).min(axis=1)
-    assert np.allclose(repaired.lfs, brute, rtol=ROUNDING, atol=0)
+    sites = repaired.sites
+    rows = np.random.default_rng(0).choice(len(sites.points), 300, replace=False)
+    distance = np.linalg.norm(sites.points[rows, None] - sites.points[None], axis=2)
+    brute = (sites.raw[None, :] + slope * distance).min(axis=1)
+    assert np.allclose(sites.lfs[rows], brute, rtol=ROUNDING, atol=0)
+    assert (sites.lfs <= sites.raw * (1 + ROUNDING)).all()
     probes = np.random.default_rng(1).uniform(-2, 2, (200, 3))
-    at = repaired.at(probes)
-    expected = (
-        raw.lfs[None, :] + slope * np.linalg.norm(probes[:, None] - mesh.points, axis=2)
-    ).min(1)
-    assert np.allclose(at, expected, rtol=ROUNDING, atol=0)
+    gap = np.linalg.norm(probes[:, None] - sites.points[None], axis=2) - sites.radii
+    expected = (sites.values + slope * np.maximum(gap, 0)).min(axis=1)
+    assert np.allclose(repaired.at(probes), expected, rtol=ROUNDING, atol=0)
 
 
 @settings(max_examples=40, deadline=None)
@@ -296,8 +322,10 @@ def test_cube_sharp_edges_are_found_and_warned():
     ends = mesh.points[estimate.sharp_edges]
     on_cube_edge = (np.isclose(np.abs(ends), 1.0).sum(axis=2) >= 2).all()
     assert on_cube_edge
-    assert any("smooth surfaces only" in w for w in estimate.warnings)
-    assert (estimate.lfs > 0).all()
+    assert any("piecewise-smooth" in w for w in estimate.warnings)
+    # L of the piecewise-smooth cube [-1, 1]^3: half its side (faces) and half the distance
+    # between non-adjacent edges (feature size), whatever the mesh resolution.
+    assert np.allclose(estimate.lfs, 1.0, rtol=1e-6)
 
 
 def test_sharp_angle_is_a_threshold():

@@ -25,7 +25,7 @@ from vorobound.bounds.tight.ratio_form import (
     ratio_eps_star_closed_form,
     ratio_supremum_closed_form,
 )
-from vorobound.errors import NoAdmissibleEps
+from vorobound.errors import NoAdmissibleEps, VoroboundError
 from vorobound.geometry import weighted_triangles
 
 OPTIMIZER_RTOL = 1e-9
@@ -273,3 +273,29 @@ def test_readme_guarantee_bullets_match_the_computed_values():
     for value in expected:
         assert any(math.isclose(q, value, rel_tol=5e-5) for q in quoted), value
     assert f"{certified:.5g}" in section
+
+
+@pytest.mark.parametrize("rho_f", [1.05, 1.38, 2.0])
+@pytest.mark.parametrize("lipschitz", [None, 1.0])
+def test_closed_form_eps_star_meets_its_target_in_floating_point(rho_f, lipschitz):
+    """The printed ε* is never a rounding step above its root: evaluated in floats at ε*,
+    the supremum meets the target (ratio: sup R/R̂ ≤ ρ_f; additive: tight ratio ≤ 1)."""
+    from vorobound.bounds.tight.closed_form import (
+        tight_eps_star_closed_form,
+        tight_ratio_closed_form,
+    )
+    from vorobound.bounds.tight.ratio_form import (
+        ratio_eps_star_closed_form,
+        ratio_supremum_closed_form,
+    )
+
+    for sigma in np.linspace(0.3, 1.7, 15):
+        found = ratio_eps_star_closed_form(sigma, 2.0, rho_f, lipschitz)
+        value = ratio_supremum_closed_form(found.eps_star, sigma, 2.0, lipschitz).value
+        assert value <= rho_f
+        try:
+            additive = tight_eps_star_closed_form(sigma, 2.0, rho_f, lipschitz)
+        except VoroboundError:
+            continue  # no admissible ε (tested elsewhere)
+        ratio = tight_ratio_closed_form(additive.eps_star, sigma, 2.0, rho_f, lipschitz)
+        assert float(ratio) <= 1

@@ -76,8 +76,8 @@ def _estimated_surface(mesh: Path, progress):
 
     estimate = estimate_lfs(read_triangle_mesh(mesh), progress=progress)
     return estimate.surface(), (
-        f"estimated from the mesh ({estimate.method}); numerical: up to about 1 % too large "
-        "on the test meshes of docs/lfs.md, which makes the counts about 2 % too low"
+        f"estimated from the mesh ({estimate.method}); numerical, the L that `vorobound lfs` "
+        "reports and `vorobound sample --mesh` uses (accuracy on the test meshes: docs/lfs.md)"
     )
 
 
@@ -147,6 +147,7 @@ def advise(
             "samples_high": a.samples_high,
             "reduction_vs_1_500": a.reduction_vs_1_500,
             "constraint_set": a.constraint_set,
+            "note": a.note,
         }
         if surface is None:
             entry.update(samples_low=None, samples_high=None)
@@ -165,6 +166,10 @@ def advise(
             "samples_low": None if surface is None else rec.samples_low,
             "samples_high": None if surface is None else rec.samples_high,
             "reduction_vs_1_500": rec.reduction_vs_1_500,
+            "feature_samples_low": None if rec.feature_samples is None else rec.feature_samples[0],
+            "feature_samples_high": None if rec.feature_samples is None else rec.feature_samples[1],
+            "lattice_candidates": rec.lattice_candidates,
+            "samplable": rec.samplable,
         }
     h3 = advice.h3_route
     h3_entry = {
@@ -183,6 +188,7 @@ def advise(
             "inv_lfs_sq_integral": surface.inv_lfs_sq_integral,
             "counts_exact": surface.exact,
             "lfs_source": lfs_source,
+            "feature_inv_lfs": surface.feature_inv_lfs,
         }
     )
     if as_json:
@@ -229,6 +235,9 @@ def advise(
         ),
         table,
     )
+    for e in entries:
+        if e["note"]:
+            print(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
     if rec is None:
         print("recommended ε: none (no target asked for has a proven or certified ε*)")
     else:
@@ -240,9 +249,39 @@ def advise(
             f"{rec.binding_target}): ball radius {fmt(rec.ball_radius, 5)}{counts}, "
             f"{_versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
         )
+    if rec is not None and surface is not None:
+        for line in _sampler_lines(rec):
+            print(line)
     if surface is not None:
         print(f"local feature size L: {lfs_source}")
     print(GUARANTEE)
+
+
+def _sampler_lines(rec) -> list[str]:
+    """What the counts include, and whether `vorobound sample` can make this sample."""
+    lines = []
+    if rec.feature_samples is not None:
+        low, high = rec.feature_samples
+        lines.append(
+            f"  of these, {low:,.0f} – {high:,.0f} on the sharp features (sampled first, as "
+            "VoroCrust protects them)"
+        )
+    if rec.lattice_candidates is not None:
+        from ..sampling.lattice import MAX_CANDIDATES
+
+        if rec.samplable:
+            lines.append(
+                f"  `vorobound sample --mesh` at this ε builds about "
+                f"{rec.lattice_candidates:.3g} lattice candidates (at most {MAX_CANDIDATES:.0e})"
+            )
+        else:
+            lines.append(
+                f"  `vorobound sample --mesh` cannot make this sample: it needs about "
+                f"{rec.lattice_candidates:.3g} lattice candidates, more than the "
+                f"{MAX_CANDIDATES:.0e} it builds (any smaller ε needs more); the counts stand "
+                "for any VoroCrust sampler"
+            )
+    return lines
 
 
 def _versus_baseline(reduction: float | None) -> str:

@@ -108,10 +108,32 @@ def bounds(
         )
     verdict = "meets" if result.meets_target else "exceeds"
     shown = "∞ (" + UNBOUNDED + ")" if result.value == float("inf") else fmt(result.value)
+    if result.target == "ratio":
+        allowed = 1 - 1 / result.limit
+        share = (
+            f"(R − R̂)/R up to {fmt(result.fraction * allowed, 6)} against the "
+            f"{fmt(allowed, 6)} that R ≤ ρ_f·R̂ allows: {fmt(result.fraction, 6)}×"
+        )
+    else:
+        share = f"{fmt(result.fraction, 6)}× the allowance"
     print(
         f"bound on {quantity} = {shown} {verdict} the target {limit} = "
-        f"{fmt(result.limit)} ({fmt(result.fraction, 6)} of it; {result.claim})"
+        f"{fmt(result.limit)}: {share} ({result.claim})"
     )
+    if not result.meets_target:
+        if result.mode == "tight":
+            print(
+                "the tight value is the supremum over the constraint set: guide triangles of "
+                "the set come arbitrarily close to it, so the target fails for some of them at "
+                "this ε (where the closed form is an upper bound only, `vorobound certify "
+                "--eps` decides)"
+            )
+        else:
+            print(
+                "a chain is an upper bound: exceeding the target does not show that the target "
+                "fails at this ε, only that this chain cannot prove it (mode tight gives the "
+                "supremum)"
+            )
     print(f"premise: {H3_STATUS}")
 
 

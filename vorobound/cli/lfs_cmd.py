@@ -32,12 +32,11 @@ def lfs(
         typer.Option(
             "--samples",
             metavar="N",
-            help="Size of the surface sample the medial axis is estimated from: every vertex, "
-            "plus up to N − (vertices) edge midpoints placed on a smooth quartic fit of the "
-            "surface (longest edges first, at most one per edge, none next to sharp, boundary "
-            "or non-manifold edges). 0: the vertices only. Default: every edge gets a midpoint "
-            "if the sample then has at most 60000 points (meshes of up to about 15 000 "
-            "vertices; more accurate, several times slower), else none (docs/lfs.md).",
+            help="Vertex part of the pole sample of the curved patches: their vertices, plus "
+            "up to N − (vertices) edge midpoints placed on a smooth quartic fit (longest edges "
+            "first, none on feature edges). 0: no midpoints. Default: every edge gets one if "
+            "that makes at most 60000 points, else none. Face sites, thickness and feature "
+            "terms do not depend on it (docs/lfs.md).",
         ),
     ] = None,
     lipschitz: Annotated[
@@ -53,20 +52,24 @@ def lfs(
         float,
         typer.Option(
             "--sharp-angle",
-            help="Edges whose face normals differ by more than this many degrees are sharp "
-            "(reported; the paper's analysis covers smooth surfaces only).",
+            help="Edges whose face normals differ by more than this many degrees are sharp: "
+            "they split the surface into smooth patches, and L is that of the piecewise-smooth "
+            "surface (docs/lfs.md).",
         ),
     ] = 30.0,
     seed: Seed = 0,
     as_json: Json = False,
 ) -> None:
-    """Local feature size L (distance to the medial axis) at every vertex of a mesh.
+    """Local feature size L of the piecewise-smooth surface a mesh describes, at every vertex.
 
-    L is the distance to the Voronoi poles (Amenta-Bern) of a surface sample: the vertices and
-    edge midpoints placed on a quartic fit of the surface (--samples). It estimates the smooth
-    surface's L, accurately when the vertices lie on that surface and are dense compared with L
-    (docs/lfs.md). Warnings name what limits it: sharp edges, an open or non-manifold mesh,
-    degenerate faces, edges long compared with L.
+    Sharp edges (--sharp-angle) split the surface into smooth patches. L is the largest
+    λ-Lipschitz function below: the distance to the Voronoi poles of the curved patches
+    (medial balls touching two adjacent patches left out), half the thickness across the part
+    and the curvature radius (a second, independent estimate and an upper bound), and the size
+    of the sharp features. It is evaluated at points spread inside the faces, refined until
+    stable, so a coarse and a fine export of one part give the same L (docs/lfs.md). Warnings
+    say where the two estimates disagree, and name an open or non-manifold mesh, degenerate
+    faces or coarse curved patches. `sample --mesh` and `advise --mesh` use this same L.
     """
     import numpy as np
 
@@ -108,6 +111,15 @@ def lfs(
         "lfs_max": float(values.max()),
         "sharp_angle": estimate.sharp_angle,
         "sharp_edges": len(estimate.sharp_edges),
+        "patches": estimate.patches,
+        "feature_edges": estimate.feature_edges,
+        "feature_corners": len(estimate.feature_corners),
+        "feature_length": estimate.feature_length,
+        "feature_inv_lfs": estimate.feature_inv_lfs,
+        "rounds": estimate.rounds,
+        "face_sites": int((estimate.sites.kind == 1).sum()),
+        "thickness_min": _finite_min(estimate.sites.thickness),
+        "disagreement": estimate.disagreement,
         "max_dihedral": estimate.max_dihedral,
         "boundary_edges": report.boundary_edges,
         "nonmanifold_edges": report.nonmanifold_edges,
@@ -123,10 +135,20 @@ def lfs(
     rows = [
         ("vertices / triangles", f"{payload['vertices']:,} / {payload['triangles']:,}"),
         (
-            "surface sample",
+            "pole sample (curved patches)",
             f"{estimate.sample_count:,} ({estimate.added_samples:,} fitted edge midpoints)",
         ),
         ("medial-axis points (poles)", f"{payload['medial_points']:,}"),
+        (
+            "face sites / refinement rounds",
+            f"{payload['face_sites']:,} / {payload['rounds']}",
+        ),
+        (
+            "smooth patches / feature edges / corners",
+            f"{estimate.patches:,} / {estimate.feature_edges:,} / {payload['feature_corners']:,}",
+        ),
+        ("thinnest part (along normals)", fmt(payload["thickness_min"], 6)),
+        ("estimates A vs B", _disagreement(estimate.disagreement)),
         (
             "L min / median / max",
             " / ".join(fmt(payload[k], 6) for k in ("lfs_min", "lfs_median", "lfs_max")),
@@ -139,3 +161,23 @@ def lfs(
     rows += [("written", path) for path in written]
     print_table(f"Local feature size of {mesh.name}", ("quantity", "value"), rows)
     print(f"method: {estimate.method}; estimate (numerical), not a certified bound")
+
+
+def _finite_min(values):
+    import numpy as np
+
+    finite = values[np.isfinite(values)]
+    return float(finite.min()) if len(finite) else None
+
+
+def _disagreement(info: dict) -> str:
+    """One line on where the medial estimate and the thickness/curvature bound disagree."""
+    if not info.get("compared"):
+        return (
+            "the medial estimate needs vertices or fitted midpoints inside curved patches: "
+            "thickness and curvature only"
+        )
+    return (
+        f"medial above 2× the bound at {100 * info['share_above']:.2f} % of "
+        f"{info['compared']:,} face sites (worst {info['worst_ratio']:.3g}×)"
+    )

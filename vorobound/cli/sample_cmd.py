@@ -24,7 +24,7 @@ MeshOpt = Annotated[
     typer.Option(
         "--mesh",
         help="Triangle mesh (any format meshio reads); L from --lfs, --sizing, or else "
-        "estimated from the mesh (distance to its Voronoi poles).",
+        "estimated from the mesh as by `vorobound lfs` (sharp features sampled first).",
     ),
 ]
 MeshLfsOpt = Annotated[
@@ -77,9 +77,10 @@ def _mesh_shape(path: Path, lfs: float | None, sizing: Path | None, progress):
     if lfs is not None:
         return MeshShape(mesh, np.full(len(mesh.points), lfs), f"constant {lfs:g}")
     from ..sampling.lfs import estimate_lfs
+    from ..sampling.mesh_shape import FieldMeshShape
 
     estimate = estimate_lfs(mesh, progress=progress)
-    return MeshShape(mesh, estimate.lfs, "estimated from the mesh (Voronoi poles)")
+    return FieldMeshShape(estimate, f"estimated, {estimate.lipschitz:g}-Lipschitz (docs/lfs.md)")
 
 
 def sample(

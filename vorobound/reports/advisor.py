@@ -23,8 +23,9 @@ from ..bounds.guarantee import eps_star
 from ..bounds.params import Mode, QualityParams, checked_lipschitz
 from ..bounds.targets import H3Route, Target, h3_route
 from ..constants import BASELINE_EPS
-from ..errors import InputError
+from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
+from ..sampling.lattice import MAX_CANDIDATES
 from ..sampling.surfaces import Surface
 
 GUARANTEE = (
@@ -46,6 +47,8 @@ CONSTRAINT_SETS = {
     "tight": "the supremum over guide triangles allowed by (33)-(36), R <= eps/(1-eps) L_i "
     "and pairwise sparsity (closed form, docs/tight.md)",
 }
+NONE = "none"
+"""Claim of a row without ε* (no admissible ε, or no crossing in the scanned range)."""
 TRUSTED = (PROVEN, CERTIFIED)
 """Claims strong enough for a recommendation (and for a "fewer samples" comparison)."""
 
@@ -55,13 +58,14 @@ class ModeAdvice:
     mode: str
     target: str
     """additive or ratio (:mod:`vorobound.bounds.targets`)."""
-    eps_star: float
-    ball_radius: float
+    eps_star: float | None
+    """None when the row has no ε* (claim NONE, ``note`` says why)."""
+    ball_radius: float | None
     """δ·L at the smallest local feature size of the surface."""
-    min_spacing: float
+    min_spacing: float | None
     """σ·ε·L at the smallest local feature size."""
-    samples_low: float
-    samples_high: float
+    samples_low: float | None
+    samples_high: float | None
     reduction_vs_1_500: float | None
     """Sample count at ε = 1/500 divided by the count at ε* (same formula); None unless the
     claim is proven or certified."""
@@ -73,10 +77,15 @@ class ModeAdvice:
     """How ε* was found (chain, closed form, optimizer)."""
     proven_lower_bound: float | None = None
     """For a numerical ε*: the closed form's proven admissible ε, if any."""
+    note: str | None = None
+    """Why the row has no ε* (claim NONE): no admissible ε, or no crossing in the scanned
+    range."""
 
     @property
     def trusted_eps(self) -> float | None:
         """The ε this row guarantees: ε* if proven or certified, else its proven lower bound."""
+        if self.eps_star is None:
+            return None
         if self.claim in TRUSTED:
             return self.eps_star
         return self.proven_lower_bound if self.claim == NUMERICAL else None
@@ -99,6 +108,17 @@ class Recommendation:
     samples_low: float
     samples_high: float
     reduction_vs_1_500: float
+    feature_samples: tuple[float, float] | None = None
+    """(low, high) samples on the sharp features, part of the counts (None: smooth)."""
+    lattice_candidates: float | None = None
+    """About how many candidates ``vorobound sample`` needs at ε (meshes only)."""
+
+    @property
+    def samplable(self) -> bool | None:
+        """Whether ``vorobound sample`` builds that lattice (None: not a mesh)."""
+        if self.lattice_candidates is None:
+            return None
+        return self.lattice_candidates <= MAX_CANDIDATES
 
 
 @dataclass(frozen=True)
@@ -119,6 +139,24 @@ def covering_count(surface: Surface, eps: float) -> float:
 def packing_count(surface: Surface, eps: float, sigma: float) -> float:
     """∫ dA / (π (σ ε L / 2)²): most samples a σ-sparse sample can have."""
     return _finite_count(surface.inv_lfs_sq_integral / (math.pi * (sigma * eps / 2) ** 2), surface)
+
+
+def feature_counts(surface: Surface, eps: float, sigma: float) -> tuple[float, float] | None:
+    """Samples on the sharp features: consecutive ones are σεL to 2σεL apart along a curve
+    (σ-sparse; a maximal subset of dense candidates on it), so ∫ds/L/(2σε) to ∫ds/L/(σε)."""
+    if not surface.feature_inv_lfs > 0:
+        return None
+    high = surface.feature_inv_lfs / (sigma * eps)
+    return (high / 2, high)
+
+
+def lattice_candidates(surface: Surface, eps: float, sigma: float, lam: float | None):
+    """Expected size of the lattice ``vorobound sample`` builds on a mesh (None otherwise)."""
+    if not surface.mesh_lattice:
+        return None
+    from ..sampling.mesh_lattice import expected_candidates
+
+    return expected_candidates(surface.inv_lfs_sq_integral, eps, sigma, 1.0 if lam is None else lam)
 
 
 def _finite_count(count: float, surface: Surface) -> float:
@@ -146,16 +184,44 @@ def advise(
         for name in dict.fromkeys(modes):  # each mode once, in the order given
             mode = Mode(name)
             lam = lipschitz if mode is Mode.tight else None
-            star = eps_star(quality, mode, target, lam, progress=progress)
+            try:
+                star = eps_star(quality, mode, target, lam, progress=progress)
+            except NoAdmissibleEps as err:  # this row has no ε*; the others still do
+                rows.append(_no_row(mode, target, lam, err))
+                continue
             rows.append(_row(quality, surface, mode, target, lam, star))
-    return Advice(rows, _recommend(quality, surface, rows), h3_route(quality))
+    return Advice(rows, _recommend(quality, surface, rows, lipschitz), h3_route(quality))
 
 
-def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
+def _labels(mode, lam) -> tuple[str, str]:
     label, constraint = mode.value, CONSTRAINT_SETS[mode.value]
     if lam is not None:
         label = f"tight λ={lam:g}"
         constraint += f", plus {lam:g}-Lipschitz L"
+    return label, constraint
+
+
+def _no_row(mode, target, lam, err: NoAdmissibleEps) -> ModeAdvice:
+    """A (mode, target) without ε*: why, in ``note``; never recommended."""
+    label, constraint = _labels(mode, lam)
+    return ModeAdvice(
+        mode=label,
+        target=target.value,
+        eps_star=None,
+        ball_radius=None,
+        min_spacing=None,
+        samples_low=None,
+        samples_high=None,
+        reduction_vs_1_500=None,
+        constraint_set=constraint,
+        claim=NONE,
+        method="no eps*",
+        note=str(err),
+    )
+
+
+def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
+    label, constraint = _labels(mode, lam)
     eps = star.eps_star
     return ModeAdvice(
         mode=label,
@@ -173,7 +239,7 @@ def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
     )
 
 
-def _recommend(quality, surface, rows: list[ModeAdvice]) -> Recommendation | None:
+def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommendation | None:
     """Per target the largest trusted ε over the modes; then the smallest over the targets."""
     best: dict[str, ModeAdvice] = {}
     for row in rows:
@@ -198,4 +264,6 @@ def _recommend(quality, surface, rows: list[ModeAdvice]) -> Recommendation | Non
         samples_low=covering_count(surface, eps),
         samples_high=packing_count(surface, eps, quality.sigma),
         reduction_vs_1_500=(eps / BASELINE_EPS) ** 2,
+        feature_samples=feature_counts(surface, eps, quality.sigma),
+        lattice_candidates=lattice_candidates(surface, eps, quality.sigma, lipschitz),
     )

@@ -50,6 +50,8 @@ H3_RTOL = 1e-9
 """A guide triangle breaks H3 when R(1−ε)/(εL_i) > 1 + H3_RTOL (rounding of R)."""
 LIPSCHITZ_SOURCES = {
     "exact": "exact: a local feature size is 1-Lipschitz",
+    "estimated": "of the estimated L: lambda-Lipschitz by construction, the lambda the sample "
+    "was made with and that vorobound lfs reports",
     "measured": "measured: the largest |L_i - L_j|/|p_i - p_j| over neighbouring samples and "
     "guide-triangle edges",
     "required": "required of the balls' L = r/delta (a condition the sample is checked for)",
@@ -229,6 +231,8 @@ def check_surface(
     balls = make_balls(sample.points, params.delta * sample.lfs, shape.name)
     # An exact local feature size is 1-Lipschitz; a mesh's L is measured on the sample.
     kind = "exact" if getattr(shape, "lipschitz_exact", False) else "measured"
+    if kind == "exact" and getattr(shape, "estimate", None) is not None:
+        kind = "estimated"
     lam = shape.lipschitz
     return _check(balls, sample.lfs, params, lam, engine, shape, seed, stages, shape.name, kind)
 

@@ -12,10 +12,10 @@ largest L on the cell, L_max, instead gives the alternative reach ≤ ε(L_min �
 is the better one on a thin mesh triangle (where the gradient of the interpolated L is large
 although L hardly changes).
 
-Cells are rectangles in the parameters of a surface of revolution (rows of constant profile
-parameter t, each split evenly in the rotation angle) or sub-triangles of a mesh triangle.
-Jitter keeps the candidates off a regular grid, whose cocircular points slow the regular
-triangulation down.
+Here cells are rectangles in the parameters of a surface of revolution (rows of constant
+profile parameter t, each split evenly in the rotation angle); meshes have their own lattice
+(:mod:`vorobound.sampling.mesh_lattice`) on the same condition. Jitter keeps the candidates
+off a regular grid, whose cocircular points slow the regular triangulation down.
 """
 
 from __future__ import annotations
@@ -37,9 +37,6 @@ of the cell's size along each parameter (uniformly at random)."""
 MAX_CANDIDATES = 40_000_000
 """Largest lattice built, refused before anything is allocated: its ~2.3·10⁶ samples keep a
 whole check below 8 GB (measured by benchmarks/bench_check.py, case torus-limit)."""
-MAX_CROWDING = 10_000
-"""Most candidates of one mesh triangle allowed within one sparsity radius σεL (a 1-Lipschitz
-L on a reasonable mesh gives a few dozen)."""
 _ROWS_PER_BLOCK = 256  # rows generated at a time (bounds the temporaries)
 
 
@@ -54,6 +51,8 @@ class Candidates:
     reach_ratio: float
     """max over cells of reach / (ε·L_min of the cell): every surface point is within
     reach_ratio·ε·L of its cell's candidate (at most (1 − σ')/(1 + λσ'ε))."""
+    priority: np.ndarray | None = None
+    """(n,) visiting class (lower first: feature corners, feature edges, faces), or None."""
 
 
 def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):
@@ -137,69 +136,3 @@ def revolution_candidates(
         points[lo:hi] = shape.embed(t, angle)
         lfs[lo:hi] = shape.profile_lfs(t)
     return Candidates(points, lfs, ratio)
-
-
-def mesh_candidates(shape, eps: float, sigma: float, rng: np.random.Generator) -> Candidates:
-    """One random candidate in each sub-triangle of a regular subdivision of every mesh triangle.
-
-    Triangle T is cut into n_T² similar sub-triangles with n_T = ceil(longest edge / reach_T),
-    reach_T the larger of the two bounds of the module docstring (from the gradient of L on T,
-    and from the range of L on T); a sub-triangle's diameter is its longest edge, so its
-    candidate is within reach_T of every point of it.
-
-    Raises
-    ------
-    InputError
-        When the lattice would exceed ``MAX_CANDIDATES``.
-    """
-    from .mesh_shape import uniform_in_triangle
-
-    lfs_min, lfs_max = shape.corner_lfs.min(axis=1), shape.corner_lfs.max(axis=1)
-    by_range = eps * (lfs_min - sigma * (1 + SPARSITY_SLACK) * lfs_max)
-    reach = np.maximum(cell_reach(eps, sigma, lfs_min, shape.triangle_lipschitz), by_range)
-    with np.errstate(over="ignore"):
-        parts = np.ceil(shape.longest / reach)
-    total = float((parts * parts).sum())
-    if not total <= MAX_CANDIDATES:
-        raise candidate_limit_error(total, eps)
-    parts = parts.astype(np.int64)
-    # Candidates of one triangle within one sparsity radius: more means L changes too fast
-    # for the triangle's size and shape (the conflict search would grow quadratically).
-    disk = math.pi * (sigma * eps * lfs_max) ** 2
-    crowd = (parts * parts) * np.minimum(1.0, disk / shape.areas)
-    worst = int(np.argmax(crowd))
-    if crowd[worst] > MAX_CROWDING:
-        raise InputError(
-            f"{shape.name}: L changes too fast on triangle {worst} (from {lfs_min[worst]:.3g} "
-            f"to {lfs_max[worst]:.3g}, gradient {shape.triangle_lipschitz[worst]:.3g}) for a "
-            "sample at this eps: check that the sizing values follow the mesh's vertex order"
-        )
-    ratio = float((shape.longest / parts / (eps * lfs_min)).max())
-    points, lfs = [], []
-    for count in np.unique(parts):
-        triangles = np.flatnonzero(parts == count)
-        corners = _subdivision(int(count))  # (count², 3, 2) barycentric (u, v) of sub-corners
-        s, t = uniform_in_triangle(rng, len(triangles) * len(corners))
-        s, t = s.reshape(len(triangles), -1), t.reshape(len(triangles), -1)
-        uv = (
-            corners[None, :, 0] * (1 - s - t)[..., None]
-            + corners[None, :, 1] * s[..., None]
-            + corners[None, :, 2] * t[..., None]
-        )
-        where = np.repeat(triangles, len(corners))
-        p, f = shape.at(where, uv[..., 0].ravel(), uv[..., 1].ravel())
-        points.append(p)
-        lfs.append(f)
-    return Candidates(np.concatenate(points), np.concatenate(lfs), ratio)
-
-
-def _subdivision(parts: int) -> np.ndarray:
-    """Barycentric (u, v) corners of the parts² sub-triangles of the unit triangle."""
-    i, j = np.meshgrid(np.arange(parts), np.arange(parts), indexing="ij")
-    up = (i + j) <= parts - 1
-    down = (i + j) <= parts - 2
-    iu, ju, idn, jdn = i[up], j[up], i[down], j[down]
-    upward = np.stack([[iu, ju], [iu + 1, ju], [iu, ju + 1]], axis=0)
-    downward = np.stack([[idn + 1, jdn], [idn + 1, jdn + 1], [idn, jdn + 1]], axis=0)
-    corners = np.concatenate([upward, downward], axis=2)  # (3, 2, parts²)
-    return np.moveaxis(corners, 2, 0) / parts

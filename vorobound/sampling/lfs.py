@@ -1,17 +1,28 @@
-"""Local feature size L (distance to the medial axis) of the surface a triangle mesh samples.
+"""Local feature size L of the piecewise-smooth surface a triangle mesh describes (docs/lfs.md).
 
-The surface sample is every mesh vertex (a random subset leaves holes whose poles sit near the
-surface) plus, up to a sample size ``samples``, edge midpoints placed on a smooth surface fitted
-to the vertices (:mod:`.curved`; midpoints on the flat triangles would lie off the surface by
-about h²/(8L) and shrink the estimate by tens of percent, docs/lfs.md). The sample's Voronoi
-poles (:mod:`.medial`) approximate the medial axis, and L at a point is its distance to the
-nearest pole: a distance to a set, hence 1-Lipschitz everywhere. For a Lipschitz constant
-λ < 1 the vertex values are then lowered to the largest λ-Lipschitz function below them
-(:mod:`.lipschitz`).
+The mesh is split into smooth patches at its sharp features (:mod:`.patches`). L is the
+largest λ-Lipschitz function (λ ≤ 1) below three terms, each evaluated at *sites*: the mesh
+vertices, points spread inside the faces at a spacing adapted to L (:mod:`.face_sites`; so a
+coarse and a fine triangulation of one part give the same L), and points on the feature edges.
 
-Edges whose dihedral angle exceeds ``sharp_angle`` are reported: there the mesh is not a
-sample of a smooth surface, nothing is fitted near them, and the estimate is that of the
-surface rounded at the scale of the mesh edges.
+* **Medial term** (estimator A): the distance to the Voronoi poles (:mod:`.medial`) of a
+  sample of the curved patches (vertices, fitted edge midpoints, face sites), counting only
+  medial balls that touch no two adjacent patches (those are created by a sharp feature).
+* **Thickness and curvature** (estimator B, :mod:`.thickness`): half the distance along the
+  normal to the surface inward (any face: the part's thickness) and outward (faces of the same
+  or non-adjacent patches), and the radius of curvature of the patch from its vertex normals.
+  Each bounds the medial-ball radius from above, so B is an upper bound on L at a face site.
+* **Features**: a point of a feature curve gets L_F = min(the curve's radius of curvature,
+  half the distance to non-adjacent curves), and every site x gets min over feature points p
+  of max(|x − p|, L_F(p)): L may not exceed a feature's own size before the distance to it.
+
+Then L(x) = min over sites y of raw(y) + λ|x − y| everywhere (:mod:`.lipschitz`): the same
+λ-Lipschitz function in the vertex output, in ``LfsEstimate.at`` (the sampler's L) and in the
+integrals of the advisor. Sites are refined until the spacing is at most SITE_SPACING·L.
+
+On a closed smooth mesh without sharp features this is the distance to the poles of the
+vertices and fitted edge midpoints, as before (the face sites of a fine mesh are not split and
+do not enter the pole sample), capped by the thickness and curvature bound.
 """
 
 from __future__ import annotations
@@ -28,46 +39,111 @@ from ..checks import checked_number, checked_seed
 from ..errors import InputError, VoroboundError, VoroboundWarning
 from ..progress import Counter, Progress
 from .curved import edge_midpoints
-from .lipschitz import lipschitz_envelope
+from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
+from .lipschitz import Envelope, lipschitz_envelope
 from .medial import vertex_poles
 from .mesh_io import TriangleMesh
-from .mesh_quality import MeshReport, dihedral_angles, prepare_mesh, vertex_normals
-from .surfaces import Surface, surface_from_mesh_areas
+from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
+from .patches import Patches, find_patches
+from .surfaces import Surface
+from .tangent_ball import largest_empty_radius
+from .thickness import RayCaster, thickness
 
 SHARP_ANGLE = 30.0
 """Default threshold (degrees) on the angle between the normals of two adjacent faces above
 which their edge is sharp (VTK's and ParaView's default feature angle)."""
 COARSE_EDGE_RATIO = 0.5
-"""A vertex with an incident edge longer than COARSE_EDGE_RATIO·L is reported as too coarse:
-the error of the estimate grows like (edge/L)² (docs/lfs.md)."""
+"""An edge of a curved patch longer than COARSE_EDGE_RATIO·L is reported as coarse: the
+curvature and poles there rest on interpolated normals (docs/lfs.md)."""
 FLAT_RTOL = 1e-9
 """Vertices whose spread across their best plane is below FLAT_RTOL times their extent are
 coplanar."""
 AUTO_SAMPLES = 60_000
-"""Without a sample size, every edge gets a midpoint if the sample then has at most
-AUTO_SAMPLES points (a closed mesh has about three edges per vertex: meshes of up to about
-15 000 vertices), and none otherwise. The midpoints matter on coarse meshes, and the time grows
-faster than the sample (docs/lfs.md measures both)."""
+"""Without a sample size, every eligible edge of a smooth patch gets a fitted midpoint if the
+vertices and midpoints then number at most AUTO_SAMPLES, and none otherwise."""
+SITE_SPACING = {"curved": 0.5, "flat": 1.0}
+"""Face sites are refined until no piece is longer than this times L at its centroid: on
+curved patches the poles and the curvature need the denser sample, on flat ones the thickness
+bound is exact at any spacing."""
+FIRST_SPACING = 1 / 25
+"""Spacing of the first round of face sites, relative to the part's diagonal."""
+ROUNDS = 4
+"""Most refinement rounds of the face sites."""
+STABLE_RTOL = 0.02
+"""Refinement stops when L at every vertex changed by less than this in the last round."""
+DISAGREE_RATIO = 2.0
+"""The medial estimate above DISAGREE_RATIO times the thickness and curvature bound at more
+than DISAGREE_SHARE of the face sites is reported (L uses the bound there)."""
+DISAGREE_SHARE = 0.01
+NEAREST_POLES = (8, 32, 128)
+RAY_NEAR = 0.25
+"""Ray hits closer than this times the local mesh spacing are the next faces of a bumpy mesh."""
+MIN_PIECES = 32
+"""No piece is made shorter than its face's longest edge over MIN_PIECES: where L from the
+vertex normals is far below the mesh spacing (an edge just below the sharp angle), the mesh
+does not resolve it anyway."""
+COARSE_POLE_RATIO = 0.8
+"""Where the local mesh edge exceeds this times the medial estimate, the poles along the
+medial axis are as sparse as the vertices and overestimate L (an L-bracket's bore with rings
+0.9·L apart: 0.93 for 0.6); the curvature radius then caps it too. Below it the vertex-normal
+curvature is left out: on irregular meshes it is noisy (a jittered torus: 0.25 for 0.5)."""
+BOUND_TOLERANCE = 0.0
+"""Where the poles give L, half the thickness lowers it only when it is smaller by more than
+this share (ray hits on curved patches are lifted to the smooth PN surface, good to about this
+on the test meshes); the curvature from vertex normals is left to the poles there."""
+POLE_EMPTY_RTOL = 0.05
+"""A pole is dropped when the mesh comes closer to it than (1 − POLE_EMPTY_RTOL) times the
+distance to the nearest sample point (on a patch the owner's contact is not ignored on)."""
+"""Numbers of nearest poles tried, in turn, for one of an allowed patch."""
+
+
+@dataclass(frozen=True)
+class Sites:
+    """The points where the terms of L are evaluated (docs/lfs.md), in the mesh's units."""
+
+    points: np.ndarray
+    raw: np.ndarray
+    """min of the terms at each site, before the Lipschitz envelope."""
+    lfs: np.ndarray
+    """L at each site (the envelope)."""
+    kind: np.ndarray
+    """0 vertex, 1 face site, 2 feature site."""
+    areas: np.ndarray
+    """Area each face site stands for (0 for the others); the face sites tile the surface."""
+    medial: np.ndarray
+    """Estimator A at each site (inf where no allowed pole)."""
+    bound: np.ndarray
+    """Estimator B at each face site (inf elsewhere)."""
+    thickness: np.ndarray
+    """T_in at each face site: distance across the part along the inward normal."""
+    radii: np.ndarray
+    """Radius of the piece of surface each site stands for (0 for vertices)."""
+    values: np.ndarray
+    """The value :meth:`LfsEstimate.at` spreads flat over the site's ball (its L)."""
+    vertex: np.ndarray
+    """The mesh vertex a site is (index into the prepared mesh), −1 for the other sites."""
+    gradient: np.ndarray
+    """Local rate of change of L at each site (largest over its nearest sites, at most λ)."""
 
 
 @dataclass(frozen=True)
 class LfsEstimate:
-    """Estimated local feature size at the vertices of a mesh, and at any point via :meth:`at`."""
+    """Estimated local feature size of a mesh's surface: at its vertices, and anywhere via
+    :meth:`at` (the same λ-Lipschitz function)."""
 
     mesh: TriangleMesh
     lfs: np.ndarray
-    """L at each vertex of ``mesh`` (in its order), λ-Lipschitz."""
+    """L at each vertex of ``mesh`` (in its order)."""
     lipschitz: float
-    """λ: |L(x) − L(y)| ≤ λ|x − y| for all points (1 for the distance to the medial axis)."""
+    """λ: |L(x) − L(y)| ≤ λ|x − y| for all points (at most 1)."""
     medial_points: np.ndarray
     """The estimated medial axis: distinct Voronoi poles (k, 3)."""
     sample_count: int
-    """Size of the surface sample: distinct vertices on faces with area, plus added points."""
+    """Size of the pole sample: vertices of curved patches, fitted midpoints and face sites."""
     added_samples: int
-    """Edge midpoints on the fitted surface in the sample."""
+    """Edge midpoints on the fitted surface in the pole sample."""
     eligible_edges: int
-    """Edges that could get a midpoint (usable fits at both ends, away from sharp, boundary and
-    non-manifold edges); 0 when the sample size asked for no midpoints."""
+    """Edges that could get a fitted midpoint; 0 when the sample size asked for none."""
     sharp_edges: np.ndarray
     """Vertex index pairs (e, 2) of the edges sharper than ``sharp_angle``."""
     sharp_angle: float
@@ -76,33 +152,61 @@ class LfsEstimate:
     mesh_report: MeshReport
     warnings: tuple[str, ...]
     method: str
-    _sites: np.ndarray = field(default=None, repr=False)
-    """Vertices of the surface (sites of the λ < 1 envelope)."""
+    patches: int = 0
+    """Smooth patches the sharp features split the surface into."""
+    feature_edges: int = 0
+    """Edges on feature curves (sharp, boundary or non-manifold)."""
+    feature_segments: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    """(e, 2) input vertex pairs of the feature edges."""
+    feature_corners: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    """Input vertex indices of the corners (where feature curves end or meet)."""
+    feature_length: float = 0.0
+    """Total length of the feature curves."""
+    feature_inv_lfs: float = 0.0
+    """∫ ds / L along the feature curves (sets the number of feature balls)."""
+    rounds: int = 0
+    disagreement: dict = field(default_factory=dict)
+    """Where the medial estimate exceeds the thickness bound (share of face sites, worst ratio
+    and its position)."""
+    sites: Sites | None = field(default=None, repr=False)
 
     def at(self, points) -> np.ndarray:
-        """L at arbitrary points (m, 3): the same function whose vertex values are ``lfs``.
-
-        For λ ≥ 1 it is the distance to the nearest medial point; for λ < 1 it is
-        min over surface vertices v of L(v) + λ|x − v|.
-        """
+        """L at arbitrary points (m, 3): min over sites y of v(y) + λ·max(0, |x − y| − ρ(y)),
+        v the site's value and ρ its piece's radius (docs/lfs.md)."""
         points = np.asarray(points, dtype=float)
         if points.ndim != 2 or points.shape[1] != 3 or not np.isfinite(points).all():
             raise InputError(f"need finite points of shape (m, 3), got shape {points.shape}")
-        if self.lipschitz >= 1:
-            return self._medial_tree.query(points, workers=-1)[0]
-        site_lfs = self.lfs[self._sites]
-        return lipschitz_envelope(self.mesh.points[self._sites], site_lfs, self.lipschitz, points)
-
-    def surface(self) -> Surface:
-        """The advisor's :class:`Surface`: each triangle with the mean L of its vertices."""
-        tri_lfs = self.lfs[self.mesh.triangles].mean(axis=1)
-        return surface_from_mesh_areas(self.mesh.name, self.mesh.triangle_areas(), tri_lfs)
+        return self._field(points)
 
     @cached_property
-    def _medial_tree(self):
-        from scipy.spatial import cKDTree
+    def _field(self) -> Envelope:
+        s = self.sites
+        return Envelope(s.points, s.values, self.lipschitz, s.radii)
 
-        return cKDTree(self.medial_points)
+    def surface(self) -> Surface:
+        """The advisor's :class:`Surface`: area and ∫ dA/L² from the face sites."""
+        face = self.sites.kind == 1
+        areas, lfs = self.sites.areas[face], self.sites.lfs[face]
+        with np.errstate(all="ignore"):
+            area = float(areas.sum())
+            integral = float((areas / lfs**2).sum())
+        if not (math.isfinite(area) and area > 0 and math.isfinite(integral)):
+            raise InputError(f"mesh {self.mesh.name}: its faces have no (finite) area")
+        return Surface(
+            f"mesh {self.mesh.name}",
+            area,
+            integral,
+            float(lfs.min()),
+            False,
+            feature_inv_lfs=self.feature_inv_lfs,
+            mesh_lattice=True,
+        )
+
+    @cached_property
+    def vertex_sharp(self) -> np.ndarray:
+        sharp = np.zeros(len(self.mesh.points), dtype=bool)
+        sharp[self.sharp_edges.reshape(-1)] = True
+        return sharp
 
 
 def estimate_lfs(
@@ -114,32 +218,24 @@ def estimate_lfs(
     seed: int = 0,
     progress: Progress | None = None,
 ) -> LfsEstimate:
-    """Estimate the local feature size at the vertices of a triangle mesh.
+    """Estimate the local feature size of the surface of a triangle mesh (module docstring).
 
     Parameters
     ----------
     mesh : TriangleMesh
-        The surface; vertices should lie on the smooth surface it approximates.
+        The surface; a closed mesh, vertices on the surface it describes.
     samples : int, optional
-        Size N ≥ 0 of the surface sample. Every vertex is in it; when N exceeds their number,
-        up to N − (vertices) edge midpoints on the fitted surface are added, longest edges
-        first, at most one per edge and none near sharp, boundary or non-manifold edges.
-        0 (or any N up to the vertex count): the vertices only. None: every eligible edge
-        gets a midpoint if that makes at most AUTO_SAMPLES points, else none.
+        Size N ≥ 0 of the vertex part of the pole sample: the vertices plus up to
+        N − (vertices) edge midpoints on a quartic fit (smooth patches only). 0: no midpoints.
+        None: every eligible edge if that makes at most AUTO_SAMPLES points, else none.
     lipschitz : float
-        λ > 0. The distance to the estimated medial axis is 1-Lipschitz; for λ < 1 the values
-        become min_y L(y) + λ|x − y| over the vertices y.
+        λ > 0; the result is min(λ, 1)-Lipschitz.
     sharp_angle : float
         Edges whose adjacent face normals differ by more than this (degrees) are sharp.
     seed : int
         Seed of the triangulation's jitter.
     progress : Progress, optional
-        Progress callback (tasks "surface fit", "Delaunay", "poles", "distances",
-        "Lipschitz repair").
-
-    Returns
-    -------
-    LfsEstimate
+        Progress callback.
 
     Raises
     ------
@@ -159,89 +255,718 @@ def estimate_lfs(
     if not (math.isfinite(sharp_angle) and 0 < sharp_angle < 180):
         raise InputError(f"--sharp-angle must be between 0 and 180 degrees, got {sharp_angle}")
     seed = checked_seed(seed)
+    slope = float(min(lipschitz, 1.0))
     prepared = prepare_mesh(mesh)
-    points = prepared.points
-    surface_ids = np.unique(prepared.triangles)
+    points, faces = prepared.points, prepared.triangles
+    surface_ids = np.unique(faces)
     if len(surface_ids) < 5:
         raise InputError(f"mesh {mesh.name}: need at least 5 vertices on faces with area")
-    unit, centre, scale = points, prepared.centre, prepared.scale
-    _refuse_flat(unit[surface_ids], mesh.name)
-    angles = dihedral_angles(prepared)
-    sharp = np.nan_to_num(angles, nan=0.0) > sharp_angle
-    normals = vertex_normals(prepared)
-    counter = Counter(progress, "surface fit", 1)
-    added = edge_midpoints(
-        prepared,
-        normals,
-        sharp | (prepared.edge_faces[:, 0] < 0),
-        _budget(samples, len(surface_ids), len(prepared.edges)),
-    )
+    _refuse_flat(points[surface_ids], mesh.name)
+    counter = Counter(progress, "surface structure", 1)
+    patches = find_patches(prepared, sharp_angle)
+    curved_face = ~patches.flat[patches.face_patch]
+    radius_face = face_curvature_radius(points, faces, patches.corner_normals)
+    vertex_patch = np.full(len(points), -1)
+    vertex_patch[faces.reshape(-1)] = np.repeat(patches.face_patch, 3)
+    caster = RayCaster(points, faces)
+    allowed = ~patches.adjacent
     counter.step()
-    medial = vertex_poles(
-        np.vstack([unit[surface_ids], added.points]),
-        np.vstack([normals[surface_ids], added.normals]),
-        noise=_rounding(mesh.points) / scale,
-        seed=seed,
-        progress=progress,
+    vertex_sites = surface_ids[~patches.feature_vertex[surface_ids]]
+    midpoints = _midpoints(prepared, patches, samples, len(surface_ids))
+    factor = np.where(curved_face, SITE_SPACING["curved"], SITE_SPACING["flat"])
+    corners = points[faces]
+    face_floor = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
+    face_floor = face_floor / MIN_PIECES
+    ends = points[patches.feature_edges]
+    edge_floor = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1) / MIN_PIECES
+    # The pole sample (vertices and fitted midpoints of curved patches) is the same in every
+    # round: its poles are found once.
+    labelled = _labelled_poles(
+        prepared,
+        patches,
+        vertex_sites,
+        vertex_patch,
+        midpoints,
+        vertex_normals(prepared),
+        seed,
+        mesh.points,
+        progress,
+        caster,
     )
-    if len(medial.points) == 0:
-        raise VoroboundError(f"mesh {mesh.name}: no medial-axis point found (is it a surface?)")
+    sites = poles = None
+    previous = None
+    rounds = 0
+    for done in range(1, ROUNDS + 1):
+        rounds = done
+        if sites is None:
+
+            def face_spacing(x, face):
+                return np.full(len(x), FIRST_SPACING)
+
+            def edge_spacing(x, edge):
+                return np.full(len(x), FIRST_SPACING)
+
+        else:
+            face_spacing, edge_spacing = _spacings(sites, slope, factor, face_floor, edge_floor)
+        on_faces = face_sites(points, faces, patches.corner_normals, curved_face, face_spacing)
+        feature = edge_sites(points, patches.feature_edges, edge_spacing)
+        sites, poles = _evaluate(
+            prepared,
+            patches,
+            caster,
+            allowed,
+            vertex_sites,
+            vertex_patch,
+            labelled,
+            on_faces,
+            feature,
+            radius_face,
+            curved_face,
+            slope,
+            progress,
+        )
+        current = Envelope(sites.points, sites.values, slope, sites.radii)(points[surface_ids])
+        if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
+            break
+        previous = current
+    return _result(
+        mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points
+    )
+
+
+def _spacings(sites: Sites, slope: float, factor: np.ndarray, face_floor, edge_floor):
+    """The next round's spacing: SITE_SPACING (per face) times L of the last round, at least
+    the floors (:data:`MIN_PIECES`)."""
+    field = Envelope(sites.points, sites.values, slope, sites.radii)
+
+    def face_spacing(x, face):
+        return np.maximum(factor[face] * field(x), face_floor[face])
+
+    def edge_spacing(x, edge):
+        return np.maximum(SITE_SPACING["curved"] * field(x), edge_floor[edge])
+
+    return face_spacing, edge_spacing
+
+
+@dataclass(frozen=True)
+class _Midpoints:
+    points: np.ndarray
+    normals: np.ndarray
+    labels: np.ndarray
+    eligible: int
+
+
+def _midpoints(prepared, patches: Patches, samples, vertices: int) -> _Midpoints:
+    """Fitted edge midpoints on the smooth patches, as in the pole estimator of docs/lfs.md."""
+    normals = vertex_normals(prepared)
+    excluded = np.zeros(len(prepared.edges), dtype=bool)
+    feature_keys = {tuple(e) for e in np.sort(patches.feature_edges, axis=1).tolist()}
+    if feature_keys:
+        excluded = np.array([tuple(e) in feature_keys for e in prepared.edges.tolist()])
+    budget = (
+        int(samples) - vertices
+        if samples is not None
+        else (len(prepared.edges) if vertices + len(prepared.edges) <= AUTO_SAMPLES else 0)
+    )
+    added = edge_midpoints(prepared, normals, excluded, budget)
+    vertex_patch = np.full(len(prepared.points), -1)
+    vertex_patch[prepared.triangles.reshape(-1)] = np.repeat(patches.face_patch, 3)
+    labels = vertex_patch[added.edges[:, 0]] if len(added.points) else np.zeros(0, np.int64)
+    curved = ~patches.flat[labels] if len(labels) else np.zeros(0, dtype=bool)
+    # Flat patches need no poles (their thickness bound is exact).
+    return _Midpoints(added.points[curved], added.normals[curved], labels[curved], added.eligible)
+
+
+def _evaluate(
+    prepared,
+    patches,
+    caster,
+    allowed,
+    vertex_sites,
+    vertex_patch,
+    labelled,
+    on_faces,
+    feature,
+    radius_face,
+    curved_face,
+    slope,
+    progress,
+):
+    """One round: estimators A and B, the feature terms and the envelope at every site.
+
+    Sites, in this order: the vertices inside smooth patches, the face sites, the feature
+    vertices, the points on feature edges.
+    """
+    points, faces = prepared.points, prepared.triangles
+    face_patch = patches.face_patch
+    normals = vertex_normals(prepared)
+    poles = labelled
+    feature_vertices = np.flatnonzero(patches.feature_vertex)
+    vertex_faces = _vertex_patch_table(faces, face_patch, len(points))
+    groups = [
+        (points[vertex_sites], 0, vertex_patch[vertex_sites][:, None]),
+        (on_faces.points, 1, face_patch[on_faces.face][:, None]),
+        (points[feature_vertices], 2, vertex_faces[feature_vertices]),
+        (feature.points, 2, _edge_patches(prepared, patches)[feature.edge]),
+    ]
+    site_points = np.vstack([g[0] for g in groups])
+    kind = np.concatenate([np.full(len(g[0]), g[1]) for g in groups]).astype(np.int8)
+    width = max(g[2].shape[1] for g in groups)
+    site_patches = np.concatenate(
+        [np.pad(g[2], ((0, 0), (0, width - g[2].shape[1])), constant_values=-1) for g in groups]
+    )
+    count = len(site_points)
+    medial = np.full(count, np.inf)
+    if poles is not None:
+        for column in range(width):
+            lab = site_patches[:, column]
+            ok = np.flatnonzero(lab >= 0)
+            if len(ok):
+                values = _nearest_allowed(*poles, site_points[ok], lab[ok], allowed)
+                medial[ok] = np.minimum(medial[ok], values)
+    # --- B: thickness and curvature at the vertices inside patches and the face sites -------
+    ray_sites = np.flatnonzero(kind < 2)
+    n_vertex = len(vertex_sites)
+    origin_face = np.concatenate([_a_face(faces, vertex_sites), on_faces.face])
+    ray_normals = np.vstack([normals[vertex_sites], on_faces.normals])
+
+    def lift(hit_faces, bary):
+        """Hit points on the smooth surface (PN) for faces of curved patches."""
+        points_out = np.einsum("nc,ncd->nd", bary, points[faces[hit_faces]])
+        moved = curved_face[hit_faces]
+        if moved.any():
+            chosen = hit_faces[moved]
+            points_out[moved] = pn_points(
+                points[faces[chosen]], patches.corner_normals[chosen], bary[moved]
+            )
+        return points_out, moved
+
+    ray = thickness(
+        caster,
+        site_points[ray_sites],
+        ray_normals,
+        origin_face,
+        allowed | np.eye(patches.count, dtype=bool),
+        face_patch,
+        site_patches[ray_sites, 0],
+        lift,
+        RAY_NEAR * np.concatenate([_vertex_size(faces, points, vertex_sites), on_faces.sizes]),
+    )
+    curvature = np.concatenate(
+        [_vertex_radius(faces, radius_face, vertex_sites, len(points)), radius_face[on_faces.face]]
+    )
+    across = np.full(count, np.inf)  # half the thickness, inward or across a gap
+    across[ray_sites] = np.minimum(ray.inward, ray.outward) / 2
+    bend = np.full(count, np.inf)  # radius of curvature from the vertex normals
+    bend[ray_sites] = curvature
+    thick = np.full(count, np.inf)
+    thick[ray_sites] = ray.inward
+    # --- features ---------------------------------------------------------------------------
+    feature_site = kind == 2
+    vertex_curves = _vertex_curves(patches, feature_vertices)
+    edge_curves = patches.edge_curve[feature.edge][:, None]
+    columns = max(vertex_curves.shape[1], 1)
+    curves = np.concatenate(
+        [
+            vertex_curves.reshape(len(feature_vertices), columns),
+            np.pad(edge_curves, ((0, 0), (0, columns - 1)), constant_values=-1),
+        ]
+    )
+    radius = np.concatenate(
+        [patches.vertex_curvature_radius[feature_vertices], _edge_radius(patches, feature.edge)]
+    )
+    feature_lfs = _feature_lfs(site_points[feature_site], curves, radius, patches, feature)
+    # B is itself estimated: the distances from facets, the curvature from differences of
+    # vertex normals, which are noisy on irregular meshes. Where the poles give L on a fine
+    # mesh, only the distances cap it; where the mesh is coarse against the poles' L, the poles
+    # along the medial axis are as far apart as the vertices (their distance overestimates L)
+    # and the curvature caps it too; elsewhere B is the estimate.
+    size = np.full(count, np.inf)
+    corners = points[faces]
+    longest = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
+    size[ray_sites] = np.concatenate(
+        [_vertex_size(faces, points, vertex_sites), longest[on_faces.face]]
+    )
+    coarse = size > COARSE_POLE_RATIO * medial
+    raw = np.where(
+        np.isfinite(medial),
+        np.minimum(
+            np.minimum(medial, (1 + BOUND_TOLERANCE) * across), np.where(coarse, bend, np.inf)
+        ),
+        np.minimum(across, bend),
+    )
+    raw[feature_site] = np.minimum(raw[feature_site], feature_lfs)
+    half = np.concatenate([np.zeros(len(feature_vertices)), feature.lengths / 2])
+    raw = np.minimum(
+        raw, _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
+    )
+    # The largest ball tangent at the site that no other non-adjacent patch enters: medial
+    # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
+    # outward only where a ray found a gap (a convex outside has no medial ball to find).
+    tangent = _tangent_balls(
+        site_points[ray_sites],
+        ray_normals,
+        ray,
+        site_patches[ray_sites, 0],
+        points[faces],
+        face_patch,
+        allowed,
+        patches.count,
+        raw[ray_sites],
+    )
+    across[ray_sites] = np.minimum(across[ray_sites], tangent)
+    raw[ray_sites] = np.minimum(raw[ray_sites], tangent)
+    bound = np.minimum(across, bend)
+    # A feature site takes the values of its patches next to it (their limit at the feature).
+    raw[feature_site] = np.minimum(
+        raw[feature_site],
+        _patch_limit(site_points, site_patches, raw, kind, np.flatnonzero(feature_site)),
+    )
+    if not np.isfinite(raw).any():
+        raise VoroboundError("no finite local feature size anywhere: is the mesh closed?")
+    raw = np.where(np.isfinite(raw), raw, np.nanmax(raw[np.isfinite(raw)]))
+    lfs = lipschitz_envelope(site_points, raw, slope, progress=progress)
+    areas = np.zeros(count)
+    areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
+    radii = np.zeros(count)
+    face_rows = slice(n_vertex, n_vertex + len(on_faces.points))
+    radii[face_rows] = np.linalg.norm(on_faces.corners - on_faces.points[:, None], axis=2).max(
+        axis=1
+    )
+    radii[len(site_points) - len(feature.points) :] = feature.lengths / 2
+    # A site's value is spread flat over a ball of radius ρ(1 − g/λ), g the local rate of
+    # change of L: exact where L is constant (g = 0), a plain cone where L changes at the
+    # largest rate, and never above a linear L in between (docs/lfs.md).
+    gradient = _local_slope(site_points, lfs, slope) if slope > 0 else np.zeros(count)
+    radii = radii * (1 - gradient / slope) if slope > 0 else radii * 0
+    vertex = np.concatenate(
+        [
+            vertex_sites,
+            np.full(len(on_faces.points), -1),
+            feature_vertices,
+            np.full(len(feature.points), -1),
+        ]
+    )
+    sites = Sites(
+        site_points, raw, lfs, kind, areas, medial, bound, thick, radii, lfs, vertex, gradient
+    )
+    medial_points = None if poles is None else poles[0]
+    return sites, medial_points
+
+
+def _labelled_poles(
+    prepared,
+    patches,
+    vertex_sites,
+    vertex_patch,
+    midpoints,
+    normals,
+    seed,
+    input_points,
+    progress,
+    caster,
+):
+    """(pole positions, owner patch) from the vertices of curved patches and the fitted
+    midpoints, or None when there are too few points.
+
+    Points interpolated inside coarse faces are not used: PN patches meet with small creases,
+    whose spurious poles would shrink L (docs/lfs.md).
+    """
+    curved_vertex = vertex_sites[~patches.flat[vertex_patch[vertex_sites]]]
+    pole_points = np.vstack([prepared.points[curved_vertex], midpoints.points])
+    if len(pole_points) < 5:
+        return None
+    pole_normals = np.vstack([normals[curved_vertex], midpoints.normals])
+    labels = np.concatenate([vertex_patch[curved_vertex], midpoints.labels]).astype(np.int64)
+    try:
+        poles = vertex_poles(
+            pole_points,
+            pole_normals,
+            noise=_rounding(input_points) / prepared.scale,
+            seed=seed,
+            progress=progress,
+            labels=labels,
+            adjacent=patches.adjacent,
+        )
+    except InputError:
+        return None  # a nearly planar sample of curved patches: no medial points
+    if poles.labelled_points is None or not len(poles.owner_labels):
+        return None
+    return _checked_poles(poles.labelled_points, poles.owner_labels, pole_points, caster, patches)
+
+
+def _checked_poles(centres, owners, sample, caster, patches):
+    """Keep the poles whose ball is empty of the mesh itself, not only of the sample: the
+    surface may come no closer to the centre than POLE_EMPTY_RTOL short of the distance to
+    the nearest sample point, unless it does so on a patch adjacent to the owner's (those
+    contacts are left out by definition). A sample of some patches alone (the curved ones)
+    leaves cells unbounded toward the others; their far Voronoi vertices are not medial."""
     from scipy.spatial import cKDTree
 
-    counter = Counter(progress, "distances", 1)
-    merged_lfs = cKDTree(medial.points).query(unit, workers=-1)[0]
-    counter.step()
-    if lipschitz < 1:
-        merged_lfs = lipschitz_envelope(
-            unit[surface_ids], merged_lfs[surface_ids], lipschitz, unit, progress
+    radius = cKDTree(sample).query(centres, workers=-1)[0]
+    distance, face, _ = caster.closest(centres)
+    across = patches.adjacent[owners, patches.face_patch[face]]
+    keep = (distance >= (1 - POLE_EMPTY_RTOL) * radius) | across
+    if not keep.any():
+        return None
+    return centres[keep], owners[keep]
+
+
+def _vertex_patch_table(faces, face_patch, vertices: int) -> np.ndarray:
+    """(m, k) the distinct patches of each vertex's faces, −1 padded."""
+    pairs = np.unique(np.c_[faces.reshape(-1), np.repeat(face_patch, 3)], axis=0)
+    counts = np.bincount(pairs[:, 0], minlength=vertices)
+    width = max(1, int(counts.max()))
+    table = np.full((vertices, width), -1)
+    starts = np.r_[0, np.cumsum(counts)[:-1]]
+    slot = np.arange(len(pairs)) - starts[pairs[:, 0]]
+    table[pairs[:, 0], slot] = pairs[:, 1]
+    return table
+
+
+def _a_face(faces, vertices) -> np.ndarray:
+    """One face of each vertex (the ray of a vertex skips it; its other faces lie at t ≈ 0)."""
+    owner = np.full(int(faces.max()) + 1, -1)
+    owner[faces.reshape(-1)] = np.repeat(np.arange(len(faces)), 3)
+    return owner[vertices]
+
+
+def _tangent_balls(
+    sites, normals, ray, groups, face_corners, face_patch, allowed, count, cap
+) -> np.ndarray:
+    """Largest empty tangent ball against the pieces of other non-adjacent patches, on the
+    inward side (and the outward side where the ray there met an allowed patch), at most
+    ``cap``."""
+    other = allowed & ~np.eye(count, dtype=bool)
+    out = np.asarray(cap, dtype=float).copy()
+    if not other.any():
+        return out
+    triangle_group = face_patch
+    inward = np.where(ray.inward_sign < 0, -1.0, 1.0)[:, None] * normals
+    for direction, use in ((inward, ray.inward_sign != 0), (-inward, np.isfinite(ray.outward))):
+        rows = np.flatnonzero(use & np.isfinite(out))
+        if not len(rows):
+            continue
+        out[rows] = largest_empty_radius(
+            sites[rows],
+            direction[rows],
+            groups[rows],
+            face_corners,
+            triangle_group,
+            other,
+            out[rows],
         )
-    if not (np.isfinite(merged_lfs).all() and (merged_lfs > 0).all()):
+    return out
+
+
+def _local_slope(points, lfs, slope: float, neighbours: int = 12) -> np.ndarray:
+    """Largest |L(y) − L(x)|/|y − x| over each site's nearest sites, at most ``slope``."""
+    from scipy.spatial import cKDTree
+
+    k = min(neighbours + 1, len(points))
+    if k < 2:
+        return np.zeros(len(points))
+    dist, index = cKDTree(points).query(points, k=k, workers=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(lfs[index[:, 1:]] - lfs[:, None]) / dist[:, 1:]
+    ratio = np.where(np.isfinite(ratio), ratio, 0.0)
+    return np.minimum(ratio.max(axis=1), slope)
+
+
+def _vertex_size(faces, points, vertices) -> np.ndarray:
+    """Longest edge at each vertex (the first search radius of its tangent ball)."""
+    longest = np.zeros(len(points))
+    for k in range(3):
+        a, b = faces[:, k], faces[:, (k + 1) % 3]
+        length = np.linalg.norm(points[a] - points[b], axis=1)
+        np.maximum.at(longest, a, length)
+        np.maximum.at(longest, b, length)
+    return longest[vertices]
+
+
+def _vertex_radius(faces, radius_face, vertices, count: int) -> np.ndarray:
+    """Smallest radius of curvature of the faces around each vertex."""
+    per_vertex = np.full(count, np.inf)
+    np.minimum.at(per_vertex, faces.reshape(-1), np.repeat(radius_face, 3))
+    return per_vertex[vertices]
+
+
+def _edge_patches(prepared, patches: Patches) -> np.ndarray:
+    """(e, 2) the patches on either side of each feature edge (−1 where none)."""
+    edges = np.sort(patches.feature_edges, axis=1)
+    out = np.full((len(edges), 2), -1)
+    if not len(edges):
+        return out
+    faces = prepared.triangles
+    pairs = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), 1)
+    face = np.tile(np.arange(len(faces)), 3)
+    order = np.lexsort((pairs[:, 1], pairs[:, 0]))
+    pairs, face = pairs[order], face[order]
+    key = edges[:, 0] * (len(prepared.points) + 1) + edges[:, 1]
+    all_keys = pairs[:, 0] * (len(prepared.points) + 1) + pairs[:, 1]
+    first = np.searchsorted(all_keys, key)
+    for column in range(2):
+        at = np.minimum(first + column, len(all_keys) - 1)
+        hit = all_keys[at] == key
+        out[hit, column] = patches.face_patch[face[at[hit]]]
+    return out
+
+
+def _vertex_curves(patches: Patches, vertices: np.ndarray) -> np.ndarray:
+    """(n, k) the curves of each feature vertex's edges, −1 padded."""
+    edges = patches.feature_edges
+    if not len(edges) or not len(vertices):
+        return np.full((len(vertices), 1), -1)
+    ends = np.concatenate([edges[:, 0], edges[:, 1]])
+    curve = np.concatenate([patches.edge_curve, patches.edge_curve])
+    pairs = np.unique(np.c_[ends, curve], axis=0)
+    index = {v: k for k, v in enumerate(vertices.tolist())}
+    width = max(1, int(np.bincount(pairs[:, 0]).max()))
+    table = np.full((len(vertices), width), -1)
+    fill = np.zeros(len(vertices), dtype=np.int64)
+    for v, c in pairs.tolist():
+        row = index.get(v)
+        if row is not None:
+            table[row, fill[row]] = c
+            fill[row] += 1
+    return table
+
+
+def _edge_radius(patches: Patches, edge: np.ndarray) -> np.ndarray:
+    """Radius of curvature of the curve at a point of a feature edge: the smaller one of the
+    edge's two end vertices."""
+    ends = patches.feature_edges[edge]
+    radius = patches.vertex_curvature_radius
+    return np.minimum(radius[ends[:, 0]], radius[ends[:, 1]])
+
+
+def _patch_limit(site_points, site_patches, raw, kind, queries) -> np.ndarray:
+    """For each query (feature) site, min over its patches of raw at that patch's nearest site
+    inside the patch (a vertex or a face site among the 16 nearest)."""
+    from scipy.spatial import cKDTree
+
+    inner = np.flatnonzero(kind < 2)
+    out = np.full(len(queries), np.inf)
+    if not len(inner) or not len(queries):
+        return out
+    tree = cKDTree(site_points[inner])
+    k = min(16, len(inner))
+    _, index = tree.query(site_points[queries], k=k, workers=-1)
+    candidates = inner[index.reshape(len(queries), -1)]
+    candidate_patch = site_patches[candidates, 0]
+    for column in range(site_patches.shape[1]):
+        wanted = site_patches[queries, column]
+        match = (candidate_patch == wanted[:, None]) & (wanted[:, None] >= 0)
+        found = match.any(axis=1)
+        first = candidates[np.arange(len(queries)), match.argmax(axis=1)]
+        out[found] = np.minimum(out[found], raw[first[found]])
+    return out
+
+
+def _nearest_allowed(pole_points, pole_labels, queries, query_labels, allowed) -> np.ndarray:
+    """Distance from each query to the nearest pole whose label is allowed for the query's."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(pole_points)
+    out = np.full(len(queries), np.inf)
+    todo = np.arange(len(queries))
+    for k in NEAREST_POLES:
+        if not len(todo):
+            break
+        k_eff = min(k, len(pole_points))
+        dist, index = tree.query(queries[todo], k=k_eff, workers=-1)
+        dist, index = dist.reshape(len(todo), -1), index.reshape(len(todo), -1)
+        ok = allowed[query_labels[todo][:, None], pole_labels[index]]
+        found = ok.any(axis=1)
+        first = ok.argmax(axis=1)
+        out[todo[found]] = dist[found, first[found]]
+        todo = todo[~found]
+        if k_eff == len(pole_points):
+            break
+    if len(todo):
+        for label in np.unique(query_labels[todo]):
+            mine = todo[query_labels[todo] == label]
+            keep = allowed[label, pole_labels]
+            if keep.any():
+                out[mine] = cKDTree(pole_points[keep]).query(queries[mine], workers=-1)[0]
+    return out
+
+
+def _feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -> np.ndarray:
+    """L_F at feature sites: min(the curve's radius of curvature, half the distance to the
+    nearest point of a non-adjacent curve: neither one of the site's curves nor sharing a
+    corner with one)."""
+    from scipy.spatial import cKDTree
+
+    n = len(query_points)
+    if n == 0 or len(feature.points) == 0:
+        return np.minimum(radius, np.inf)
+    target_curve = patches.edge_curve[feature.edge]
+    related = patches.curve_adjacent | np.eye(patches.curves, dtype=bool)
+    tree = cKDTree(feature.points)
+    gap = np.full(n, np.inf)
+    todo = np.arange(n)
+    for k in (16, 64, 256, len(feature.points)):
+        if not len(todo):
+            break
+        k_eff = min(k, len(feature.points))
+        dist, index = tree.query(query_points[todo], k=k_eff, workers=-1)
+        dist, index = dist.reshape(len(todo), -1), index.reshape(len(todo), -1)
+        near = np.zeros(index.shape, dtype=bool)
+        for column in range(query_curves.shape[1]):
+            mine = query_curves[todo, column]
+            valid = mine >= 0
+            hit = related[np.maximum(mine, 0)[:, None], target_curve[index]]
+            near |= hit & valid[:, None]
+        far = ~near
+        found = far.any(axis=1)
+        gap[todo[found]] = dist[found, far[found].argmax(axis=1)]
+        todo = todo[~found]
+        if k_eff == len(feature.points):
+            break
+    return np.minimum(radius, gap / 2)
+
+
+def _feature_cap(site_points, raw, feature_points, feature_lfs, half) -> np.ndarray:
+    """min over feature pieces P of max(dist(x, P), L_F(P)), with dist(x, P) taken as
+    |x − p| − (half the piece's length), p its centre (never above the distance). Searched
+    only within raw(x) (plus the longest half piece) of x: a farther or larger feature cannot
+    lower raw(x)."""
+    from scipy.spatial import cKDTree
+
+    cap = np.full(len(site_points), np.inf)
+    if len(feature_points) == 0:
+        return cap
+    tree = cKDTree(feature_points)
+    longest = float(half.max())
+    nearest, index = tree.query(site_points, workers=-1)
+    cap = np.maximum(np.maximum(nearest - half[index], 0.0), feature_lfs[index])
+    reach = np.minimum(np.where(np.isfinite(raw), raw, np.inf), cap) + longest
+    look = np.flatnonzero(reach > nearest)
+    if len(look):
+        lists = tree.query_ball_point(site_points[look], reach[look], workers=-1)
+        sizes = np.fromiter((len(x) for x in lists), dtype=np.int64, count=len(lists))
+        flat = np.fromiter((i for x in lists for i in x), dtype=np.int64, count=int(sizes.sum()))
+        owner = np.repeat(look, sizes)
+        gap = np.linalg.norm(site_points[owner] - feature_points[flat], axis=1) - half[flat]
+        value = np.maximum(np.maximum(gap, 0.0), feature_lfs[flat])
+        np.minimum.at(cap, owner, value)
+    return cap
+
+
+def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points):
+    """The :class:`LfsEstimate` in the input's units, with its warnings."""
+    scale, centre = prepared.scale, prepared.centre
+    lfs_sites = Sites(
+        points=scale * sites.points + centre,
+        raw=scale * sites.raw,
+        lfs=scale * sites.lfs,
+        kind=sites.kind,
+        areas=scale**2 * sites.areas,
+        medial=scale * sites.medial,
+        bound=scale * sites.bound,
+        thickness=scale * sites.thickness,
+        radii=scale * sites.radii,
+        values=scale * sites.values,
+        vertex=sites.vertex,
+        gradient=sites.gradient,
+    )
+    # A vertex is a site: its output is its own L (the envelope of the raw values there).
+    # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower
+    # where a neighbouring face site's value is; docs/lfs.md). Vertices of no face get `at`.
+    vertex_lfs = Envelope(sites.points, sites.values, slope, sites.radii)(points)
+    own = sites.vertex >= 0
+    vertex_lfs[sites.vertex[own]] = sites.lfs[own]
+    if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
         raise VoroboundError(f"mesh {mesh.name}: the estimated L is zero at some vertex")
-    max_dihedral = float(np.nanmax(angles)) if np.isfinite(angles).any() else 0.0
-    # Report vertex ids of the caller's mesh: the first input vertex of each merged one.
     first_input = np.zeros(len(points), dtype=np.int64)
     first_input[prepared.original_to_merged[::-1]] = np.arange(len(mesh.points))[::-1]
     notes = prepared.report.problems()
-    if sharp.any():
+    face = sites.kind == 1
+    both = face & np.isfinite(sites.medial) & np.isfinite(sites.bound)
+    over = both & (sites.medial > DISAGREE_RATIO * sites.bound)
+    disagreement = {"face_sites": int(face.sum()), "compared": int(both.sum())}
+    if both.any():
+        ratio = sites.medial[both] / sites.bound[both]
+        worst = int(np.flatnonzero(both)[np.argmax(ratio)])
+        disagreement |= {
+            "share_above": float(over.sum() / both.sum()),
+            "worst_ratio": float(ratio.max()),
+            "worst_at": (scale * sites.points[worst] + centre).tolist(),
+        }
+        if over.sum() > DISAGREE_SHARE * both.sum():
+            where = ", ".join(f"{x:.4g}" for x in disagreement["worst_at"])
+            notes.append(
+                f"the medial estimate (poles) exceeds the thickness and curvature bound by more "
+                f"than {DISAGREE_RATIO:g}x at {100 * over.sum() / both.sum():.1f} % of the face "
+                f"sites (worst {ratio.max():.3g}x at {where}); L uses the bound there"
+            )
+    sharp = patches.sharp_edges
+    if len(sharp):
         notes.append(
-            f"{int(sharp.sum())} sharp edges (face normals differ by more than {sharp_angle:g}°, "
-            f"up to {max_dihedral:.1f}°): the paper's analysis covers smooth surfaces only; "
-            "near them L is that of the surface rounded at the scale of the mesh edges"
+            f"{len(sharp)} sharp edges (face normals differ by more than {sharp_angle:g}°, up to "
+            f"{patches.max_dihedral:.1f}°) split the surface into {patches.count} smooth patches: "
+            "L is that of the piecewise-smooth surface (docs/lfs.md), and VoroCrust's smooth-"
+            "surface analysis does not cover the sharp features themselves"
         )
-    notes += _coarse(prepared, merged_lfs, sharp)
+    notes += _coarse(prepared, patches, vertex_lfs)
     for note in notes:
-        warnings.warn(f"mesh {mesh.name}: {note}", VoroboundWarning, stacklevel=2)
-    merged_to_sites = np.asarray(first_input[surface_ids])
+        warnings.warn(f"mesh {mesh.name}: {note}", VoroboundWarning, stacklevel=3)
+    field = Envelope(sites.points, sites.values, slope, sites.radii)
+    feature_length, feature_inv = _feature_integrals(prepared.points, patches.feature_edges, field)
+    feature_length *= scale
+    medial_points = np.zeros((0, 3)) if poles is None else scale * poles + centre
+    sample_count = int((sites.kind == 0).sum()) + len(midpoints.points)
     return LfsEstimate(
         mesh=mesh,
-        lfs=scale * merged_lfs[prepared.original_to_merged],
-        lipschitz=float(min(lipschitz, 1.0)),
-        medial_points=scale * medial.points + centre,
-        sample_count=len(surface_ids) + len(added.points),
-        added_samples=len(added.points),
-        eligible_edges=added.eligible,
-        sharp_edges=first_input[prepared.edges[sharp]],
+        lfs=scale * vertex_lfs[prepared.original_to_merged],
+        lipschitz=slope,
+        medial_points=medial_points,
+        sample_count=sample_count,
+        added_samples=len(midpoints.points),
+        eligible_edges=midpoints.eligible,
+        sharp_edges=first_input[sharp],
+        feature_segments=first_input[patches.feature_edges].reshape(-1, 2),
+        feature_corners=first_input[patches.corners],
         sharp_angle=float(sharp_angle),
-        max_dihedral=max_dihedral,
+        max_dihedral=patches.max_dihedral,
         mesh_report=prepared.report,
         warnings=tuple(notes),
-        method=_method(len(added.points)),
-        _sites=merged_to_sites,
+        method=_method(len(midpoints.points), patches, rounds),
+        patches=patches.count,
+        feature_edges=len(patches.feature_edges),
+        feature_length=feature_length,
+        feature_inv_lfs=feature_inv,
+        rounds=rounds,
+        disagreement=disagreement,
+        sites=lfs_sites,
     )
 
 
-def _budget(samples: int | None, vertices: int, edges: int) -> int:
-    """How many midpoints to add at most."""
-    if samples is not None:
-        return int(samples) - vertices
-    return edges if vertices + edges <= AUTO_SAMPLES else 0
+def _feature_integrals(points, edges, field) -> tuple[float, float]:
+    """Length of the feature edges and ∫ ds/L along them (midpoint rule on pieces no longer
+    than L/4 at the edge's midpoint)."""
+    if not len(edges):
+        return 0.0, 0.0
+    a, b = points[edges[:, 0]], points[edges[:, 1]]
+    length = np.linalg.norm(b - a, axis=1)
+    pieces = np.clip(np.ceil(4 * length / field(0.5 * (a + b))), 1, 4096).astype(np.int64)
+    owner = np.repeat(np.arange(len(edges)), pieces)
+    index = np.arange(len(owner)) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    f = (index + 0.5) / pieces[owner]
+    values = field(a[owner] + f[:, None] * (b - a)[owner])
+    return float(length.sum()), float((length[owner] / pieces[owner] / values).sum())
 
 
-def _method(added: int) -> str:
-    sample = "the mesh vertices"
+def _method(added: int, patches: Patches, rounds: int) -> str:
+    sample = "vertices"
     if added:
-        sample += f" and {added:,} edge midpoints on a quartic fit of the surface"
-    return f"distance to the Voronoi poles (Amenta-Bern) of {sample}"
+        sample += f", {added:,} fitted edge midpoints"
+    return (
+        f"piecewise-smooth L over {patches.count} patches: min of the distance to the Voronoi "
+        f"poles (Amenta-Bern) of the {sample} and face sites, half the thickness along the "
+        f"normal, the radius of curvature, and the feature sizes; {rounds} rounds of face sites"
+    )
 
 
 def _rounding(points: np.ndarray) -> float:
@@ -263,18 +988,24 @@ def _refuse_flat(points: np.ndarray, name: str) -> None:
         )
 
 
-def _coarse(prepared, lfs: np.ndarray, sharp: np.ndarray) -> list[str]:
-    """A note when some edge away from sharp edges is long compared with L at its ends."""
-    edges = prepared.edges[~sharp]
-    on_sharp = np.zeros(len(prepared.points), dtype=bool)
-    on_sharp[prepared.edges[sharp].reshape(-1)] = True
+def _coarse(prepared, patches: Patches, lfs: np.ndarray) -> list[str]:
+    """A note when an edge inside a curved patch is long compared with L at its ends."""
+    faces = prepared.triangles
+    curved_vertex = np.zeros(len(prepared.points), dtype=bool)
+    curved = ~patches.flat[patches.face_patch]
+    curved_vertex[faces[curved].reshape(-1)] = True
+    edges = prepared.edges
+    inside = curved_vertex[edges].all(axis=1) & ~patches.feature_vertex[edges].any(axis=1)
+    edges = edges[inside]
+    if not len(edges):
+        return []
     length = np.linalg.norm(prepared.points[edges[:, 0]] - prepared.points[edges[:, 1]], axis=1)
     ratio = length / np.minimum(lfs[edges[:, 0]], lfs[edges[:, 1]])
-    bad = (ratio > COARSE_EDGE_RATIO) & ~on_sharp[edges].any(axis=1)
+    bad = ratio > COARSE_EDGE_RATIO
     if not bad.any():
         return []
     return [
-        f"{int(bad.sum())} edges are longer than {COARSE_EDGE_RATIO:g}·L (up to "
-        f"{float(ratio[bad].max()):.2f}·L): the mesh is too coarse there for an accurate "
-        "estimate (the error grows like (edge/L)²)"
+        f"{int(bad.sum())} edges of curved patches are longer than {COARSE_EDGE_RATIO:g}·L (up "
+        f"to {float(ratio[bad].max()):.2f}·L): the surface between their vertices is "
+        "interpolated from the vertex normals there"
     ]

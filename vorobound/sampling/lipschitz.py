@@ -23,9 +23,14 @@ QUERY_CHUNK = 4096
 
 
 class _ConeTree:
-    """Implicit balanced k-d tree: node k at depth d holds sites order[b_d[k]:b_d[k + 1]]."""
+    """Implicit balanced k-d tree: node k at depth d holds sites order[b_d[k]:b_d[k + 1]].
 
-    def __init__(self, sites: np.ndarray, values: np.ndarray):
+    A site may carry a radius ρ: its cone is then value + slope·max(0, |x − y| − ρ), flat on
+    the ball of radius ρ (a site standing for a small piece of surface).
+    """
+
+    def __init__(self, sites: np.ndarray, values: np.ndarray, radii: np.ndarray | None = None):
+        radii = np.zeros(len(sites)) if radii is None else np.asarray(radii, dtype=float)
         count = len(sites)
         self.depth = max(0, math.ceil(math.log2(max(count / LEAF_SIZE, 1))))
         order = np.arange(count)
@@ -37,8 +42,9 @@ class _ConeTree:
             high = np.maximum.reduceat(placed, bounds[:-1])
             axis = np.argmax(high - low, axis=1)[segment]
             order = order[np.lexsort((placed[np.arange(count), axis], segment))]
-        self.sites, self.values, self.order = sites, values, order
+        self.sites, self.values, self.order, self.radii = sites, values, order, radii
         self.low, self.high, self.best_value, self.best_site = [], [], [], []
+        self.max_radius = []
         for depth in range(self.depth + 1):
             bounds = self._bounds(depth, count)
             placed = sites[order]
@@ -46,6 +52,7 @@ class _ConeTree:
             self.high.append(np.maximum.reduceat(placed, bounds[:-1]))
             value = values[order]
             self.best_value.append(np.minimum.reduceat(value, bounds[:-1]))
+            self.max_radius.append(np.maximum.reduceat(radii[order], bounds[:-1]))
             segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
             first = np.lexsort((value, segment))[bounds[:-1]]
             self.best_site.append(order[first])
@@ -56,6 +63,10 @@ class _ConeTree:
             slots < bounds[1:, None], order[np.minimum(slots, count - 1)], -1
         )
 
+    def _beyond(self, x: np.ndarray, site: np.ndarray) -> np.ndarray:
+        """max(0, |x − y| − ρ) for sites y."""
+        return np.maximum(np.linalg.norm(x - self.sites[site], axis=1) - self.radii[site], 0)
+
     @staticmethod
     def _bounds(depth: int, count: int) -> np.ndarray:
         return (np.arange(2**depth + 1) * count) // 2**depth
@@ -64,18 +75,19 @@ class _ConeTree:
         """min over sites y of value(y) + slope·|x − y| for each query x."""
         pair_query = np.arange(len(queries))
         root = self.best_site[0][0]
-        best = self.values[root] + slope * np.linalg.norm(queries - self.sites[root], axis=1)
+        best = self.values[root] + slope * self._beyond(queries, root)
         node = np.zeros(len(queries), dtype=np.int64)
         for depth in range(self.depth + 1):
             x = queries[pair_query]
             gap = np.maximum(self.low[depth][node] - x, 0) + np.maximum(
                 x - self.high[depth][node], 0
             )
-            bound = self.best_value[depth][node] + slope * np.linalg.norm(gap, axis=1)
+            reach = np.maximum(np.linalg.norm(gap, axis=1) - self.max_radius[depth][node], 0)
+            bound = self.best_value[depth][node] + slope * reach
             live = bound < best[pair_query]
             pair_query, node, x = pair_query[live], node[live], x[live]
             site = self.best_site[depth][node]
-            candidate = self.values[site] + slope * np.linalg.norm(x - self.sites[site], axis=1)
+            candidate = self.values[site] + slope * self._beyond(x, site)
             np.minimum.at(best, pair_query, candidate)
             if depth < self.depth:
                 pair_query = np.repeat(pair_query, 2)
@@ -84,9 +96,52 @@ class _ConeTree:
         valid = sites >= 0
         safe = np.where(valid, sites, 0)
         distance = np.linalg.norm(queries[pair_query][:, None, :] - self.sites[safe], axis=2)
+        distance = np.maximum(distance - self.radii[safe], 0)
         candidate = np.where(valid, self.values[safe] + slope * distance, np.inf).min(axis=1)
         np.minimum.at(best, pair_query, candidate)
         return best
+
+
+class Envelope:
+    """x ↦ min over sites y of value(y) + slope·max(0, |x − y| − ρ(y)), the tree built once
+    (ρ = 0 unless ``radii`` are given)."""
+
+    def __init__(
+        self, sites: np.ndarray, values: np.ndarray, slope: float, radii: np.ndarray | None = None
+    ):
+        sites, values = _checked(sites, values, slope)
+        if radii is not None:
+            radii = np.asarray(radii, dtype=float)
+            if radii.shape != values.shape or not (np.isfinite(radii).all() and (radii >= 0).all()):
+                raise InputError("site radii must be finite, ≥ 0, one per site")
+        self.tree, self.slope = _ConeTree(sites, values, radii), float(slope)
+
+    def __call__(self, queries: np.ndarray, progress: Progress | None = None) -> np.ndarray:
+        queries = np.asarray(queries, dtype=float)
+        result = np.empty(len(queries))
+        counter = Counter(progress, "Lipschitz repair", len(queries))
+        for start in range(0, len(queries), QUERY_CHUNK):
+            stop = min(start + QUERY_CHUNK, len(queries))
+            result[start:stop] = self.tree.envelope(queries[start:stop], self.slope)
+            counter.step(stop - start)
+        return result
+
+
+def _checked(sites, values, slope):
+    sites = np.asarray(sites, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if (
+        sites.ndim != 2
+        or sites.shape[1] != 3
+        or len(sites) == 0
+        or values.shape != sites[:, 0].shape
+    ):
+        raise InputError("the Lipschitz repair needs sites (n, 3) with one value each, n ≥ 1")
+    if not (math.isfinite(slope) and slope >= 0):
+        raise InputError(f"the Lipschitz constant must be finite and ≥ 0, got {slope}")
+    if not (np.isfinite(sites).all() and np.isfinite(values).all()):
+        raise InputError("the Lipschitz repair needs finite sites and values")
+    return sites, values
 
 
 def lipschitz_envelope(
@@ -117,25 +172,5 @@ def lipschitz_envelope(
         min over sites y of values(y) + λ·|x − y|: λ-Lipschitz, and at a site never above its
         value (equal to it when the values already are λ-Lipschitz).
     """
-    sites = np.asarray(sites, dtype=float)
-    values = np.asarray(values, dtype=float)
-    if (
-        sites.ndim != 2
-        or sites.shape[1] != 3
-        or len(sites) == 0
-        or values.shape != sites[:, 0].shape
-    ):
-        raise InputError("the Lipschitz repair needs sites (n, 3) with one value each, n ≥ 1")
-    if not (math.isfinite(slope) and slope >= 0):
-        raise InputError(f"the Lipschitz constant must be finite and ≥ 0, got {slope}")
-    if not (np.isfinite(sites).all() and np.isfinite(values).all()):
-        raise InputError("the Lipschitz repair needs finite sites and values")
-    queries = sites if queries is None else np.asarray(queries, dtype=float)
-    tree = _ConeTree(sites, values)
-    result = np.empty(len(queries))
-    counter = Counter(progress, "Lipschitz repair", len(queries))
-    for start in range(0, len(queries), QUERY_CHUNK):
-        stop = min(start + QUERY_CHUNK, len(queries))
-        result[start:stop] = tree.envelope(queries[start:stop], slope)
-        counter.step(stop - start)
-    return result
+    envelope = Envelope(sites, values, slope)
+    return envelope(envelope.tree.sites if queries is None else queries, progress)

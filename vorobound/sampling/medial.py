@@ -80,6 +80,10 @@ class MedialSample:
     """Delaunay tetrahedra of the (jittered) sample."""
     dropped: int
     """Tetrahedra left out: flat, or whose ball (unmoved points) is shown not to be empty."""
+    owner_labels: np.ndarray | None = None
+    """With labels: the label of the sample each pole belongs to (a pole serving samples of
+    several labels appears once per label), aligned with ``labelled_points``."""
+    labelled_points: np.ndarray | None = None
 
 
 def vertex_poles(
@@ -88,8 +92,15 @@ def vertex_poles(
     noise: float = 0.0,
     seed: int = 0,
     progress: Progress | None = None,
+    labels: np.ndarray | None = None,
+    adjacent: np.ndarray | None = None,
 ) -> MedialSample:
     """Poles of each sample point on both sides of its normal line.
+
+    With ``labels`` (a patch per point) and ``adjacent`` (labels × labels, True for two
+    different adjacent patches), a Delaunay ball is a candidate pole of a point only if none
+    of its four corners lies on a patch adjacent to the point's: balls that touch two adjacent
+    patches are the ones a sharp feature between them creates (docs/lfs.md).
 
     Parameters
     ----------
@@ -145,12 +156,26 @@ def vertex_poles(
     usable = np.isfinite(bound) & _locally_empty(points, tets, neighbours, centres, bound)
     counter.step()
     unbounded = _unbounded_side(points, normals, tets, neighbours)
-    candidates, starts = _pole_candidates(points, normals, tets, centres, usable, unbounded)
-    poles = centres[_consistent_poles(points, centres, bound, candidates, starts, usable)]
+    candidates, starts, owner = _pole_candidates(
+        points, normals, tets, centres, usable, unbounded, labels, adjacent
+    )
+    chosen = _consistent_poles(points, centres, bound, candidates, starts, usable)
+    poles = centres[chosen]
     key = np.round(poles / MERGE_RTOL).astype(np.int64)
     _, first = np.unique(key, axis=0, return_index=True)
+    labelled = labelled_points = None
+    if labels is not None and len(candidates):
+        # The final pole of every (point, side) group, tagged with the point's label.
+        position = _farthest(candidates, starts, usable)
+        group = np.flatnonzero(position >= 0)
+        tet = candidates[position[group]]
+        keep = np.linalg.norm(centres[tet], axis=1) < FAR
+        pairs = np.unique(np.c_[tet[keep], labels[owner[starts[group[keep]]]]], axis=0)
+        labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
     counter.step()
-    return MedialSample(poles[np.sort(first)], len(tets), int((~usable).sum()))
+    return MedialSample(
+        poles[np.sort(first)], len(tets), int((~usable).sum()), labelled, labelled_points
+    )
 
 
 def nearest_spacing(points: np.ndarray) -> np.ndarray:
@@ -217,22 +242,27 @@ def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.
     return chosen[usable[chosen]]
 
 
-def _pole_candidates(points, normals, tets, centres, usable, unbounded):
+def _pole_candidates(points, normals, tets, centres, usable, unbounded, labels=None, adjacent=None):
     """Every (point, side of its normal line, usable tetrahedron of the point) except on the
-    point's unbounded side, sorted by point, side and distance to the circumcentre.
+    point's unbounded side and, with labels, except tetrahedra with a corner on a patch
+    adjacent to the point's, sorted by point, side and distance to the circumcentre.
 
-    Returns the tetrahedron of each entry and the index where each (point, side) group starts.
+    Returns the tetrahedron of each entry, the index where each (point, side) group starts,
+    and the point of each entry.
     """
     vertex = tets[usable].reshape(-1)
     tet = np.repeat(np.flatnonzero(usable), 4)
     offset = centres[tet] - points[vertex]
     side = (offset * normals[vertex]).sum(axis=1) > 0
     keep = unbounded[vertex] != np.where(side, 1, -1)
+    if labels is not None and adjacent is not None:
+        corner_labels = labels[tets[tet]]  # (entries, 4)
+        keep &= ~adjacent[labels[vertex][:, None], corner_labels].any(axis=1)
     vertex, tet, side, offset = vertex[keep], tet[keep], side[keep], offset[keep]
     order = np.lexsort((np.linalg.norm(offset, axis=1), side, vertex))
     group = 2 * vertex[order] + side[order]
     starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]]) if len(group) else group
-    return tet[order], starts
+    return tet[order], starts, vertex[order]
 
 
 def _farthest(candidates: np.ndarray, starts: np.ndarray, usable: np.ndarray) -> np.ndarray:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .lattice import SPARSITY_SLACK
 from .mesh_io import TriangleMesh
 
 MIN_AREA_RTOL = 1e-14
@@ -54,6 +55,15 @@ class MeshShape:
         self.triangle_lipschitz = _gradient_norm(self.corners, self.corner_lfs)
         self.lipschitz = float(self.triangle_lipschitz.max())
 
+    def lfs_at(self, triangle: np.ndarray, bary: np.ndarray, points=None) -> np.ndarray:
+        """L at barycentric coordinates ``bary`` (n, 3) of the given triangles."""
+        return (self.corner_lfs[triangle] * bary).sum(axis=1)
+
+    def range_reach(self, eps: float, sigma: float) -> np.ndarray:
+        """The lattice's alternative bound ε(L_min − σ'L_max) per triangle (may be ≤ 0)."""
+        lo, hi = self.corner_lfs.min(axis=1), self.corner_lfs.max(axis=1)
+        return eps * (lo - sigma * (1 + SPARSITY_SLACK) * hi)
+
     def at(self, triangle: np.ndarray, u: np.ndarray, v: np.ndarray):
         """Points and L at barycentric (1 − u − v, u, v) of the given triangles."""
         c, f = self.corners[triangle], self.corner_lfs[triangle]
@@ -67,6 +77,71 @@ class MeshShape:
         triangle = np.minimum(triangle, len(self.areas) - 1)
         u, v = uniform_in_triangle(rng, count)
         return self.at(triangle, u, v)
+
+    def project(self, points):
+        """Not available for meshes (coverage then uses random probes only)."""
+        return None
+
+
+class FieldMeshShape:
+    """The piecewise-linear surface of a triangle mesh with L a λ-Lipschitz function of space
+    (the estimate of :func:`vorobound.sampling.lfs.estimate_lfs`, evaluated where needed).
+
+    λ holds between any two points of space, so the sampler's covering argument and a check's
+    Lipschitz condition use the same λ (``lipschitz_exact``). The estimate's feature corners
+    and edges are sampled first.
+    """
+
+    equal_radii_on_sphere = False
+    lipschitz_exact = True
+
+    def __init__(self, estimate, lfs_source: str):
+        mesh = estimate.mesh
+        corners = mesh.points[mesh.triangles]
+        edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
+        longest = np.sqrt(
+            np.max(
+                [
+                    (edge1**2).sum(1),
+                    (edge2**2).sum(1),
+                    ((corners[:, 2] - corners[:, 1]) ** 2).sum(1),
+                ],
+                axis=0,
+            )
+        )
+        keep = area2 > MIN_AREA_RTOL * longest**2
+        if not keep.any():
+            raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
+        self.estimate = estimate
+        self.name = f"mesh {mesh.name} (L: {lfs_source})"
+        self.lfs_source = lfs_source
+        self.corners = corners[keep]
+        self.areas = 0.5 * area2[keep]
+        self.longest = longest[keep]
+        self.lipschitz = float(estimate.lipschitz)
+        self.triangle_lipschitz = np.full(len(self.areas), self.lipschitz)
+        self.feature_segments = mesh.points[estimate.feature_segments]
+        self.corner_points = mesh.points[estimate.feature_corners]
+
+    def lfs_of_points(self, points: np.ndarray) -> np.ndarray:
+        return self.estimate.at(points)
+
+    def lfs_at(self, triangle, bary, points) -> np.ndarray:
+        return self.estimate.at(points)
+
+    def range_reach(self, eps: float, sigma: float) -> np.ndarray:
+        return np.zeros(len(self.areas))
+
+    def random_points(self, count: int, rng: np.random.Generator):
+        """``count`` points uniform by area, and L there."""
+        cumulative = np.cumsum(self.areas)
+        triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
+        triangle = np.minimum(triangle, len(self.areas) - 1)
+        u, v = uniform_in_triangle(rng, count)
+        c = self.corners[triangle]
+        points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
+        return points, self.estimate.at(points)
 
     def project(self, points):
         """Not available for meshes (coverage then uses random probes only)."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import warnings
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +29,11 @@ class Surface:
     """Smallest local feature size on the surface (sets the smallest ball radius)."""
     exact: bool
     """True when the covering/packing counts are exact bounds (sphere), not estimates."""
+    feature_inv_lfs: float = 0.0
+    """∫ ds / L along the sharp features (0 for a smooth surface): sets the feature balls."""
+    mesh_lattice: bool = False
+    """True when ``vorobound sample`` samples it with the mesh lattice
+    (:mod:`vorobound.sampling.mesh_lattice`), whose size the advice then estimates."""
 
 
 def sphere(radius: float) -> Surface:
@@ -90,7 +95,7 @@ def mesh_surface(path: Path, lfs: float | None = None, sizing: Path | None = Non
     else:
         _positive(lfs, "lfs")
         tri_lfs = np.full(len(mesh.triangles), float(lfs))
-    return surface_from_mesh_areas(mesh.name, areas, tri_lfs)
+    return replace(surface_from_mesh_areas(mesh.name, areas, tri_lfs), mesh_lattice=True)
 
 
 def _warn_if_steep(mesh, vertex_lfs: np.ndarray, sizing: Path) -> None:

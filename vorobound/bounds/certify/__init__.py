@@ -79,7 +79,9 @@ class CertifyRequest:
             # counterexample (there may be no ε* at these parameters).
             eps = checked_number(eps, "eps", *EPS_RANGE)
             try:
-                star, status, _ = _tight_eps_star(quality, lipschitz, target, progress)
+                star, status, _ = _tight_eps_star(
+                    quality, lipschitz, target, progress, default=False
+                )
             except VoroboundError as exc:
                 star, status = None, f"none: {exc}"
         if sigma * (1 - eps) >= 2:
@@ -88,15 +90,23 @@ class CertifyRequest:
         return cls(setting, star, status)
 
 
-def _tight_eps_star(quality, lipschitz, target: str, progress) -> tuple[float, str, float]:
+def _tight_eps_star(
+    quality, lipschitz, target: str, progress, default: bool = True
+) -> tuple[float, str, float | None]:
     """(ε*, its status, the ε* a default certificate covers a fraction of), from the one tight
     solver ``solve`` uses too.
 
     A proven ε* is certified as such. Where it is numerical, the default certifies the closed
     form's proven lower bound when there is one (the search is fast there); beyond it the
     bisection must resolve a maximizer that no closed form describes, which can exhaust the
-    box limit (``--eps`` asks for it explicitly). Without a proven lower bound the numerical
-    ε* itself is tried.
+    box limit (``--eps`` asks for it explicitly). Without a proven lower bound there is no
+    default: the search at the numerical ε* can run for many minutes and still fail (measured
+    at σ = 1.9, ratio target), so the user must name the ε to try.
+
+    Raises
+    ------
+    InputError
+        When ε* is numerical and has no proven lower bound.
     """
     from ..claims import PROVEN
     from ..tight.method import tight_eps_star
@@ -105,9 +115,14 @@ def _tight_eps_star(quality, lipschitz, target: str, progress) -> tuple[float, s
     if result.claim == PROVEN:
         return result.eps_star, "proven exact (closed form)", result.eps_star
     lower = result.proven_lower_bound
+    if lower is None and not default:
+        return result.eps_star, "numerical (optimizer; no proven lower bound)", None
     if lower is None:
-        status = "numerical (optimizer; no proven lower bound, so it is certified itself)"
-        return result.eps_star, status, result.eps_star
+        raise InputError(
+            f"the tight {target} eps* = {result.eps_star:.6g} here is numerical and has no "
+            "proven lower bound, so there is no default to certify: certifying a numerical "
+            "eps* can take many minutes and still fail; give --eps to try a value"
+        )
     status = f"numerical (optimizer); the default certifies its proven lower bound {lower:.12g}"
     return result.eps_star, status, lower
 

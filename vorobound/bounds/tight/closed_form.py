@@ -265,6 +265,9 @@ def tight_eps_star_closed_form(
             "no crossing, so no eps* in the supported range"
         )
     root = brentq(gap, low, high, xtol=ROOT_XTOL, rtol=ROOT_RTOL)
+    # brentq may stop a little above the root: step down until the float gap says ≤ 0, so
+    # the ε* printed meets the target where it is evaluated too.
+    root = step_below(root, lambda eps: gap(eps) <= 0)
     _require_triangles(root, sigma)
     supremum = tight_supremum_closed_form(root, sigma, delta_ratio, 1.0, lipschitz)
     ratio = float(tight_ratio_closed_form(root, sigma, delta_ratio, rho_f, lipschitz))
@@ -275,6 +278,17 @@ def tight_eps_star_closed_form(
         residual=ratio - 1,
         rho_f=rho_f,
     )
+
+
+def step_below(root: float, holds, steps: int = 64) -> float:
+    """The largest of root, and up to ``steps`` floats below it, at which ``holds`` is true
+    (the root itself if none is: rounding of the check, not of the root)."""
+    x = root
+    for _ in range(steps):
+        if holds(x):
+            return x
+        x = math.nextafter(x, 0.0)
+    return root
 
 
 def _require_triangles(eps: float, sigma: float) -> None:

@@ -13,9 +13,10 @@ at the isosceles vertex b = c = σεL_i, L_j = L_k = L_i(1 + X), where d = μ*(C
 i.e. under the same condition 2·sqrt(1 − k_sin²) ≥ 1 + X as the additive closed form. Then
 the value is exact (:attr:`ClosedFormStatus.exact`), otherwise a proven upper bound.
 
-The ratio target R ≤ ρ_f·R̂ (eq. (54)) holds on the whole constraint set iff
-μ*(ε) ≤ 1 − 1/ρ_f. μ* increases with ε, so ε*_ratio solves X(2 + X) = (σ/r)²(1 − 1/ρ_f),
-X = min(2ε/(1−ε), λσε), explicitly: ε* = X/(2 + X), or with λ the larger of that and X/(λσ).
+The ratio target R ≤ ρ_f·R̂ (eq. (54)) holds on the whole constraint set if
+μ*(ε) ≤ 1 − 1/ρ_f (and only if, where the vertex is feasible: status exact). μ* increases
+with ε, so ε*_ratio solves X(2 + X) = (σ/r)²(1 − 1/ρ_f), X = min(2ε/(1−ε), λσε), explicitly:
+ε* = X/(2 + X), or with λ the larger of that and X/(λσ).
 
 References
 ----------
@@ -37,6 +38,7 @@ from .closed_form import (
     _checked,
     _checked_quality,
     _vertex_feasible,
+    step_below,
     tight_supremum_closed_form,
 )
 
@@ -135,6 +137,12 @@ def ratio_eps_star_closed_form(
             "no eps* in the supported range"
         )
     _checked(root, sigma, delta_ratio, 1.0, lipschitz)
+    # The explicit root is correctly rounded up to a few ulps: step down until the float
+    # supremum at it meets ρ_f, so the printed ε* passes the check where it is evaluated.
+    root = step_below(
+        root,
+        lambda eps: ratio_supremum_closed_form(eps, sigma, delta_ratio, lipschitz).value <= rho_f,
+    )
     if constraints.is_empty(root, sigma):
         from ...errors import InputError
 

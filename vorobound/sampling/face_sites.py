@@ -1,0 +1,278 @@
+"""Points spread over the faces of a mesh at a requested spacing, on the smooth patches.
+
+The estimate of the local feature size must not depend on how an exporter triangulated a
+part, so it is computed from points inside the faces, not only from the vertices. Every face
+is split by longest-edge bisection (which keeps even a needle's pieces well shaped) until no
+piece is longer than the spacing asked for at its centroid; each piece contributes its
+centroid, with the piece's area.
+
+On a curved patch the centroid is moved onto a smooth surface through the vertices: the cubic
+point-normal triangle of Vlachos et al. ("Curved PN triangles", 2001) built from the patch's
+vertex normals. On a flat patch that surface is the face itself. The site's normal is the
+normalized interpolation of the corner normals.
+
+Feature edges get points of their own, at the same spacing, for the feature terms of the
+estimate (docs/lfs.md).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+MAX_SITES = 4_000_000
+"""Largest number of face pieces produced (refused beyond; about 0.5 GB of sites)."""
+MAX_LEVELS = 60
+"""Bisection levels at most (a needle 10¹⁸ times longer than the spacing needs about 60)."""
+
+
+@dataclass(frozen=True)
+class FaceSites:
+    """Points on the faces: centroids of the bisection pieces, lifted onto their patch."""
+
+    points: np.ndarray
+    """(n, 3) positions on the smooth patch surface."""
+    normals: np.ndarray
+    """(n, 3) unit normal lines (interpolated corner normals)."""
+    face: np.ndarray
+    """(n,) face of each point."""
+    areas: np.ndarray
+    """(n,) area of each point's piece (the pieces tile the faces)."""
+    sizes: np.ndarray
+    """(n,) longest edge of each point's piece."""
+    corners: np.ndarray
+    """(n, 3, 3) the piece itself (on the flat face)."""
+
+
+@dataclass(frozen=True)
+class EdgeSites:
+    """Points on the feature edges."""
+
+    points: np.ndarray
+    edge: np.ndarray
+    """(n,) index into the feature edges."""
+    lengths: np.ndarray
+    """(n,) length of each point's piece of its edge."""
+
+
+def face_sites(
+    points: np.ndarray,
+    faces: np.ndarray,
+    corner_normals: np.ndarray,
+    curved: np.ndarray,
+    spacing: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    max_sites: int = MAX_SITES,
+) -> FaceSites:
+    """Split every face until its pieces are at most ``spacing(centroid)`` long.
+
+    A face is first cut into slabs parallel to its shortest edge and each slab into columns
+    (:func:`_slabs`), which turns even a needle into pieces of aspect ratio about one; pieces
+    still longer than the spacing at their centroid (L varies along the face) are split into
+    four by their edge midpoints until they are not.
+
+    Parameters
+    ----------
+    points, faces : ndarray
+        Vertices (m, 3) and triangles (f, 3).
+    corner_normals : ndarray (f, 3, 3)
+        Normal at each face corner (within the face's patch).
+    curved : ndarray (f,) of bool
+        Faces of curved patches (their sites are lifted onto the PN surface).
+    spacing : callable
+        Maps (k, 3) points and their (k,) faces to (k,) positive lengths.
+    """
+    # The pieces follow the corner order: put the corners in vertex order, so a face listed
+    # in either orientation (or rotated) gives the same sites.
+    order = np.argsort(faces, axis=1, kind="stable")
+    faces = np.take_along_axis(faces, order, axis=1)
+    corner_normals = np.take_along_axis(corner_normals, order[:, :, None], axis=1)
+    corners = points[faces]
+    centroid = corners.mean(axis=1)
+    first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
+    owner, bary = _slabs(corners, first, max_sites)
+    done_owner, done_bary = [], []
+    for _ in range(MAX_LEVELS):
+        xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
+        size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
+        limit = np.asarray(spacing(xyz.mean(axis=1), owner), dtype=float)
+        split = size > limit
+        done_owner.append(owner[~split])
+        done_bary.append(bary[~split])
+        if not split.any():
+            break
+        owner, bary = owner[split], bary[split]
+        if sum(len(o) for o in done_owner) + 4 * len(owner) > max_sites:
+            raise _too_many(max_sites)
+        bary = _quarter(bary)
+        owner = np.repeat(owner, 4)
+    else:
+        raise InputError("face subdivision did not converge (the spacing is far too small)")
+    owner = np.concatenate(done_owner)
+    bary = np.concatenate(done_bary)
+    xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
+    lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)
+    area = 0.5 * np.linalg.norm(np.cross(xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]), axis=1)
+    centre = bary.mean(axis=1)  # barycentric coordinates of the piece's centroid
+    position = np.einsum("nc,ncd->nd", centre, corners[owner])
+    lifted = curved[owner]
+    if lifted.any():
+        position[lifted] = pn_points(
+            corners[owner[lifted]], corner_normals[owner[lifted]], centre[lifted]
+        )
+    normal = np.einsum("nc,ncd->nd", centre, corner_normals[owner])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz)
+
+
+def _too_many(max_sites: int) -> InputError:
+    return InputError(
+        f"the faces need more than {max_sites:,} pieces at the requested spacing: the local "
+        "feature size is tiny compared with the part (check the mesh's units and its sharp "
+        "features)"
+    )
+
+
+def _slabs(corners: np.ndarray, spacing: np.ndarray, max_sites: int):
+    """Cut each triangle into slabs parallel to its shortest edge AB (k slabs from the
+    opposite corner C) and each slab into columns along AB, every piece at most ``spacing``
+    long; returns (owner face, barycentric corners) of the pieces."""
+    lengths = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2)  # edge k: k → k+1
+    shortest = lengths.argmin(axis=1)
+    step = spacing / np.sqrt(2)  # a piece's diagonal then stays below the spacing
+    a_index, b_index = shortest, (shortest + 1) % 3
+    c_index = (shortest + 2) % 3
+    rows = np.arange(len(corners))
+    side = lengths[rows, shortest]
+    reach = np.maximum(lengths[rows, (shortest + 1) % 3], lengths[rows, (shortest + 2) % 3])
+    with np.errstate(over="ignore", invalid="ignore"):
+        slabs = np.ceil(reach / step)
+        columns = np.ceil(side / step)
+    if not (np.isfinite(slabs).all() and np.isfinite(columns).all()):
+        raise InputError("the spacing of the face sites must be positive and finite")
+    estimate = float((slabs * np.maximum(columns, 1)).sum())
+    if estimate > max_sites:
+        raise _too_many(max_sites)
+    eye = np.eye(3)
+    owners, pieces = [], []
+    for face in range(len(corners)):
+        k, j_max = int(slabs[face]), int(max(columns[face], 1))
+        a, b, c = eye[a_index[face]], eye[b_index[face]], eye[c_index[face]]
+        t = np.arange(k + 1) / k
+        for i in range(k):
+            j = max(1, int(np.ceil(t[i + 1] * j_max)))
+            s = np.arange(j + 1) / j
+            low = (1 - t[i]) * c + t[i] * ((1 - s)[:, None] * a + s[:, None] * b)
+            high = (1 - t[i + 1]) * c + t[i + 1] * ((1 - s)[:, None] * a + s[:, None] * b)
+            upper = np.stack([low[:-1], high[:-1], high[1:]], axis=1)
+            if i == 0:  # the bottom of the first slab is the corner C: triangles only
+                pieces.append(upper)
+                owners.append(np.full(j, face))
+                continue
+            lower = np.stack([low[:-1], high[1:], low[1:]], axis=1)
+            pieces += [upper, lower]
+            owners.append(np.full(2 * j, face))
+    return np.concatenate(owners), np.concatenate(pieces)
+
+
+def _quarter(bary: np.ndarray) -> np.ndarray:
+    """Each piece split into four by its edge midpoints."""
+    a, b, c = bary[:, 0], bary[:, 1], bary[:, 2]
+    ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
+    out = np.empty((4 * len(bary), 3, 3))
+    out[0::4] = np.stack([a, ab, ca], axis=1)
+    out[1::4] = np.stack([ab, b, bc], axis=1)
+    out[2::4] = np.stack([ca, bc, c], axis=1)
+    out[3::4] = np.stack([ab, bc, ca], axis=1)
+    return out
+
+
+def pn_points(corners: np.ndarray, normals: np.ndarray, bary: np.ndarray) -> np.ndarray:
+    """Points of the cubic PN triangles (Vlachos et al. 2001) at barycentric ``bary``.
+
+    ``corners`` (n, 3, 3) P1, P2, P3; ``normals`` (n, 3, 3) their unit normals; ``bary``
+    (n, 3) the weights of P1, P2, P3. With equal normals the patch is the flat triangle.
+    """
+    p1, p2, p3 = corners[:, 0], corners[:, 1], corners[:, 2]
+    n1, n2, n3 = normals[:, 0], normals[:, 1], normals[:, 2]
+
+    def tangent(pi, pj, ni):
+        w = ((pj - pi) * ni).sum(axis=1)[:, None]
+        return (2 * pi + pj - w * ni) / 3
+
+    b210, b120 = tangent(p1, p2, n1), tangent(p2, p1, n2)
+    b021, b012 = tangent(p2, p3, n2), tangent(p3, p2, n3)
+    b102, b201 = tangent(p3, p1, n3), tangent(p1, p3, n1)
+    e = (b210 + b120 + b021 + b012 + b102 + b201) / 6
+    v = (p1 + p2 + p3) / 3
+    b111 = e + (e - v) / 2
+    w1, w2, w3 = (bary[:, k][:, None] for k in range(3))
+    return (
+        p1 * w1**3
+        + p2 * w2**3
+        + p3 * w3**3
+        + 3 * b210 * w1**2 * w2
+        + 3 * b120 * w1 * w2**2
+        + 3 * b201 * w1**2 * w3
+        + 3 * b021 * w2**2 * w3
+        + 3 * b102 * w1 * w3**2
+        + 3 * b012 * w2 * w3**2
+        + 6 * b111 * w1 * w2 * w3
+    )
+
+
+def edge_sites(
+    points: np.ndarray,
+    edges: np.ndarray,
+    spacing: Callable[[np.ndarray, np.ndarray], np.ndarray],
+) -> EdgeSites:
+    """Midpoints of the pieces of each edge, split evenly to at most ``spacing`` long."""
+    if len(edges) == 0:
+        return EdgeSites(np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(0))
+    a, b = points[edges[:, 0]], points[edges[:, 1]]
+    length = np.linalg.norm(b - a, axis=1)
+    step = np.asarray(spacing(0.5 * (a + b), np.arange(len(edges))), dtype=float)
+    pieces = np.maximum(1, np.ceil(length / step))
+    if pieces.sum() > MAX_SITES:
+        raise InputError(f"the feature edges need more than {MAX_SITES:,} points")
+    pieces = pieces.astype(np.int64)
+    edge = np.repeat(np.arange(len(edges)), pieces)
+    start = np.repeat(np.cumsum(pieces) - pieces, pieces)
+    t = (np.arange(len(edge)) - start + 0.5) / pieces[edge]
+    where = a[edge] + t[:, None] * (b[edge] - a[edge])
+    return EdgeSites(where, edge, (length / pieces)[edge])
+
+
+def face_curvature_radius(points, faces, corner_normals) -> np.ndarray:
+    """Per face: 1/κ_max of the shape operator that maps edge vectors to normal changes.
+
+    In the face's plane, dN = S·dP for the two edges from the first corner; S is symmetrized
+    and its largest absolute eigenvalue is κ_max. Exact for the vertex normals of a sphere or a
+    cylinder, whatever the shape of the triangle (also a needle along a cylinder's axis).
+    inf on flat faces.
+    """
+    p = points[faces]
+    n = corner_normals
+    d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    g1, g2 = n[:, 1] - n[:, 0], n[:, 2] - n[:, 0]
+    e1 = d1 / np.linalg.norm(d1, axis=1)[:, None]
+    normal = np.cross(d1, d2)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    e2 = np.cross(normal, e1)
+    dp = np.stack(
+        [np.c_[(d1 * e1).sum(1), (d1 * e2).sum(1)], np.c_[(d2 * e1).sum(1), (d2 * e2).sum(1)]],
+        axis=2,
+    )
+    dn = np.stack(
+        [np.c_[(g1 * e1).sum(1), (g1 * e2).sum(1)], np.c_[(g2 * e1).sum(1), (g2 * e2).sum(1)]],
+        axis=2,
+    )
+    with np.errstate(all="ignore"):
+        shape = dn @ np.linalg.inv(dp)
+        shape = 0.5 * (shape + np.swapaxes(shape, 1, 2))
+        kappa = np.abs(np.linalg.eigvalsh(shape)).max(axis=1)
+        radius = np.where(kappa > 0, 1 / kappa, np.inf)
+    return np.where(np.isfinite(radius) | (kappa == 0), radius, np.inf)
