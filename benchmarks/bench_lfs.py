@@ -45,7 +45,7 @@ from vorobound.sampling.lfs import estimate_lfs  # noqa: E402
 from vorobound.sampling.medial import JITTER, nearest_spacing  # noqa: E402
 from vorobound.sampling.mesh_io import TriangleMesh  # noqa: E402
 from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
-from vorobound.sampling.mesh_shape import uniform_in_triangle  # noqa: E402
+from vorobound.sampling.mesh_shape import points_on_mesh  # noqa: E402
 
 MEDIAN_TARGET, WORST_TARGET, SECONDS_TARGET = 1e-3, 0.02, 30.0
 
@@ -321,12 +321,7 @@ def issue_row(mesh: TriangleMesh) -> tuple[float, float, float, float]:
 
 def surface_points(mesh: TriangleMesh, count: int, seed: int = 0) -> np.ndarray:
     """Points uniform by area on the mesh's triangles."""
-    rng = np.random.default_rng(seed)
-    areas = mesh.triangle_areas()
-    triangle = rng.choice(len(areas), count, p=areas / areas.sum())
-    u, v = uniform_in_triangle(rng, count)
-    p = mesh.points[mesh.triangles[triangle]]
-    return p[:, 0] + u[:, None] * (p[:, 1] - p[:, 0]) + v[:, None] * (p[:, 2] - p[:, 0])
+    return points_on_mesh(mesh, count, np.random.default_rng(seed))
 
 
 @dataclass(frozen=True)

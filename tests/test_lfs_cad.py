@@ -14,7 +14,7 @@ from vorobound.errors import VoroboundWarning
 from vorobound.reports.advisor import advise
 from vorobound.sampling import cad_meshes, conditions
 from vorobound.sampling.lfs import estimate_lfs
-from vorobound.sampling.mesh_shape import FieldMeshShape, uniform_in_triangle
+from vorobound.sampling.mesh_shape import FieldMeshShape, points_on_mesh
 from vorobound.sampling.sampler import sample_surface
 
 AGREE_RTOL = 0.05
@@ -47,12 +47,7 @@ def estimates():
 
 
 def surface_points(mesh, count, seed=0):
-    rng = np.random.default_rng(seed)
-    areas = mesh.triangle_areas()
-    tri = rng.choice(len(areas), count, p=areas / areas.sum())
-    u, v = uniform_in_triangle(rng, count)
-    p = mesh.points[mesh.triangles[tri]]
-    return p[:, 0] + u[:, None] * (p[:, 1] - p[:, 0]) + v[:, None] * (p[:, 2] - p[:, 0])
+    return points_on_mesh(mesh, count, np.random.default_rng(seed))
 
 
 @pytest.mark.parametrize("name", list(PARTS))

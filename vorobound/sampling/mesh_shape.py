@@ -30,22 +30,7 @@ class MeshShape:
             raise InputError(f"mesh {mesh.name}: need one L per vertex, got {vertex_lfs.shape}")
         if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
             raise InputError(f"mesh {mesh.name}: L must be positive and finite at every vertex")
-        corners = mesh.points[mesh.triangles]
-        edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
-        longest = np.sqrt(
-            np.max(
-                [
-                    (edge1**2).sum(1),
-                    (edge2**2).sum(1),
-                    ((corners[:, 2] - corners[:, 1]) ** 2).sum(1),
-                ],
-                axis=0,
-            )
-        )
-        keep = area2 > MIN_AREA_RTOL * longest**2
-        if not keep.any():
-            raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
+        corners, area2, longest, keep = _triangles_with_area(mesh)
         self.name = f"mesh {mesh.name} (L: {lfs_source})"
         self.lfs_source = lfs_source
         self.corners = corners[keep]
@@ -97,22 +82,7 @@ class FieldMeshShape:
 
     def __init__(self, estimate, lfs_source: str):
         mesh = estimate.mesh
-        corners = mesh.points[mesh.triangles]
-        edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
-        longest = np.sqrt(
-            np.max(
-                [
-                    (edge1**2).sum(1),
-                    (edge2**2).sum(1),
-                    ((corners[:, 2] - corners[:, 1]) ** 2).sum(1),
-                ],
-                axis=0,
-            )
-        )
-        keep = area2 > MIN_AREA_RTOL * longest**2
-        if not keep.any():
-            raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
+        corners, area2, longest, keep = _triangles_with_area(mesh)
         self.estimate = estimate
         self.name = f"mesh {mesh.name} (L: {lfs_source})"
         self.lfs_source = lfs_source
@@ -146,6 +116,29 @@ class FieldMeshShape:
     def project(self, points):
         """Not available for meshes (coverage then uses random probes only)."""
         return None
+
+
+def _triangles_with_area(mesh: TriangleMesh):
+    """(corners, twice the areas, longest edges, mask of triangles with area) of a mesh;
+    refuses a mesh whose every triangle is degenerate."""
+    corners = mesh.points[mesh.triangles]
+    edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
+    third = ((corners[:, 2] - corners[:, 1]) ** 2).sum(1)
+    longest = np.sqrt(np.max([(edge1**2).sum(1), (edge2**2).sum(1), third], axis=0))
+    keep = area2 > MIN_AREA_RTOL * longest**2
+    if not keep.any():
+        raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
+    return corners, area2, longest, keep
+
+
+def points_on_mesh(mesh: TriangleMesh, count: int, rng: np.random.Generator) -> np.ndarray:
+    """``count`` points uniform by area on a mesh's triangles."""
+    areas = mesh.triangle_areas()
+    triangle = rng.choice(len(areas), count, p=areas / areas.sum())
+    u, v = uniform_in_triangle(rng, count)
+    p = mesh.points[mesh.triangles[triangle]]
+    return p[:, 0] + u[:, None] * (p[:, 1] - p[:, 0]) + v[:, None] * (p[:, 2] - p[:, 0])
 
 
 def uniform_in_triangle(rng: np.random.Generator, count: int):
