@@ -170,7 +170,7 @@ def _face_candidates(shape, frames, k, lam, by_range, eps, rng, earlier):
         np.maximum(frames.w, frames.h),
         FIRST_CELLS * np.maximum(k * first_lfs / (1 + k * lam), by_range) / math.sqrt(2),
     )
-    cells = _first_cells(frames, side)
+    cells = _first_cells(frames, side, eps)
     done_points, done_lfs, ratio = [], [], 0.0
     total = sum(len(p[0]) for p in earlier)
     for _ in range(MAX_LEVELS):
@@ -210,12 +210,12 @@ def _face_candidates(shape, frames, k, lam, by_range, eps, rng, earlier):
     return (np.concatenate(done_points), np.concatenate(done_lfs)), ratio
 
 
-def _first_cells(frames, side):
+def _first_cells(frames, side, eps: float):
     """Rows of height ≤ side across each triangle, cut into cells of width ≤ side."""
     t_all = np.arange(len(frames.w))
     rows = np.maximum(1, np.ceil(frames.h / side)).astype(np.int64)
     if not float(rows.sum()) <= MAX_CANDIDATES:
-        raise candidate_limit_error(float(rows.sum()), 0.0, at_least=True)
+        raise candidate_limit_error(float(rows.sum()), eps, at_least=True)
     t = np.repeat(t_all, rows)
     j = np.arange(len(t)) - np.repeat(np.cumsum(rows) - rows, rows)
     ch = frames.h[t] / rows[t]
@@ -225,7 +225,7 @@ def _first_cells(frames, side):
     width = np.maximum(hi - lo, 0.0)
     columns = np.maximum(1, np.ceil(width / side[t])).astype(np.int64)
     if not float(columns.sum()) <= MAX_CANDIDATES:
-        raise candidate_limit_error(float(columns.sum()), 0.0, at_least=True)
+        raise candidate_limit_error(float(columns.sum()), eps, at_least=True)
     row = np.repeat(np.arange(len(t)), columns)
     i = np.arange(len(row)) - np.repeat(np.cumsum(columns) - columns, columns)
     cw = width[row] / columns[row]
