@@ -52,7 +52,7 @@ def run_case(name: str) -> dict:
     """One case in this process; returns the measurements as a dict."""
     from vorobound.bounds.params import QualityParams
     from vorobound.reports.check import check_surface
-    from vorobound.sampling.surfaces import SphereShape, TorusShape
+    from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
     kind, dims, eps, _ = CASES[name]
     shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
@@ -93,10 +93,10 @@ def filler_effect() -> dict:
 
     import numpy as np
 
-    from vorobound.sampling import guide
     from vorobound.sampling.balls import make_balls
-    from vorobound.sampling.sampler import sample_surface
-    from vorobound.sampling.surfaces import TorusShape
+    from vorobound.sampling.guides import triangles as guide
+    from vorobound.sampling.sampler.maximal import sample_surface
+    from vorobound.sampling.surfaces.analytic import TorusShape
 
     sample = sample_surface(TorusShape(3.0, 1.0), 0.03, 0.75, seed=0)
     balls = make_balls(sample.points, 0.06 * sample.lfs)

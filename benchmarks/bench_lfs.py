@@ -1,4 +1,4 @@
-"""Accuracy and speed of ``vorobound lfs`` (:func:`vorobound.sampling.lfs.estimate_lfs`).
+"""Accuracy and speed of ``vorobound lfs`` (:func:`vorobound.sampling.lfs.estimate.estimate_lfs`).
 
 Run: ``python benchmarks/bench_lfs.py [--quick]``. Prints five tables; docs/lfs.md shows the
 same measurements, rendered by docs/examples/lfs_*.py from the functions here:
@@ -38,14 +38,15 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import numpy as np  # noqa: E402
 
 from vorobound.errors import VoroboundWarning  # noqa: E402
-from vorobound.sampling import cad_meshes, surfaces  # noqa: E402
-from vorobound.sampling.curved import edge_midpoints  # noqa: E402
-from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh  # noqa: E402
-from vorobound.sampling.lfs import estimate_lfs  # noqa: E402
-from vorobound.sampling.medial import JITTER, nearest_spacing  # noqa: E402
-from vorobound.sampling.mesh_io import TriangleMesh  # noqa: E402
-from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
-from vorobound.sampling.mesh_shape import points_on_mesh  # noqa: E402
+from vorobound.sampling.io.meshes import TriangleMesh  # noqa: E402
+from vorobound.sampling.lfs.curved import edge_midpoints  # noqa: E402
+from vorobound.sampling.lfs.estimate import estimate_lfs  # noqa: E402
+from vorobound.sampling.lfs.medial import JITTER, nearest_spacing  # noqa: E402
+from vorobound.sampling.lfs.mesh_quality import prepare_mesh, vertex_normals  # noqa: E402
+from vorobound.sampling.surfaces import analytic as surfaces  # noqa: E402
+from vorobound.sampling.surfaces import cad_meshes  # noqa: E402
+from vorobound.sampling.surfaces.demo_meshes import cube_mesh, icosphere, torus_mesh  # noqa: E402
+from vorobound.sampling.surfaces.mesh import points_on_mesh  # noqa: E402
 
 MEDIAN_TARGET, WORST_TARGET, SECONDS_TARGET = 1e-3, 0.02, 30.0
 

@@ -7,7 +7,7 @@ import pytest
 
 from vorobound import VoroboundError
 from vorobound.reports.advisor import covering_count, packing_count
-from vorobound.sampling.surfaces import mesh_surface, planar_area, sphere, torus
+from vorobound.sampling.surfaces.analytic import mesh_surface, planar_area, sphere, torus
 
 
 def maximal_sparse_sample(radius: float, spacing: float, rng, stall: int = 4000) -> np.ndarray:

@@ -274,7 +274,7 @@ def test_certificate_bombs_are_refused_quickly(run_cli, tmp_path):
 
 def test_repeated_faces_are_counted_once(run_cli, tmp_path):
     """A face listed twice (either orientation) must not double the area or the samples."""
-    from vorobound.sampling.demo_meshes import icosphere
+    from vorobound.sampling.surfaces.demo_meshes import icosphere
 
     sphere = icosphere(2.0, 2)
 
@@ -296,7 +296,7 @@ def test_repeated_faces_are_counted_once(run_cli, tmp_path):
 
 
 def test_a_sizing_steeper_than_one_lipschitz_is_warned_about(run_cli, tmp_path):
-    from vorobound.sampling.demo_meshes import icosphere
+    from vorobound.sampling.surfaces.demo_meshes import icosphere
 
     sphere = icosphere(2.0, 2)
     mesh = tmp_path / "s.obj"

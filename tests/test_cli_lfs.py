@@ -6,10 +6,10 @@ import meshio
 import numpy as np
 import pytest
 
-from vorobound.sampling import surfaces
-from vorobound.sampling.demo_meshes import cube_mesh, torus_mesh
-from vorobound.sampling.lfs import AUTO_SAMPLES
-from vorobound.sampling.mesh_io import read_sizing, read_triangle_mesh
+from vorobound.sampling.io.meshes import read_sizing, read_triangle_mesh
+from vorobound.sampling.lfs.estimate import AUTO_SAMPLES
+from vorobound.sampling.surfaces import analytic as surfaces
+from vorobound.sampling.surfaces.demo_meshes import cube_mesh, torus_mesh
 
 
 def write_mesh(path, mesh):

@@ -155,7 +155,7 @@ def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):
 
 
 def test_check_a_mesh_with_estimated_lfs(run_cli, tmp_path):
-    from vorobound.sampling.demo_meshes import torus_mesh
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 
     mesh = torus_mesh(3.0, 1.0, 120, 40)
     path = tmp_path / "torus.vtu"

@@ -138,7 +138,7 @@ def test_advise_on_a_mesh_estimates_its_feature_size_and_says_so(run_cli, tmp_pa
     counts match the analytic torus within the estimator's error."""
     import meshio
 
-    from vorobound.sampling.demo_meshes import torus_mesh
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 
     mesh = torus_mesh(1.5, 1.0, 96, 32)
     path = tmp_path / "torus.stl"

@@ -10,16 +10,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vorobound.errors import InputError, VoroboundWarning
-from vorobound.sampling import lfs as lfs_module
-from vorobound.sampling import surfaces
-from vorobound.sampling.cad_meshes import capped_cylinder
-from vorobound.sampling.curved import edge_midpoints
-from vorobound.sampling.demo_meshes import cube_mesh, icosphere, torus_mesh
-from vorobound.sampling.lfs import AUTO_SAMPLES, estimate_lfs
-from vorobound.sampling.lipschitz import lipschitz_envelope
-from vorobound.sampling.mesh_io import TriangleMesh
-from vorobound.sampling.mesh_quality import prepare_mesh, vertex_normals
-from vorobound.sampling.patches import find_patches
+from vorobound.sampling.io.meshes import TriangleMesh
+from vorobound.sampling.lfs import estimate as lfs_module
+from vorobound.sampling.lfs.curved import edge_midpoints
+from vorobound.sampling.lfs.estimate import AUTO_SAMPLES, estimate_lfs
+from vorobound.sampling.lfs.lipschitz import lipschitz_envelope
+from vorobound.sampling.lfs.mesh_quality import prepare_mesh, vertex_normals
+from vorobound.sampling.lfs.patches import find_patches
+from vorobound.sampling.surfaces import analytic as surfaces
+from vorobound.sampling.surfaces.cad_meshes import capped_cylinder
+from vorobound.sampling.surfaces.demo_meshes import cube_mesh, icosphere, torus_mesh
 
 MEDIAN_RTOL = 1e-3
 """Target of the issue: median relative error of L at the vertices."""

@@ -12,10 +12,11 @@ import pytest
 from vorobound.bounds.params import QualityParams
 from vorobound.errors import VoroboundWarning
 from vorobound.reports.advisor import advise
-from vorobound.sampling import cad_meshes, conditions
-from vorobound.sampling.lfs import estimate_lfs
-from vorobound.sampling.mesh_shape import FieldMeshShape, points_on_mesh
-from vorobound.sampling.sampler import sample_surface
+from vorobound.sampling.lfs.estimate import estimate_lfs
+from vorobound.sampling.sampler import conditions
+from vorobound.sampling.sampler.maximal import sample_surface
+from vorobound.sampling.surfaces import cad_meshes
+from vorobound.sampling.surfaces.mesh import FieldMeshShape, points_on_mesh
 
 AGREE_RTOL = 0.05
 """Target of the issue: L of the coarse and fine copies agree within 5 % at common points."""

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from vorobound.sampling import guide
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.sampler import sample_surface
-from vorobound.sampling.seeds import COVER_RTOL, SEED_RTOL, classify
-from vorobound.sampling.surfaces import SphereShape, TorusShape
+from vorobound.sampling.guides import triangles as guide
+from vorobound.sampling.guides.seeds import COVER_RTOL, SEED_RTOL, classify
+from vorobound.sampling.sampler.maximal import sample_surface
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
 DELTA_RATIO = 2.0
 SEED_ATOL = 1e-12

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from vorobound.errors import InputError, ReadError
-from vorobound.sampling.ball_io import read_balls, write_balls
 from vorobound.sampling.balls import make_balls
+from vorobound.sampling.io.balls import read_balls, write_balls
 
 RNG = np.random.default_rng(0)
 CENTERS = RNG.random((12, 3))

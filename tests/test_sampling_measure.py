@@ -8,8 +8,8 @@ from vorobound.bounds.tight import tight_supremum
 from vorobound.geometry import weighted_triangles
 from vorobound.reports.check import check_balls, check_surface
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.measure import BOUND_RTOL, mode_bounds
-from vorobound.sampling.surfaces import SphereShape, TorusShape
+from vorobound.sampling.guides.measure import BOUND_RTOL, mode_bounds
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
 pytest.importorskip("gudhi")
 

@@ -10,10 +10,11 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist, squareform
 
 from vorobound.errors import InputError
-from vorobound.sampling import lattice, sampler
-from vorobound.sampling.mesh_io import TriangleMesh
-from vorobound.sampling.mesh_shape import MeshShape
-from vorobound.sampling.surfaces import SphereShape, TorusShape
+from vorobound.sampling.io.meshes import TriangleMesh
+from vorobound.sampling.sampler import lattice
+from vorobound.sampling.sampler import maximal as sampler
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+from vorobound.sampling.surfaces.mesh import MeshShape
 
 SIGMA = 0.75
 PROBES = 400_000

@@ -3,7 +3,7 @@ the recommended ε."""
 
 from vorobound.bounds.params import QualityParams
 from vorobound.reports.advisor import advise
-from vorobound.sampling.surfaces import sphere
+from vorobound.sampling.surfaces.analytic import sphere
 
 COMMAND = "vorobound advise --sphere 1"
 

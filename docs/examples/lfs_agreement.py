@@ -5,7 +5,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from benchmarks.bench_lfs import agreement  # noqa: E402
-from vorobound.sampling.cad_meshes import coarse_and_fine  # noqa: E402
+from vorobound.sampling.surfaces.cad_meshes import coarse_and_fine  # noqa: E402
 
 HEADER = (
     "| part | vertices coarse / fine | median | 99th percentile | largest | share above 5 % "

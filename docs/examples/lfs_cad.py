@@ -33,7 +33,7 @@ def advice_rows() -> str:
     from vorobound.bounds.params import QualityParams
     from vorobound.errors import VoroboundWarning
     from vorobound.reports.advisor import advise
-    from vorobound.sampling.lfs import estimate_lfs
+    from vorobound.sampling.lfs.estimate import estimate_lfs
 
     meshes = issue_meshes()
     out = ""

@@ -10,7 +10,7 @@ from vorobound.bounds.params import QualityParams
 from vorobound.bounds.tight.method import tight_eps_star
 from vorobound.constants import PAPER_EPS
 from vorobound.reports.check import check_surface
-from vorobound.sampling.surfaces import SphereShape, TorusShape
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
 CASES = (
     ("sphere", (1.0,), ("0.03", "tight", "0.01", "ratio", "0.005", "paper")),

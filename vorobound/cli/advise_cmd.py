@@ -38,7 +38,7 @@ def _length(value: float, flag: str, bounds: tuple[float, float] = LFS_RANGE) ->
 
 def _surface(area, lfs, sphere, torus, mesh, sizing, progress):
     """The surface and where its L comes from ("exact", "given", "sizing file", "estimated")."""
-    from ..sampling import surfaces
+    from ..sampling.surfaces import analytic as surfaces
 
     given = [x is not None for x in (area, sphere, torus, mesh)]
     if sum(given) > 1:
@@ -71,8 +71,8 @@ def _surface(area, lfs, sphere, torus, mesh, sizing, progress):
 def _estimated_surface(mesh: Path, progress):
     """A mesh whose L nobody gave: estimate it (vorobound lfs; its warnings, e.g. about sharp
     edges, reach stderr as warning lines), and say so in the output."""
-    from ..sampling.lfs import estimate_lfs
-    from ..sampling.mesh_io import read_triangle_mesh
+    from ..sampling.io.meshes import read_triangle_mesh
+    from ..sampling.lfs.estimate import estimate_lfs
 
     estimate = estimate_lfs(read_triangle_mesh(mesh), progress=progress)
     return estimate.surface(), (
@@ -125,7 +125,7 @@ def advise(
     modes = parse_modes(mode)
     targets = parse_targets(target)
     quality = quality_params(sigma, delta_ratio, rho_f)
-    from ..sampling.surfaces import planar_area
+    from ..sampling.surfaces.analytic import planar_area
 
     with progress_bar(not as_json) as progress:
         surface, lfs_source = _surface(area, lfs, sphere, torus, mesh, sizing, progress)
@@ -267,7 +267,7 @@ def _sampler_lines(rec) -> list[str]:
             "VoroCrust protects them)"
         )
     if rec.lattice_candidates is not None:
-        from ..sampling.lattice import MAX_CANDIDATES
+        from ..sampling.sampler.lattice import MAX_CANDIDATES
 
         if rec.samplable:
             lines.append(

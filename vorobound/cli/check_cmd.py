@@ -95,7 +95,7 @@ def check(
     with progress_bar(not as_json) as progress:
         shape = surface_shape(sphere, torus, mesh, lfs, sizing, balls is None, progress)
         if balls is not None:
-            from ..sampling.ball_io import read_balls
+            from ..sampling.io.balls import read_balls
 
             lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
             report = check_balls(

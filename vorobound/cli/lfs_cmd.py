@@ -75,9 +75,9 @@ def lfs(
 
     from ..checks import checked_seed
     from ..files import write_set
-    from ..sampling.lfs import estimate_lfs
-    from ..sampling.lfs_io import checked_lfs_output, lfs_writers
-    from ..sampling.mesh_io import read_triangle_mesh
+    from ..sampling.io.lfs_files import checked_lfs_output, lfs_writers
+    from ..sampling.io.meshes import read_triangle_mesh
+    from ..sampling.lfs.estimate import estimate_lfs
 
     seed = checked_seed(seed)
     outputs = [checked_lfs_output(path) for path in output or []]

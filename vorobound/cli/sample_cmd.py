@@ -40,7 +40,7 @@ def surface_shape(sphere, torus, mesh, lfs, sizing, required: bool = True, progr
     """The surface named by the options (None if none is given and none is required)."""
     from ..bounds.params import LFS_RANGE
     from ..checks import checked_number
-    from ..sampling import surfaces
+    from ..sampling.surfaces import analytic as surfaces
 
     def length(value: float, flag: str) -> float:
         return checked_number(value, flag, *LFS_RANGE)
@@ -68,16 +68,16 @@ def _mesh_shape(path: Path, lfs: float | None, sizing: Path | None, progress):
     """The mesh with L constant (--lfs), per vertex (--sizing) or estimated from the mesh."""
     import numpy as np
 
-    from ..sampling.mesh_io import read_sizing, read_triangle_mesh
-    from ..sampling.mesh_shape import MeshShape
+    from ..sampling.io.meshes import read_sizing, read_triangle_mesh
+    from ..sampling.surfaces.mesh import MeshShape
 
     mesh = read_triangle_mesh(path)
     if sizing is not None:
         return MeshShape(mesh, read_sizing(sizing, len(mesh.points)), f"sizing {sizing.name}")
     if lfs is not None:
         return MeshShape(mesh, np.full(len(mesh.points), lfs), f"constant {lfs:g}")
-    from ..sampling.lfs import estimate_lfs
-    from ..sampling.mesh_shape import FieldMeshShape
+    from ..sampling.lfs.estimate import estimate_lfs
+    from ..sampling.surfaces.mesh import FieldMeshShape
 
     estimate = estimate_lfs(mesh, progress=progress)
     return FieldMeshShape(estimate, f"estimated, {estimate.lipschitz:g}-Lipschitz (docs/lfs.md)")
@@ -115,10 +115,10 @@ def sample(
 
     from ..bounds.params import SamplingParams
     from ..checks import checked_seed
-    from ..sampling import conditions
-    from ..sampling.ball_io import checked_output, write_balls
     from ..sampling.balls import make_balls
-    from ..sampling.sampler import sample_surface
+    from ..sampling.io.balls import checked_output, write_balls
+    from ..sampling.sampler import conditions
+    from ..sampling.sampler.maximal import sample_surface
     from .options import quality_params
 
     output = checked_output(output)

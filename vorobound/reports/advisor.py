@@ -25,8 +25,8 @@ from ..bounds.targets import H3Route, Target, h3_route
 from ..constants import BASELINE_EPS
 from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
-from ..sampling.lattice import MAX_CANDIDATES
-from ..sampling.surfaces import Surface
+from ..sampling.sampler.lattice import MAX_CANDIDATES
+from ..sampling.surfaces.analytic import Surface
 
 GUARANTEE = (
     "What eps <= eps_star gives, per target: every guide triangle of the mode's constraint set "
@@ -154,7 +154,7 @@ def lattice_candidates(surface: Surface, eps: float, sigma: float, lam: float | 
     """Expected size of the lattice ``vorobound sample`` builds on a mesh (None otherwise)."""
     if not surface.mesh_lattice:
         return None
-    from ..sampling.mesh_lattice import expected_candidates
+    from ..sampling.sampler.mesh_lattice import expected_candidates
 
     return expected_candidates(surface.inv_lfs_sq_integral, eps, sigma, 1.0 if lam is None else lam)
 

@@ -1,8 +1,8 @@
 """The check of a real sample against the paper: sampling conditions, guide triangles, bounds.
 
-:func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler`) and checks the
+:func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler.maximal`) and checks the
 sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both measure every
-guide triangle (:mod:`vorobound.sampling.measure`) and assemble a :class:`CheckReport`, whose
+guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`, whose
 :meth:`CheckReport.summary` is the JSON summary and which :func:`output_writers` writes as
 triangles.csv, summary.json, a VTU for ParaView and a histogram of the realized gap.
 
@@ -27,17 +27,17 @@ from ..bounds.params import QualityParams, SamplingParams
 from ..bounds.targets import H3_STATUS
 from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
-from ..sampling import conditions
-from ..sampling.ball_io import fill_vtu
 from ..sampling.balls import Balls, make_balls
-from ..sampling.guide import Engine, equal_radii_on_sphere, find_guide_triangles
-from ..sampling.measure import (
+from ..sampling.guides.measure import (
     GuideMeasurements,
     ModeBound,
     measure_guides,
     mode_bounds,
     ratio_bounds,
 )
+from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
+from ..sampling.io.balls import fill_vtu
+from ..sampling.sampler import conditions
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
 UNDEFINED_BOUND = (
@@ -222,7 +222,7 @@ def check_surface(
     ----------
     The sampling conditions and guide triangles of Section 4.1.
     """
-    from ..sampling.sampler import sample_surface
+    from ..sampling.sampler.maximal import sample_surface
 
     params = SamplingParams(eps, quality)
     stages = _Stages(progress)

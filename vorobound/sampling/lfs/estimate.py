@@ -34,18 +34,18 @@ from functools import cached_property
 
 import numpy as np
 
-from ..bounds.params import LIPSCHITZ_RANGE
-from ..checks import checked_number, checked_seed
-from ..errors import InputError, VoroboundError, VoroboundWarning
-from ..progress import Counter, Progress
+from ...bounds.params import LIPSCHITZ_RANGE
+from ...checks import checked_number, checked_seed
+from ...errors import InputError, VoroboundError, VoroboundWarning
+from ...progress import Counter, Progress
+from ..io.meshes import TriangleMesh
+from ..surfaces.analytic import Surface
 from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
 from .lipschitz import Envelope, lipschitz_envelope
 from .medial import vertex_poles
-from .mesh_io import TriangleMesh
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
 from .patches import Patches, find_patches
-from .surfaces import Surface
 from .tangent_ball import largest_empty_radius
 from .thickness import RayCaster, thickness
 

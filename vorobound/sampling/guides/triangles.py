@@ -1,10 +1,10 @@
 """Guide triangles of a set of balls: candidate triples from an engine, then seed coverage.
 
-Engines propose triples that include every guide triangle; :func:`vorobound.sampling.seeds.classify`
-decides. A seed uncovered by every other ball has power 0 to its three balls and ≥ 0 to all
-others, so it lies on the power-diagram edge dual to the triple: the triple is a triangle of
-the regular (weighted Delaunay) triangulation, and the smallest power on that dual edge, its
-weighted alpha filtration value, is ≤ 0.
+Engines propose triples that include every guide triangle;
+:func:`vorobound.sampling.guides.seeds.classify` decides. A seed uncovered by every other ball
+has power 0 to its three balls and ≥ 0 to all others, so it lies on the power-diagram edge dual
+to the triple: the triple is a triangle of the regular (weighted Delaunay) triangulation, and
+the smallest power on that dual edge, its weighted alpha filtration value, is ≤ 0.
 
 * ``gudhi``: GUDHI's weighted alpha complex (CGAL) up to a small positive alpha². Space is cut
   into slabs, each triangulated with the balls within a margin around it (a seed lies within
@@ -33,9 +33,9 @@ from enum import Enum
 
 import numpy as np
 
-from ..errors import InputError
-from ..progress import Counter, Progress
-from .balls import Balls
+from ...errors import InputError
+from ...progress import Counter, Progress
+from ..balls import Balls
 from .seeds import SeededTriangles, classify
 
 ALPHA_SLACK = 1e-6

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import WeightedTriangles, weighted_triangles
-from ..progress import Counter, Progress
-from .balls import Balls
+from ...geometry import WeightedTriangles, weighted_triangles
+from ...progress import Counter, Progress
+from ..balls import Balls
 
 SEED_RTOL = 1e-9
 """A seed pair exists when R̂² < −SEED_RTOL·r_min² (r_min the smallest radius of the triple):

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 MAX_SITES = 4_000_000
 """Largest number of face pieces produced (refused beyond; about 0.5 GB of sites)."""

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, VoroboundWarning
-from .mesh_io import read_sizing, read_triangle_mesh
+from ...errors import InputError, VoroboundWarning
+from ..io.meshes import read_sizing, read_triangle_mesh
 
 LIPSCHITZ_SLACK = 1e-6
 """A sizing may change by up to (1 + LIPSCHITZ_SLACK) per unit length before a warning."""
@@ -33,7 +33,7 @@ class Surface:
     """∫ ds / L along the sharp features (0 for a smooth surface): sets the feature balls."""
     mesh_lattice: bool = False
     """True when ``vorobound sample`` samples it with the mesh lattice
-    (:mod:`vorobound.sampling.mesh_lattice`), whose size the advice then estimates."""
+    (:mod:`vorobound.sampling.sampler.mesh_lattice`), whose size the advice then estimates."""
 
 
 def sphere(radius: float) -> Surface:

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
-from ..progress import Counter, Progress
+from ...errors import InputError
+from ...progress import Counter, Progress
 
 LEAF_SIZE = 8
 """Sites per leaf of the tree."""

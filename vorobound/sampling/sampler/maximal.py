@@ -4,7 +4,7 @@ The candidates are visited in a random order (fixed by the seed; on a mesh with 
 its corners first, then its feature edges); each is accepted unless an
 accepted sample lies within σε·min(L) of it. The result is the lexicographically first maximal
 independent set of the conflict graph for that order, so it is σ-sparse by construction and,
-by the choice of the lattice (:mod:`vorobound.sampling.lattice`), an ε-sample.
+by the choice of the lattice (:mod:`vorobound.sampling.sampler.lattice`), an ε-sample.
 
 The visit runs in chunks of the order, each about ``CHUNK_GROWTH`` times the last: a chunk's
 candidates that conflict with a sample accepted before it are dropped (one nearest-neighbour
@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..progress import Counter, Progress
+from ...progress import Counter, Progress
 from .lattice import SPARSITY_SLACK, Candidates
 
 FIRST_CHUNK_SHARE = 1 / 64
@@ -208,9 +208,9 @@ def sample_surface(
     ----------
     The sampling conditions of Section 4.1.
     """
+    from ..surfaces.analytic import RevolutionShape
     from .lattice import revolution_candidates
     from .mesh_lattice import mesh_candidates
-    from .surfaces import RevolutionShape
 
     rng = np.random.default_rng(seed)
     Counter(progress, "lattice", None)

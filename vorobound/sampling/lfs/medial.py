@@ -33,8 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..progress import Counter, Progress
+from ...errors import InputError
+from ...progress import Counter, Progress
 
 JITTER = 1e-6
 """Size of the jitter applied before the triangulation, relative to each point's distance to

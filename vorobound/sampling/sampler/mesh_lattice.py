@@ -6,9 +6,9 @@ within d of a candidate q with
     d·(1 + k·λ) ≤ k·L(q),   k = (1 − σ')·ε/(1 + λσ'ε),   σ' = σ(1 + SPARSITY_SLACK),
 
 λ the Lipschitz constant of L: then the smallest L on the cell is at least L(q) − λd, and
-:func:`vorobound.sampling.lattice.cell_reach` applies to it (its docstring has the proof). For
-an L given per vertex and linear on each triangle, λ is the triangle's gradient and the
-alternative d ≤ ε(L_min − σ'L_max) over the triangle holds as well.
+:func:`vorobound.sampling.sampler.lattice.cell_reach` applies to it (its docstring has the
+proof). For an L given per vertex and linear on each triangle, λ is the triangle's gradient and
+the alternative d ≤ ε(L_min − σ'L_max) over the triangle holds as well.
 
 Each triangle is put in its own plane frame: the longest edge on the x axis, the opposite
 vertex above it. Rows of height ≤ a cover the triangle, each row is cut into cells of width
@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 from .lattice import MAX_CANDIDATES, SPARSITY_SLACK, Candidates, candidate_limit_error
 
 FIRST_CELLS = 4.0

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
-from ..files import checked_destination, write_set
-from .ball_io import fill_csv, fill_vtu
-from .lfs import LfsEstimate
+from ...errors import InputError
+from ...files import checked_destination, write_set
+from ..lfs.estimate import LfsEstimate
+from .balls import fill_csv, fill_vtu
 
 FORMATS = (".csv", ".vtu")
 """Output suffixes understood by :func:`write_lfs`."""
@@ -37,7 +37,7 @@ def lfs_writers(paths, estimate: LfsEstimate) -> dict[Path, Callable[[Path], Non
 
 def write_lfs(path: str | Path, estimate: LfsEstimate) -> Path:
     """Write the per-vertex L: CSV ``x,y,z,lfs`` (one row per vertex, in vertex order; its last
-    column is what :func:`~vorobound.sampling.mesh_io.read_sizing` reads) or VTU (the mesh with
+    column is what :func:`~vorobound.sampling.io.meshes.read_sizing` reads) or VTU (the mesh with
     point data ``lfs`` and ``sharp``, 1 on vertices of sharp edges). Written atomically."""
     return write_set(lfs_writers([path], estimate))[0]
 

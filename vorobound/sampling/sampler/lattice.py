@@ -14,7 +14,7 @@ although L hardly changes).
 
 Here cells are rectangles in the parameters of a surface of revolution (rows of constant
 profile parameter t, each split evenly in the rotation angle); meshes have their own lattice
-(:mod:`vorobound.sampling.mesh_lattice`) on the same condition. Jitter keeps the candidates
+(:mod:`vorobound.sampling.sampler.mesh_lattice`) on the same condition. Jitter keeps the candidates
 off a regular grid, whose cocircular points slow the regular triangulation down.
 """
 
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from .surfaces import RevolutionShape
+from ...errors import InputError
+from ..surfaces.analytic import RevolutionShape
 
 SPARSITY_SLACK = 1e-12
 """Two samples conflict when closer than σε·min(L)·(1 + SPARSITY_SLACK): the margin makes the

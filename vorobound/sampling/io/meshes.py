@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bounds.params import LFS_RANGE
-from ..errors import ReadError, VoroboundWarning
+from ...bounds.params import LFS_RANGE
+from ...errors import ReadError, VoroboundWarning
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,9 @@
 """Triangle meshes built in code whose local feature size is known exactly: sphere and torus.
 
 Their vertices lie exactly on the smooth surface, so the exact L there is
-:meth:`~vorobound.sampling.surfaces.SphereShape.lfs_at` or
-:meth:`~vorobound.sampling.surfaces.TorusShape.lfs_at`. Tests, benchmarks and the docs use them
-to measure the estimator of :mod:`vorobound.sampling.lfs`.
+:meth:`~vorobound.sampling.surfaces.analytic.SphereShape.lfs_at` or
+:meth:`~vorobound.sampling.surfaces.analytic.TorusShape.lfs_at`. Tests, benchmarks and the
+docs use them to measure the estimator of :mod:`vorobound.sampling.lfs.estimate`.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
-from .mesh_io import TriangleMesh
+from ...errors import InputError
+from ..io.meshes import TriangleMesh
 
 _ICOSAHEDRON_FACES = np.array(
     [

@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ReadError
-from ..files import atomic_open, checked_destination, write_set
-from .balls import Balls, make_balls
-from .mesh_io import quiet_meshio
+from ...errors import InputError, ReadError
+from ...files import atomic_open, checked_destination, write_set
+from ..balls import Balls, make_balls
+from .meshes import quiet_meshio
 
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""

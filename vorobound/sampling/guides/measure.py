@@ -19,8 +19,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..bounds import constraints
-from ..bounds.params import SamplingParams
+from ...bounds import constraints
+from ...bounds.params import SamplingParams
 from .seeds import SeededTriangles
 
 BOUND_RTOL = 1e-9
@@ -43,7 +43,7 @@ class ModeBound:
 def ratio_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
     """The bound on R/R̂ (ratio target, eq. (54)) of the rigorous and tight modes at
     ``params.eps`` (``tight_lipschitz`` with the sample's λ as in :func:`mode_bounds`)."""
-    from ..bounds.guarantee import bound_at
+    from ...bounds.guarantee import bound_at
 
     out = [ModeBound("rigorous", bound_at(params, "rigorous", "ratio").value, None, "proven")]
     for mode, lam in (("tight", None), ("tight_lipschitz", lipschitz)):
@@ -65,9 +65,9 @@ def mode_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBou
     ----------
     Eq. (29), (33)–(53).
     """
-    from ..bounds.chain import chain_bounds
-    from ..bounds.claims import CHAIN_CLAIM
-    from ..bounds.tight.method import tight_bound
+    from ...bounds.chain import chain_bounds
+    from ...bounds.claims import CHAIN_CLAIM
+    from ...bounds.tight.method import tight_bound
 
     unit = SamplingParams(params.eps, replace(params.quality, lfs=1.0))
     out = [

@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
-from .mesh_io import TriangleMesh
+from ...errors import InputError
+from ..io.meshes import TriangleMesh
 
 
 def _checked_count(value: int, name: str, low: int, high: int) -> int:

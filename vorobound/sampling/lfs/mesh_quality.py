@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from .mesh_io import TriangleMesh
-from .mesh_shape import MIN_AREA_RTOL
+from ...errors import InputError
+from ..io.meshes import TriangleMesh
+from ..surfaces.mesh import MIN_AREA_RTOL
 
 
 @dataclass(frozen=True)

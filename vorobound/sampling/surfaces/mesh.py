@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from .lattice import SPARSITY_SLACK
-from .mesh_io import TriangleMesh
+from ...errors import InputError
+from ..io.meshes import TriangleMesh
+from ..sampler.lattice import SPARSITY_SLACK
 
 MIN_AREA_RTOL = 1e-14
 """Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area: skipped."""
@@ -70,7 +70,7 @@ class MeshShape:
 
 class FieldMeshShape:
     """The piecewise-linear surface of a triangle mesh with L a λ-Lipschitz function of space
-    (the estimate of :func:`vorobound.sampling.lfs.estimate_lfs`, evaluated where needed).
+    (the estimate of :func:`vorobound.sampling.lfs.estimate.estimate_lfs`, evaluated where needed).
 
     λ holds between any two points of space, so the sampler's covering argument and a check's
     Lipschitz condition use the same λ (``lipschitz_exact``). The estimate's feature corners

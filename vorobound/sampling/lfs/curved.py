@@ -75,7 +75,7 @@ def edge_midpoints(
     prepared : PreparedMesh
         The mesh (vertices in units of its bounding-box diagonal).
     normals : ndarray (n, 3)
-        Vertex normal lines (:func:`~vorobound.sampling.mesh_quality.vertex_normals`).
+        Vertex normal lines (:func:`~vorobound.sampling.lfs.mesh_quality.vertex_normals`).
     excluded : ndarray of bool (e,)
         Edges near which nothing is fitted (sharp, boundary, non-manifold).
     budget : int

@@ -1,0 +1,1 @@
+"""Files users bring and get: triangle meshes and sizing CSVs, ball files, L estimates."""

@@ -1,0 +1,3 @@
+"""The sampler: candidate lattices (surfaces of revolution, meshes), the maximal sparse subset, and
+what a sample achieves.
+"""
