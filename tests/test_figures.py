@@ -57,7 +57,7 @@ def test_plotting_on_a_given_axes_returns_its_figure():
 @pytest.mark.parametrize("fmt", ["png", "pdf", "svg"])
 def test_figure_command_writes_each_format(run_cli, tmp_path, fmt):
     code, out, _ = run_cli(
-        "figure", "--no-tight", "--out", str(tmp_path), "--format", fmt, "--json"
+        "figure", "--no-tight", "--out", str(tmp_path), "--figure-format", fmt, "--json"
     )
     assert code == 0
     paths = json.loads(out)["figures"]

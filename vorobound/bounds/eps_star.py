@@ -9,17 +9,17 @@ eq. (52) needs |k_cos| ≤ 1) before it reaches the target, there is no ε*, and
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import EPS_RANGE
 from ..errors import InputError, NoAdmissibleEps
 from . import constraints
 from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
 from .configurations import GuideConfiguration
-from .params import EPS_RANGE, Mode, QualityParams, SamplingParams
-from .targets import Target
+from .params import Mode, QualityParams, SamplingParams, Target
 
 SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
@@ -38,9 +38,10 @@ class EpsStar:
     """Result of an ε* solver."""
 
     eps_star: float
-    """Largest ε with bound(ε) ≤ (ρ_f − 1)·δ·L_i (the first crossing above the scan start)."""
+    """Largest ε whose bound meets the target (the first crossing above the scan start)."""
     mode: str
     quality: QualityParams
+    """The parameters asked about: σ, δ/ε, ρ_f, L_i, λ and the target."""
     residual: float
     """bound(ε*)/target(ε*) − 1 (zero up to the root finder's tolerance)."""
     iterations: int
@@ -52,10 +53,6 @@ class EpsStar:
     """Strength of the result: a word of :mod:`vorobound.bounds.claims`."""
     maximizer: GuideConfiguration | None = None
     """For the tight mode: the worst guide triangle at ε*."""
-    lipschitz: float | None = None
-    """The Lipschitz constant of the constraint set (tight mode), if any."""
-    target: str = "additive"
-    """Which target ε* is for: additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂)."""
     proven_lower_bound: float | None = None
     """When the claim is numerical: an ε* proven by the closed form to be admissible (a lower
     bound on the tight ε*), or None."""
@@ -64,6 +61,16 @@ class EpsStar:
     def params(self) -> SamplingParams:
         """The quality parameters at ε*."""
         return self.quality.at(self.eps_star)
+
+    @property
+    def target(self) -> str:
+        """Which target ε* is for: additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂)."""
+        return self.quality.target.value
+
+    @property
+    def lipschitz(self) -> float | None:
+        """The Lipschitz constant of the constraint set (tight mode), if any."""
+        return self.quality.lipschitz
 
 
 def feasible_start(quality: QualityParams, mode: str) -> float:
@@ -91,15 +98,13 @@ def feasible_grid(grid, start: float) -> np.ndarray:
 
 
 def chain_gap(chain, target: Target | str) -> np.ndarray:
-    """bound/target − 1 of a chain for ``target`` (NaN where the chain is undefined)."""
+    """bound/allowance − 1 of a chain for ``target`` (NaN where the chain is undefined)."""
     if Target(target) is Target.ratio:
-        return chain.share_bound / chain.share_target - 1
-    return chain.bound / chain.target - 1
+        return chain.share_bound / chain.share_allowance - 1
+    return chain.bound / chain.gap_allowance - 1
 
 
-def relative_gap_function(
-    quality: QualityParams, mode: Mode | str, target: Target | str = Target.additive
-) -> Callable:
+def relative_gap_function(quality: QualityParams, mode: Mode | str) -> Callable:
     """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized; NaN where undefined).
 
     For the ratio target the bound is the chain's bound on (R − R̂)/R (eq. (30)) and the
@@ -111,7 +116,7 @@ def relative_gap_function(
         chain = chain_arrays(
             eps, quality.sigma, quality.delta_ratio, quality.lfs, quality.rho_f, mode
         )
-        return chain_gap(chain, target)
+        return chain_gap(chain, quality.target)
 
     return gap
 
@@ -196,19 +201,16 @@ def find_eps_star(
     )
 
 
-def solve_eps_star(
-    quality: QualityParams, mode: Mode | str = Mode.paper, target: Target | str = Target.additive
-) -> EpsStar:
+def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> EpsStar:
     """Largest ε keeping a chain's bound within the target.
 
     Parameters
     ----------
     quality : QualityParams
-        σ, δ/ε, ρ_f and L_i.
+        σ, δ/ε, ρ_f, L_i and the target: R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54))
+        through eq. (30). The chains have no Lipschitz condition.
     mode : {"paper", "rigorous"}
         Which chain; the tight mode lives in :mod:`vorobound.bounds.tight`.
-    target : {"additive", "ratio"}
-        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)) through eq. (30).
 
     Raises
     ------
@@ -220,14 +222,13 @@ def solve_eps_star(
     ----------
     Eq. (29), (33)–(55); Figure 3.
     """
-    mode, target = Mode(mode), Target(target)
+    mode = Mode(mode)
     if mode is Mode.tight:
         raise InputError("solve_eps_star handles the chains; use vorobound.bounds.tight")
     start = feasible_start(quality, mode.value)
-    gap = relative_gap_function(quality, mode, target)
+    gap = relative_gap_function(quality, mode)
     grid = feasible_grid(SCAN_GRID, start)
-    result = find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
-    return replace(result, target=target.value)
+    return find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
 
 
 ROOT_ITERATIONS = 100

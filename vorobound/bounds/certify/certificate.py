@@ -27,18 +27,12 @@ from pathlib import Path
 from flint import arb
 
 from ... import __version__
-from ...checks import checked_number
+from ...checks import EPS_RANGE, checked_number
 from ...errors import CertificateError, ReadError
 from ...files import write_text
 from ...progress import Progress, silent
 from .. import constraints
-from ..params import (
-    DELTA_RATIO_RANGE,
-    EPS_RANGE,
-    RHO_F_MAX,
-    SIGMA_RANGE,
-    checked_lipschitz,
-)
+from ..params import QualityParams
 from . import interval
 from .interval import DIMENSIONS, Setting, nearest_float
 from .search import MAX_DEPTH, Leaf, SearchResult
@@ -334,13 +328,16 @@ def _setting(payload: dict) -> Setting:
     if not isinstance(params, dict):
         raise CertificateError("certificate has no parameters")
     try:
-        sigma = checked_number(params.get("sigma"), "sigma", *SIGMA_RANGE)
-        ratio = checked_number(params.get("delta_ratio"), "delta_ratio", *DELTA_RATIO_RANGE)
-        rho_f = checked_number(params.get("rho_f"), "rho_f", 1.0, RHO_F_MAX, open_low=True)
+        quality = QualityParams(
+            params.get("sigma"),
+            params.get("delta_ratio"),
+            params.get("rho_f"),
+            lipschitz=params.get("lipschitz"),
+            target=target,
+        )
         eps_max = checked_number(params.get("eps_max"), "eps_max", *EPS_RANGE)
-        lam = checked_lipschitz(params.get("lipschitz"))
     except ValueError as exc:
         raise CertificateError(f"certificate parameters: {exc}") from None
-    if sigma * (1 - eps_max) >= 2:
+    if quality.sigma * (1 - eps_max) >= 2:
         raise CertificateError("certificate parameters: sigma*(1 - eps_max) must be below 2")
-    return Setting.of(sigma, ratio, rho_f, lam, eps_max, target)
+    return Setting.of(quality, eps_max)

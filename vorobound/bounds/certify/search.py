@@ -151,16 +151,17 @@ def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
         nearest_float(setting.sigma),
         nearest_float(setting.delta_ratio),
         nearest_float(setting.rho_f),
+        lipschitz=None if setting.lipschitz is None else nearest_float(setting.lipschitz),
+        target=setting.target,
     )
     params = quality.at(eps)
     tri = absolute_configuration(point)
-    lam = None if setting.lipschitz is None else nearest_float(setting.lipschitz)
-    if not feasible_mask(tri, params, lam)[0]:
+    if not feasible_mask(tri, params)[0]:
         return None
     gap = float(tri.radius_gap(params)[0])
     if setting.target == "ratio":
-        return gap / float(tri.circumradius[0]) / (1 - 1 / params.rho_f)
-    return gap / params.target
+        return gap / float(tri.circumradius[0]) / params.share_allowance
+    return gap / params.gap_allowance
 
 
 def absolute_configuration(point: tuple[float, ...]):

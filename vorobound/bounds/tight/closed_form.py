@@ -27,18 +27,18 @@ from enum import Enum
 
 import numpy as np
 
-from ...checks import checked_number
-from ...errors import InputError, NoAdmissibleEps
-from ..configurations import GuideConfiguration
-from ..eps_star import NoCrossing
-from ..params import (
+from ...checks import (
     DELTA_RATIO_RANGE,
     EPS_RANGE,
     LFS_RANGE,
     RHO_F_MAX,
     SIGMA_RANGE,
     checked_lipschitz,
+    checked_number,
 )
+from ...errors import InputError, NoAdmissibleEps
+from ..configurations import GuideConfiguration
+from ..eps_star import NoCrossing
 
 VERTEX_MARGIN_RTOL = 1e-12
 """The worst vertex counts as feasible (the closed form as exact) only if the sparsity of its

@@ -28,10 +28,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ...checks import EPS_RANGE, RHO_F_MAX
 from ...errors import NoAdmissibleEps
 from .. import constraints
 from ..eps_star import NoCrossing
-from ..params import EPS_RANGE, RHO_F_MAX
 from .closed_form import (
     ClosedFormStatus,
     ClosedFormSupremum,
