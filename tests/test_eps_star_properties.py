@@ -12,13 +12,12 @@ from vorobound.bounds.eps_star import (
     STATUS_EXCEEDS_AT_START,
     STATUS_NO_CROSSING,
     STATUS_OK,
-    NoCrossing,
     solve_eps_star,
     solve_eps_star_batch,
 )
 from vorobound.bounds.params import QualityParams
 from vorobound.bounds.tight import tight_supremum
-from vorobound.errors import NoAdmissibleEps
+from vorobound.errors import NoAdmissibleEps, NoCrossing
 
 RESIDUAL_TOL = 1e-9
 """bound/target − 1 at a reported ε*. The root finders stop at a few float spacings of ε; near

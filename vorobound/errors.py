@@ -21,6 +21,20 @@ class NoAdmissibleEps(VoroboundError):
     """
 
 
+class NoCrossing(NoAdmissibleEps):
+    """The bound stays below the target wherever it is defined: no root, so no ε*."""
+
+
+class NotCertified(VoroboundError):
+    """An interval search stopped without a certificate: ``counterexample`` (a feasible guide
+    triangle above the target) or ``box`` (the box it could not resolve within its limits)."""
+
+    def __init__(self, message: str, counterexample=None, box=None):
+        super().__init__(message)
+        self.counterexample = counterexample
+        self.box = box
+
+
 class EmptyConstraintSet(NoAdmissibleEps):
     """No guide triangle satisfies the constraint set (33)–(36) with H3 at this ε:
     σ(1 − ε) > √3. Every bound holds there vacuously, so nothing can be bounded or measured."""

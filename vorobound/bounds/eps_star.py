@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import EPS_RANGE
-from ..errors import InputError, NoAdmissibleEps
+from ..errors import InputError, NoAdmissibleEps, NoCrossing
 from . import constraints
 from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
@@ -27,10 +27,6 @@ RTOL = 1e-13
 """Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
 EMPTY_START_RTOL = 1e-6
 """Scans for σ > √3 start this far (relative) above the ε below which no guide triangle exists."""
-
-
-class NoCrossing(NoAdmissibleEps):
-    """The bound stays below the target wherever it is defined: no root, so no ε*."""
 
 
 @dataclass(frozen=True)

@@ -11,12 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...checks import EPS_RANGE, checked_count, checked_number
-from ...errors import InputError, VoroboundError
+from ...errors import InputError, NotCertified, VoroboundError
 from ...progress import Progress
 from ..params import QualityParams
-from .certificate import CheckReport, certificate_payload, check_certificate
+from .certificate import CertificateReport, certificate_payload, check_certificate
 from .interval import Setting, nearest_float
-from .search import MAX_BOXES, MAX_DEPTH, Counterexample, NotCertified, SearchResult, search
+from .search import MAX_BOXES, MAX_DEPTH, Counterexample, SearchResult, search
 
 DEFAULT_FRACTION = 0.999
 """Without an explicit ε_max, certify this fraction of the tight ε* (what ``solve`` prints)."""
@@ -113,7 +113,7 @@ def _tight_eps_star(
 
 
 @dataclass(frozen=True)
-class CertifyResult:
+class Certification:
     """A finished certification: every ε in (0, eps_certified] meets the target."""
 
     request: CertifyRequest
@@ -142,7 +142,7 @@ def certify(
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
-) -> CertifyResult:
+) -> Certification:
     """Prove the target for every ε ≤ ε_max and every feasible guide triangle.
 
     Parameters
@@ -161,7 +161,7 @@ def certify(
 
     Returns
     -------
-    CertifyResult
+    Certification
         ε_max, the tight ε* it is compared with, and the bisection tree.
 
     Raises
@@ -195,15 +195,15 @@ def certify_request(
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
-) -> CertifyResult:
+) -> Certification:
     """:func:`certify` for parameters already validated by :meth:`CertifyRequest.of`."""
     limits = search_limits(max_depth, max_boxes)
-    return CertifyResult(request, search(request.setting, **limits, progress=progress))
+    return Certification(request, search(request.setting, **limits, progress=progress))
 
 
 __all__ = [
-    "CertifyResult",
-    "CheckReport",
+    "Certification",
+    "CertificateReport",
     "Counterexample",
     "NotCertified",
     "CertifyRequest",

@@ -165,7 +165,7 @@ def read_certificate(path) -> dict:
 
 
 @dataclass(frozen=True)
-class CheckReport:
+class CertificateReport:
     """A certificate that passed :func:`check_certificate`."""
 
     eps_max: float
@@ -184,7 +184,7 @@ class CheckReport:
     seconds: float
 
 
-def check_certificate(payload: dict, progress: Progress | None = None) -> CheckReport:
+def check_certificate(payload: dict, progress: Progress | None = None) -> CertificateReport:
     """Re-verify a certificate independently of how it was found.
 
     Parameters
@@ -196,7 +196,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
 
     Returns
     -------
-    CheckReport
+    CertificateReport
         What is certified.
 
     Raises
@@ -252,7 +252,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
         )
     report("checking", len(nodes), len(nodes))
     params = _parameters(setting)
-    return CheckReport(
+    return CertificateReport(
         eps_max=params["eps_max"],
         target=setting.target,
         sigma=params["sigma"],

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from flint import arb
 
-from ...errors import InputError, VoroboundError
+from ...errors import InputError, NotCertified
 from ...progress import Progress, silent
 from . import interval
 from .interval import Box, Setting, nearest_float
@@ -75,15 +75,6 @@ class Counterexample:
     ratio_upper: float
     ratio_float: float
     """The same ratio in floating point (geometry core), for comparison."""
-
-
-class NotCertified(VoroboundError):
-    """The search stopped without a certificate: a counterexample, or an unresolved box."""
-
-    def __init__(self, message: str, counterexample: Counterexample | None, box: Box | None):
-        super().__init__(message)
-        self.counterexample = counterexample
-        self.box = box
 
 
 @dataclass(frozen=True)

@@ -36,9 +36,8 @@ from ...checks import (
     checked_lipschitz,
     checked_number,
 )
-from ...errors import InputError, NoAdmissibleEps
+from ...errors import InputError, NoAdmissibleEps, NoCrossing
 from ..configurations import GuideConfiguration
-from ..eps_star import NoCrossing
 
 VERTEX_MARGIN_RTOL = 1e-12
 """The worst vertex counts as feasible (the closed form as exact) only if the sparsity of its

@@ -15,12 +15,12 @@ from dataclasses import dataclass, replace
 from enum import Enum
 
 from ...checks import EPS_RANGE
-from ...errors import VoroboundError
+from ...errors import NoCrossing, VoroboundError
 from ...progress import Progress
 from ..claims import NUMERICAL, PROVEN
 from ..configurations import GuideConfiguration
 from ..constraints import require_guide_triangles
-from ..eps_star import EpsStar, NoCrossing, feasible_start
+from ..eps_star import EpsStar, feasible_start
 from ..params import QualityParams, SamplingParams, Target
 from .closed_form import (
     ClosedFormStatus,

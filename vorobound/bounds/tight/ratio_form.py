@@ -29,9 +29,8 @@ import math
 from dataclasses import dataclass
 
 from ...checks import EPS_RANGE, RHO_F_MAX
-from ...errors import NoAdmissibleEps
+from ...errors import NoAdmissibleEps, NoCrossing
 from .. import constraints
-from ..eps_star import NoCrossing
 from .closed_form import (
     ClosedFormStatus,
     ClosedFormSupremum,

@@ -36,11 +36,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...errors import VoroboundWarning
+from ...errors import NoCrossing, VoroboundWarning
 from ...progress import Progress, silent
 from ..claims import NUMERICAL
 from ..configurations import GuideConfiguration, sample_feasible
-from ..eps_star import EpsStar, NoCrossing, feasible_grid, feasible_start, find_eps_star
+from ..eps_star import EpsStar, feasible_grid, feasible_start, find_eps_star
 from ..params import QualityParams, SamplingParams
 from .problem import AGREE_RTOL, Problem, checked_problem, describe
 from .search import SearchEvidence, best_feasible, best_of_sample, extremum, polish
