@@ -20,11 +20,12 @@ from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
 from .configurations import GuideConfiguration
 from .params import Mode, QualityParams, SamplingParams, Target
+from .roots import bracketed_roots, largest_root
 
 SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
 RTOL = 1e-13
-"""Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
+"""Relative width of the bracket at which an ε* is final (well below what any output prints)."""
 EMPTY_START_RTOL = 1e-6
 """Scans for σ > √3 start this far (relative) above the ε below which no guide triangle exists."""
 
@@ -172,25 +173,22 @@ def find_eps_star(
     grid=SCAN_GRID,
     method: str = "chain",
 ) -> EpsStar:
-    """Scan ``grid`` for the first ε where ``gap`` turns positive, then refine with brentq.
+    """Scan ``grid`` for the first ε where ``gap`` turns positive, then refine the crossing
+    with :func:`vorobound.bounds.roots.largest_root` (the largest ε whose gap is ≤ 0).
 
-    ``gap`` must accept an array of ε (for the scan) and a float (for brentq).
+    ``gap`` must accept an array of ε (for the scan) and a float (for the refinement).
     """
-    from scipy.optimize import brentq
-
     grid = np.asarray(grid, dtype=float)
     with np.errstate(invalid="ignore"):
         values = np.asarray(gap(grid), dtype=float)
     lo, hi = crossing_bracket(gap, values, grid, mode)
-    root, info = brentq(
-        lambda x: float(gap(x)), lo, hi, xtol=lo * RTOL, rtol=RTOL, full_output=True
-    )
+    root, steps = largest_root(lambda x: float(gap(x)), lo, hi, rtol=RTOL)
     return EpsStar(
         eps_star=float(root),
         mode=mode,
         quality=quality,
         residual=float(gap(root)),
-        iterations=int(info.iterations),
+        iterations=steps,
         bracket=(lo, hi),
         method=method,
         claim=claim,
@@ -227,11 +225,6 @@ def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> Eps
     return find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
 
 
-ROOT_ITERATIONS = 100
-"""Most Illinois (safeguarded regula falsi) steps per row in the batched solver; rows stop as
-soon as their bracket is a few float spacings wide (typically after 6 to 10 steps)."""
-ROOT_SPACINGS = 4
-"""A row's root is converged when its bracket is at most this many float spacings wide."""
 BATCH_SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 200)
 """Coarser scan for the batched solver; bound/target rises monotonically in ε for the chains,
 so the first crossing is the same (checked against :func:`solve_eps_star` in the tests)."""
@@ -339,47 +332,6 @@ def solve_eps_star_batch(
     status[first_eps[:, 0] >= EPS_RANGE[1]] = STATUS_EMPTY
     ok = status == STATUS_OK
     rows = np.flatnonzero(ok)
-    lo[rows] = _bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)
+    lo[rows] = bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)[0]
     stars = np.where(ok, lo, np.nan).reshape(shape)
     return stars, status.reshape(shape)
-
-
-def _bracketed_roots(gap, lo, hi, f_lo, f_hi, index) -> np.ndarray:
-    """Vectorized Illinois iteration: for each row, the largest ε with gap ≤ 0 in [lo, hi].
-
-    ``gap(eps, index)`` evaluates the rows ``index``; on entry gap(lo) ≤ 0 < gap(hi). Each step
-    takes the secant point of log(1 + gap) against log ε (the chains behave like powers of ε,
-    so this is nearly linear; the midpoint if the point is not strictly inside), keeps the
-    sign change, and halves the retained end's value after two steps on the same side, which
-    makes the convergence superlinear without losing the bracket.
-    """
-    lo, hi, f_lo, f_hi = (np.array(x, dtype=float) for x in (lo, hi, f_lo, f_hi))
-    side = np.zeros(lo.shape, dtype=int)
-    active = np.arange(lo.size)
-    for _ in range(ROOT_ITERATIONS):
-        width = hi[active] - lo[active]
-        active = active[width > ROOT_SPACINGS * np.spacing(hi[active])]
-        if not active.size:
-            break
-        a, b = lo[active], hi[active]
-        with np.errstate(all="ignore"):
-            fa, fb = np.log1p(f_lo[active]), np.log1p(f_hi[active])
-            x = np.exp(np.log(b) - fb * (np.log(b) - np.log(a)) / (fb - fa))
-        # Keep the point a few float spacings inside the bracket: when the secant lands on an
-        # end (its value there is already ~0), this step then closes the bracket.
-        margin = ROOT_SPACINGS / 2 * np.spacing(b)
-        x = np.where(np.isfinite(x), x, 0.5 * (a + b))
-        x = np.clip(x, a + margin, b - margin)
-        with np.errstate(invalid="ignore"):
-            fx = gap(x, index[active])
-        above = fx > 0
-        rows_above, rows_below = active[above], active[~above]
-        hi[rows_above], f_hi[rows_above] = x[above], fx[above]
-        lo[rows_below], f_lo[rows_below] = x[~above], fx[~above]
-        # Illinois: a second step on the same side halves the other end's value.
-        same_above = rows_above[side[rows_above] == 1]
-        same_below = rows_below[side[rows_below] == -1]
-        f_lo[same_above] *= 0.5
-        f_hi[same_below] *= 0.5
-        side[rows_above], side[rows_below] = 1, -1
-    return lo

@@ -31,13 +31,13 @@ from dataclasses import dataclass
 from ...checks import EPS_RANGE, RHO_F_MAX
 from ...errors import NoAdmissibleEps, NoCrossing
 from .. import constraints
+from ..roots import step_below
 from .closed_form import (
     ClosedFormStatus,
     ClosedFormSupremum,
     _checked,
     _checked_quality,
     _vertex_feasible,
-    step_below,
     tight_supremum_closed_form,
 )
 
