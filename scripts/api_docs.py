@@ -43,7 +43,7 @@ def _signature(function) -> str:
         if param.kind is param.KEYWORD_ONLY and not lines[-1].endswith("*,"):
             if len(lines) == 1:
                 lines.append("    *,")
-        default = "" if param.default is param.empty else f" = {param.default!r}"
+        default = "" if param.default is param.empty else f"={param.default!r}"
         lines.append(f"    {name}{default},")
     lines.append(")")
     return "\n".join(lines)

@@ -116,3 +116,14 @@ def test_api_errors_are_voroboundErrors():
         vorobound.advise(sphere=1, torus=(3, 1))
     with pytest.raises(vorobound.VoroboundError, match="mode"):
         vorobound.sweep(mode="bogus")
+
+
+def test_per_row_results_become_dataframes(tmp_path):
+    pd = pytest.importorskip("pandas")
+    rows = vorobound.sweep(rho_f=[1.2, 1.3], mode="rigorous", target="additive").to_frame()
+    assert isinstance(rows, pd.DataFrame) and len(rows) == 2
+    assert list(rows["rho_f"]) == [1.2, 1.3] and rows["eps_star"].is_monotonic_increasing
+    result = vorobound.check(torus=(3, 1), eps=0.25)
+    triangles = result.to_frame()
+    assert len(triangles) == result.n_guide_triangles
+    assert triangles["gap_ratio"].max() == pytest.approx(result.gap_ratio_max or 0.0, abs=1e-12)
