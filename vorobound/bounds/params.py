@@ -46,7 +46,7 @@ def checked_lipschitz(value) -> float | None:
     """λ as a float (0 allowed), or None for "no Lipschitz condition"; else raise InputError."""
     if value is None:
         return None
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == 0:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
         return 0.0
     return checked_number(value, "lipschitz", *LIPSCHITZ_RANGE)
 

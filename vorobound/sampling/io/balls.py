@@ -90,15 +90,17 @@ def _is_number(text: str) -> bool:
 
 def _read_npz(path: Path):
     import zipfile
+    import zlib
 
+    if not zipfile.is_zipfile(path):
+        raise ReadError(f"cannot read balls {path}: {_not_npz(path)}")
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: np.asarray(data[name]) for name in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        reason = "not an NPZ archive" if isinstance(exc, EOFError | zipfile.BadZipFile) else exc
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        broken = isinstance(exc, EOFError | zipfile.BadZipFile | zlib.error)
+        reason = "a damaged NPZ archive" if broken else " ".join(str(exc).split())
         raise ReadError(f"cannot read balls {path}: {reason}") from None
-    except AttributeError:  # np.load returned a plain array (an NPY file), not an archive
-        raise ReadError(f"cannot read balls {path}: not an NPZ archive") from None
     radius = next((arrays[n] for n in RADIUS_NAMES if n in arrays), None)
     if {"x", "y", "z"} <= arrays.keys():
         columns = [_numeric(np.ravel(arrays[name]), path) for name in "xyz"]
@@ -115,6 +117,25 @@ def _read_npz(path: Path):
             f"balls {path}: need arrays x, y, z and r (or points and radii), got {sorted(arrays)}"
         )
     return _numeric(centers, path), _numeric(radius, path).ravel()
+
+
+NPY_MAGIC = b"\x93NUMPY"
+"""The first bytes of a single-array .npy file (what np.save writes)."""
+
+
+def _not_npz(path: Path) -> str:
+    """Why a file named .npz is not an NPZ archive, for the error message."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(len(NPY_MAGIC))
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    if head == NPY_MAGIC:
+        return (
+            "it is a single NPY array (np.save), not an NPZ archive of named arrays "
+            "(np.savez with x, y, z and r)"
+        )
+    return "not an NPZ archive (a zip file of named arrays, as np.savez writes)"
 
 
 def _read_meshio(path: Path):
