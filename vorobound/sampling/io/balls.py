@@ -2,7 +2,8 @@
 
 Accepted inputs, each giving centers x, y, z and radii r:
 
-* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r);
+* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
+  separated by commas, semicolons or tabs (:mod:`.tables`);
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
 * any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
   ``radii`` or ``r``.
@@ -13,7 +14,6 @@ checked by :func:`vorobound.sampling.balls.make_balls`.
 
 from __future__ import annotations
 
-import io
 from functools import partial
 from pathlib import Path
 
@@ -23,6 +23,7 @@ from ...errors import InputError, ReadError
 from ...files import atomic_open, checked_destination, write_set
 from ..balls import Balls, make_balls
 from .meshes import quiet_meshio
+from .tables import DELIMITER_NAMES, read_number_table
 
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""
@@ -44,48 +45,38 @@ def read_balls(path: str | Path) -> Balls:
     if not path.is_file():
         raise ReadError(f"cannot read balls {path}: not a regular file")
     suffix = path.suffix.lower()
+    lines = None
     if suffix == ".csv":
-        centers, radii = _read_csv(path)
+        centers, radii, lines = _read_csv(path)
     elif suffix == ".npz":
         centers, radii = _read_npz(path)
     else:
         centers, radii = _read_meshio(path)
-    return make_balls(centers, radii, f"balls {path.name}")
+    return make_balls(centers, radii, f"balls {path.name}", lines=lines)
 
 
 def _read_csv(path: Path):
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ReadError(
-            f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
-        ) from None
-    lines = [line for line in text.splitlines() if line.strip()]
-    if not lines:
-        raise ReadError(f"balls {path} is empty")
-    header = [cell.strip().lower() for cell in lines[0].split(",")]
+    """Centers, radii and the file line of each ball (for messages about a row)."""
+    table = read_number_table(path, "balls")
     columns = [0, 1, 2, 3]
-    if not _is_number(header[0]):
+    if table.header is not None:
+        header = table.header
         radius = next((name for name in RADIUS_NAMES if name in header), None)
         if radius is None or not {"x", "y", "z"} <= set(header):
-            raise ReadError(f"balls {path}: the header must name x, y, z and r, got {lines[0]!r}")
+            raise ReadError(
+                f"balls {path}: the header must name x, y, z and r, got {', '.join(header)!r}"
+            )
         columns = [header.index("x"), header.index("y"), header.index("z"), header.index(radius)]
-        lines = lines[1:]
-    try:
-        table = np.loadtxt(io.StringIO("\n".join(lines)), delimiter=",", ndmin=2)
-    except ValueError as exc:
-        raise ReadError(f"balls {path}: not a table of numbers ({exc})") from None
-    if table.shape[1] <= max(columns):
-        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {table.shape[1]}")
-    return table[:, columns[:3]], table[:, columns[3]]
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+    values = table.values
+    if values.shape[1] <= max(columns):
+        found = values.shape[1]
+        how = (
+            f"separated by {DELIMITER_NAMES[table.delimiter]}"
+            if found > 1
+            else "no comma, semicolon, tab or space between the numbers"
+        )
+        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {found} ({how})")
+    return values[:, columns[:3]], values[:, columns[3]], table.lines
 
 
 def _read_npz(path: Path):
