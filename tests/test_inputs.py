@@ -100,7 +100,12 @@ def test_quad_and_polygon_mesh_files_are_read_with_a_note(tmp_path, suffix):
     points, quads = _quad_torus()
     hexagons = np.array([[0, 1, 2, 3, 4, 5]])  # one extra face, to have a polygon block
     path = tmp_path / f"torus{suffix}"
-    meshio.write(path, meshio.Mesh(points, [("quad", quads), ("polygon", hexagons)]))
+    if suffix == ".obj":  # written by hand: older meshio writes no polygons to OBJ
+        lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in points.tolist()]
+        lines += ["f " + " ".join(str(i + 1) for i in face) for face in [*quads, *hexagons]]
+        path.write_text("\n".join(lines) + "\n")
+    else:
+        meshio.write(path, meshio.Mesh(points, [("quad", quads), ("polygon", hexagons)]))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         mesh = read_triangle_mesh(path)
