@@ -120,7 +120,7 @@ def test_cli_reads_a_quad_mesh_with_one_warning_line(run_cli, tmp_path):
     points, quads = _quad_torus()
     path = tmp_path / "torus.obj"
     meshio.write(path, meshio.Mesh(points, [("quad", quads)]))
-    code, out, err = run_cli("advise", "--mesh", str(path), "--json")
+    code, out, err = run_cli("advise", "--mesh", str(path), "--lfs", "1", "--json")
     assert code == 0, err
     notes = [line for line in err.splitlines() if "split into triangles" in line]
     assert notes == [f"warning: mesh torus.obj: {len(quads)} quadrilateral faces split into "
