@@ -26,6 +26,7 @@ from vorobound.bounds.certify.certificate import (  # noqa: E402
     read_certificate,
     write_certificate,
 )
+from vorobound.bounds.params import QualityParams  # noqa: E402
 from vorobound.bounds.tight.closed_form import tight_eps_star_closed_form  # noqa: E402
 
 SETS = {
@@ -58,8 +59,9 @@ def main() -> None:
     print(f"closed-form tight eps*: {per_call * 1e6:.0f} us per call")
     for target, name in ((t, n) for t in args.targets.split(",") for n in args.sets.split(",")):
         sigma, ratio, rho_f, lam = SETS[name]
-        baseline = certify(sigma, ratio, rho_f, lam, fraction=BASELINE_FRACTION, target=target)
-        result = certify(sigma, ratio, rho_f, lam, fraction=args.fraction, target=target)
+        quality = QualityParams(sigma, ratio, rho_f, lipschitz=lam, target=target)
+        baseline = certify(quality, fraction=BASELINE_FRACTION)
+        result = certify(quality, fraction=args.fraction)
         with tempfile.TemporaryDirectory() as folder:
             path = os.path.join(folder, "cert.json")
             write_certificate(path, result.certificate())

@@ -38,6 +38,9 @@ def blocks(text: str):
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="only report differences")
+    parser.add_argument(
+        "--only", action="append", help="only the blocks of this example (docs/examples/NAME.py)"
+    )
     args = parser.parse_args()
     stale = 0
     for doc in documents():
@@ -46,6 +49,8 @@ def main() -> int:
 
         def fresh(match, cache=cache):
             name = match.group(2)
+            if args.only and Path(name).stem not in args.only:
+                return match.group(0)
             if name not in cache:
                 cache[name] = load(name).render()
             return match.group(1) + cache[name] + match.group(4)

@@ -13,7 +13,7 @@ from vorobound.bounds.eps_star import solve_eps_star
 from vorobound.bounds.params import QualityParams
 from vorobound.errors import InputError
 
-PAPER = QualityParams().at(0.0047)
+PAPER = QualityParams(target="additive").at(0.0047)
 INVALID_PRINTED_STEPS = {"(49)", "(52)", "(53)"}
 
 
@@ -22,34 +22,34 @@ def test_paper_mode_reproduces_the_published_eps():
     assert round(result.eps_star, 4) == 0.0047  # the paper's figure
     assert result.eps_star > 1 / 500
     chain = chain_bounds(PAPER, "paper", eps=result.eps_star)
-    np.testing.assert_allclose(chain.bound, chain.target, rtol=1e-12)
+    np.testing.assert_allclose(chain.bound, chain.gap_allowance, rtol=1e-12)
     assert abs(result.residual) < 1e-12
     assert result.bracket[0] < result.eps_star < result.bracket[1]
 
 
 def test_target_is_076_eps_for_the_paper_parameters():
     chain = chain_bounds(PAPER, "paper", eps=np.array([0.001, 0.002]))
-    np.testing.assert_allclose(chain.target, 0.76 * np.array([0.001, 0.002]), rtol=1e-14)
+    np.testing.assert_allclose(chain.gap_allowance, 0.76 * np.array([0.001, 0.002]), rtol=1e-14)
 
 
 def test_eps_star_does_not_depend_on_the_feature_size():
     base = solve_eps_star(PAPER.quality, "rigorous").eps_star
     for lfs in (0.01, 30.0):
-        other = solve_eps_star(QualityParams(lfs=lfs), "rigorous").eps_star
+        other = solve_eps_star(PAPER.quality.but(lfs=lfs), "rigorous").eps_star
         assert other == pytest.approx(base, rel=1e-10)
 
 
 @settings(max_examples=25, deadline=None)
 @given(st.floats(1.05, 3.0), st.floats(0.01, 0.5), st.sampled_from(["paper", "rigorous"]))
 def test_eps_star_grows_with_rho_f(rho_f, step, mode):
-    low = solve_eps_star(QualityParams(rho_f=rho_f), mode).eps_star
-    high = solve_eps_star(QualityParams(rho_f=rho_f + step), mode).eps_star
+    low = solve_eps_star(PAPER.quality.but(rho_f=rho_f), mode).eps_star
+    high = solve_eps_star(PAPER.quality.but(rho_f=rho_f + step), mode).eps_star
     assert high > low
 
 
 def test_no_admissible_eps_is_a_clear_error():
     with pytest.raises(VoroboundError, match="no admissible eps"):
-        solve_eps_star(QualityParams(rho_f=1 + 1e-12), "paper")
+        solve_eps_star(PAPER.quality.but(rho_f=1 + 1e-12), "paper")
 
 
 @pytest.mark.parametrize(

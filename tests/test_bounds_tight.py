@@ -13,7 +13,7 @@ from vorobound.bounds.eps_star import solve_eps_star
 from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.bounds.tight import solve_tight, tight_supremum
 
-PAPER = QualityParams().at(0.0047)
+PAPER = QualityParams(target="additive").at(0.0047)
 BUDGET = {"dense_samples": 3000, "de_maxiter": 60}
 """Small search budgets: the optimum is found from every start anyway (see the evidence)."""
 SAMPLE_RTOL = 1e-9
@@ -39,24 +39,24 @@ def _as_triangle(config) -> GuideTriangles:
 
 @pytest.fixture(scope="module")
 def paper_tight():
-    return {lam: tight_supremum(PAPER, lam, **BUDGET) for lam in (None, 1.0)}
+    return {lam: tight_supremum(PAPER.but(lipschitz=lam), **BUDGET) for lam in (None, 1.0)}
 
 
 @pytest.fixture(scope="module")
 def eps_stars():
-    return {lam: solve_tight(PAPER.quality, lam, **BUDGET) for lam in (None, 1.0)}
+    return {lam: solve_tight(PAPER.quality.but(lipschitz=lam), **BUDGET) for lam in (None, 1.0)}
 
 
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_supremum_dominates_a_dense_feasible_sample(paper_tight, lam):
     result = paper_tight[lam]
-    tri = sample_feasible(PAPER, 5000, np.random.default_rng(7), lam)
+    tri = sample_feasible(PAPER.but(lipschitz=lam), 5000, np.random.default_rng(7))
     delta = tri.radius_gap(PAPER)
     assert len(tri) == 5000
     assert delta.max() <= result.supremum * (1 + SAMPLE_RTOL)
     assert delta.min() >= result.infimum * (1 + SAMPLE_RTOL)
     for config in (result.maximizer, result.minimizer):
-        assert feasible_mask(_as_triangle(config), PAPER, lam).all()
+        assert feasible_mask(_as_triangle(config), PAPER.but(lipschitz=lam)).all()
     maximizer = _as_triangle(result.maximizer)
     assert maximizer.radius_gap(PAPER)[0] == pytest.approx(result.supremum, rel=1e-14)
     for config in (result.maximizer, result.minimizer):
@@ -66,7 +66,7 @@ def test_supremum_dominates_a_dense_feasible_sample(paper_tight, lam):
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_supremum_is_the_closed_form_vertex(paper_tight, lam):
     vertex = _vertex(PAPER, lam)
-    assert feasible_mask(vertex, PAPER, lam).all()
+    assert feasible_mask(vertex, PAPER.but(lipschitz=lam)).all()
     expected = vertex.radius_gap(PAPER)[0]
     result = paper_tight[lam]
     assert expected * (1 - 1e-15) <= result.supremum <= expected * (1 + VERTEX_RTOL)
@@ -84,7 +84,7 @@ def test_evidence_shows_agreement_and_is_json_ready(paper_tight):
     assert evidence.dense_sample_extreme <= paper_tight[None].supremum
     assert paper_tight[None].infimum_evidence.dense_sample_extreme >= paper_tight[None].infimum
     json.dumps(asdict(evidence))
-    assert paper_tight[None].supremum / PAPER.target == pytest.approx(0.17841021, rel=1e-7)
+    assert paper_tight[None].supremum / PAPER.gap_allowance == pytest.approx(0.17841021, rel=1e-7)
 
 
 def test_infimum_below_supremum_and_lipschitz_only_lowers_it(paper_tight):
@@ -97,15 +97,15 @@ def test_infimum_below_supremum_and_lipschitz_only_lowers_it(paper_tight):
 
 @pytest.mark.parametrize("eps", [1e-4, 0.002, 0.0047, 0.02, 0.05])
 def test_tight_never_exceeds_the_rigorous_chain(eps):
-    params = QualityParams().at(eps)
+    params = QualityParams(target="additive").at(eps)
     rigorous = float(chain_bounds(params, "rigorous").bound)
     plain = tight_supremum(params, **BUDGET).supremum
-    lipschitz = tight_supremum(params, 1.0, **BUDGET).supremum
+    lipschitz = tight_supremum(params.but(lipschitz=1.0), **BUDGET).supremum
     assert lipschitz <= plain * (1 + SAMPLE_RTOL) <= rigorous
 
 
 def test_large_eps_reaches_the_trivial_bound_with_zero_orthoradius():
-    params = QualityParams().at(0.1)
+    params = QualityParams(target="additive").at(0.1)
     result = tight_supremum(params, **BUDGET)
     r_max = params.eps / (1 - params.eps) * params.lfs
     assert result.supremum == pytest.approx(r_max, rel=1e-12)
@@ -114,9 +114,10 @@ def test_large_eps_reaches_the_trivial_bound_with_zero_orthoradius():
 
 
 def test_deterministic_for_a_seed_and_scale_free():
-    first = tight_supremum(PAPER, 1.0, seed=3, **BUDGET)
-    assert tight_supremum(PAPER, 1.0, seed=3, **BUDGET) == first
-    scaled = tight_supremum(QualityParams(lfs=30.0).at(PAPER.eps), 1.0, seed=3, **BUDGET)
+    lam_one = PAPER.but(lipschitz=1.0)
+    first = tight_supremum(lam_one, seed=3, **BUDGET)
+    assert tight_supremum(lam_one, seed=3, **BUDGET) == first
+    scaled = tight_supremum(lam_one.but(lfs=30.0), seed=3, **BUDGET)
     assert scaled.supremum == pytest.approx(30 * first.supremum, rel=1e-12)
 
 
@@ -125,9 +126,10 @@ def test_solve_tight_meets_the_target_at_eps_star(eps_stars):
         assert result.mode == "tight"
         assert result.bracket[0] < result.eps_star < result.bracket[1]
         assert abs(result.residual) < EPS_STAR_RTOL
-        check = tight_supremum(result.params, lam, seed=1, **BUDGET)
-        assert check.supremum == pytest.approx(result.params.target, rel=EPS_STAR_RTOL)
-        assert feasible_mask(_as_triangle(result.maximizer), result.params, lam).all()
+        assert result.lipschitz == lam
+        check = tight_supremum(result.params, seed=1, **BUDGET)
+        assert check.supremum == pytest.approx(result.params.gap_allowance, rel=EPS_STAR_RTOL)
+        assert feasible_mask(_as_triangle(result.maximizer), result.params).all()
 
 
 def test_tight_eps_star_beats_the_rigorous_one(eps_stars):
@@ -150,14 +152,14 @@ def test_solve_tight_is_quiet_without_progress(capsys):
 @pytest.mark.parametrize("lam", [-1.0, float("nan"), float("inf")])
 def test_bad_lipschitz_is_a_clear_error(lam):
     with pytest.raises(VoroboundError, match="lipschitz"):
-        tight_supremum(PAPER, lam)
+        PAPER.but(lipschitz=lam)
     with pytest.raises(VoroboundError, match="lipschitz"):
-        solve_tight(PAPER.quality, lam)
+        QualityParams(lipschitz=lam)
 
 
 def test_impossible_inputs_raise_voroboundError():
     with pytest.raises(VoroboundError, match="no crossing"):
-        solve_tight(PAPER.quality, 0.0, grid=np.geomspace(1e-3, 0.5, 5), **BUDGET)
+        solve_tight(PAPER.quality.but(lipschitz=0.0), grid=np.geomspace(1e-3, 0.5, 5), **BUDGET)
     with pytest.raises(VoroboundError, match="no feasible guide triangle"):
         tight_supremum(QualityParams(sigma=2.5).at(0.1))
 

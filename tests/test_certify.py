@@ -36,9 +36,14 @@ FLOAT_RTOL = 1e-9
 """Float64 values of R − R̂ (geometry core) against interval enclosures."""
 
 
+def _quality(sigma, ratio, rho_f, lam, target="additive") -> QualityParams:
+    """The parameter tuples of this module as the solvers take them."""
+    return QualityParams(sigma, ratio, rho_f, lipschitz=lam, target=target)
+
+
 @pytest.fixture(scope="module")
 def fast_certificate():
-    result = certify(*FAST, fraction=0.99)
+    result = certify(_quality(*FAST), fraction=0.99)
     return result, result.certificate()
 
 
@@ -65,12 +70,12 @@ def test_enclosures_contain_the_float_value_at_points_of_random_boxes(params, sh
     sigma, ratio, rho_f, lam = params
     eps_max = 0.05
     eps = share * eps_max
-    quality = QualityParams(sigma, ratio, rho_f)
+    quality = _quality(sigma, ratio, rho_f, lam)
     sampling = quality.at(eps)
-    tri = sample_feasible(sampling, 4, np.random.default_rng(seed), lam)
-    setting = Setting.of(sigma, ratio, rho_f, lam, eps_max)
+    tri = sample_feasible(sampling, 4, np.random.default_rng(seed))
+    setting = Setting.of(quality, eps_max)
     root = setting.root_box()
-    gaps = tri.radius_gap(sampling) / sampling.target
+    gaps = tri.radius_gap(sampling) / sampling.gap_allowance
     with interval.working_precision():
         for index in range(len(tri)):
             point = _point_of(tri, index, eps)
@@ -97,23 +102,22 @@ def test_enclosures_contain_the_float_value_at_points_of_random_boxes(params, sh
     [(FAST, 0.99), (FAST_LIPSCHITZ, 0.99), (PLATEAU, 0.99), (LIPSCHITZ_BINDS, 0.9)],
 )
 def test_certifies_below_and_refutes_above_the_tight_eps_star(params, fraction):
-    result = certify(*params, fraction=fraction)
+    result = certify(_quality(*params), fraction=fraction)
     assert result.ratio == pytest.approx(fraction, rel=1e-12)
     assert result.search.boxes >= 1
     with pytest.raises(NotCertified) as info:
-        certify(*params, fraction=1.01)
+        certify(_quality(*params), fraction=1.01)
     found = info.value.counterexample
     assert found is not None and found.ratio_lower > 1 and found.ratio_float > 1
-    sigma, ratio, rho_f, lam = params
-    sampling = QualityParams(sigma, ratio, rho_f).at(found.point[0])
+    sampling = _quality(*params).at(found.point[0])
     tri = absolute_configuration(found.point)
-    assert feasible_mask(tri, sampling, lam).all()
-    assert tri.radius_gap(sampling)[0] > sampling.target
+    assert feasible_mask(tri, sampling).all()
+    assert tri.radius_gap(sampling)[0] > sampling.gap_allowance
 
 
 def test_limits_stop_the_search_with_the_unresolved_box():
     with pytest.raises(NotCertified) as info:
-        certify(*FAST, fraction=0.99, max_depth=3)
+        certify(_quality(*FAST), fraction=0.99, max_depth=3)
     assert info.value.counterexample is None and info.value.box is not None
 
 
@@ -147,7 +151,9 @@ def _lower_largest_bound(p):
 
 def _lower_a_bound_below_its_enclosure(p):
     """The smallest false claim: one float below the recomputed enclosure's upper end."""
-    setting = Setting.of(*(p["parameters"][k] for k in PARAMETER_KEYS))
+    given = p["parameters"]
+    sigma, ratio, rho_f, lam, eps_max = (given[k] for k in PARAMETER_KEYS)
+    setting = Setting.of(_quality(sigma, ratio, rho_f, lam, p["target"]), eps_max)
     stack, target = [setting.root_box()], _leaf_indices(p, list)[-1]
     for index, node in enumerate(p["nodes"]):
         box = stack.pop()
@@ -212,7 +218,7 @@ def test_cli_certify_out_and_check(run_cli, tmp_path):
     path = tmp_path / "cert.json"
     sigma, ratio, rho_f, _ = FAST
     args = ["--sigma", str(sigma), "--delta-ratio", str(ratio), "--rho-f", str(rho_f)]
-    code, out, err = run_cli("certify", *args, "--fraction", "0.99", "--out", str(path), "--json")
+    code, out, err = run_cli("certify", *args, "--fraction", "0.99", "-o", str(path), "--json")
     assert code == 0, err
     payload = json.loads(out)
     keys = {"eps_certified", "eps_star_tight", "ratio", "boxes", "max_depth", "seconds"}
@@ -240,7 +246,7 @@ def test_cli_failure_prints_a_counterexample(run_cli):
     assert payload["certified"] is False
     assert payload["counterexample"]["ratio_interval"][0] > 1
     point = tuple(payload["counterexample"]["coordinates"][name] for name in DIMENSIONS)
-    setting = Setting.of(sigma, ratio, rho_f, None, point[0])
+    setting = Setting.of(_quality(sigma, ratio, rho_f, None, "ratio"), point[0])  # the default
     with interval.working_precision():
         assert counterexample_at(point, setting) is not None  # re-verified from the output
     code, out, _ = run_cli("certify", *args, "--fraction", "1.01")
@@ -268,6 +274,10 @@ def test_cli_bad_input_is_one_line_and_exit_2(run_cli, args):
 
 def test_progress_reports_the_closed_volume_up_to_one_million():
     calls = []
-    certify(*FAST, fraction=0.9, progress=lambda task, done, total: calls.append((done, total)))
+    certify(
+        _quality(*FAST),
+        fraction=0.9,
+        progress=lambda task, done, total: calls.append((done, total)),
+    )
     done = [d for d, _ in calls]
     assert done == sorted(done) and done[-1] == calls[-1][1] == 1_000_000 and len(calls) >= 2

@@ -106,22 +106,67 @@ def test_no_traceback_escapes(command, args):
         assert len(err.strip().splitlines()) == 1
 
 
-def _quick_eps_star(quality, lipschitz=None, progress=None):
-    from dataclasses import replace
+def _quick_eps_star(quality, progress=None, **_):
+    """The closed form's root standing in for the optimizer's ε* (where the closed form is only
+    an upper bound, this is what the optimizer path would be handed back)."""
+    from vorobound.bounds.eps_star import EpsStar
+    from vorobound.bounds.tight.closed_form import tight_eps_star_closed_form
+    from vorobound.bounds.tight.ratio_form import ratio_eps_star_closed_form
 
-    from vorobound.bounds.tight.method import tight_eps_star
+    solve = (
+        ratio_eps_star_closed_form
+        if quality.target.value == "ratio"
+        else (tight_eps_star_closed_form)
+    )
+    found = solve(quality.sigma, quality.delta_ratio, quality.rho_f, quality.lipschitz)
+    return EpsStar(
+        eps_star=found.eps_star,
+        mode="tight",
+        quality=quality,
+        residual=0.0,
+        iterations=0,
+        bracket=(found.eps_star, found.eps_star),
+        method="optimizer (stub)",
+        claim="numerical",
+    )
 
-    star = tight_eps_star(quality, lipschitz, "auto")
-    return replace(star, method="optimizer (stub)")
 
-
-def _quick_bound(params, lipschitz=None):
+def _quick_bound(params, *_, **__):
+    """The closed form's value standing in for the optimizer's supremum."""
     from vorobound.bounds.tight.closed_form import tight_supremum_closed_form
+    from vorobound.bounds.tight.ratio_form import ratio_supremum_closed_form
     from vorobound.bounds.tight.scan import TightResult
 
     closed = tight_supremum_closed_form(
-        params.eps, params.sigma, params.delta_ratio, params.lfs, lipschitz
+        params.eps, params.sigma, params.delta_ratio, params.lfs, params.lipschitz
     )
-    return TightResult(
-        closed.value, 0.0, closed.maximizer, closed.maximizer, None, None, params.eps, lipschitz
-    )
+    value = closed.value
+    if params.target.value == "ratio":
+        value = ratio_supremum_closed_form(
+            params.eps, params.sigma, params.delta_ratio, params.lipschitz
+        ).share
+    return TightResult(value, 0.0, closed.maximizer, closed.maximizer, None, None, params)
+
+
+def test_the_optimizer_stubs_answer_where_the_closed_form_is_only_an_upper_bound(run_cli):
+    """The case that once made the stubs recurse: the closed form is an upper bound only, so
+    the tight mode falls back to the (stubbed) optimizer, and the command still answers."""
+    quick_star = mock.patch("vorobound.bounds.tight.method.solve_tight", _quick_eps_star)
+    quick_bound = mock.patch("vorobound.bounds.tight.method.tight_supremum", _quick_bound)
+    args = ["--sigma", "0.1", "--delta-ratio", "0.001", "--rho-f", "10", "--json"]
+    with quick_star, quick_bound:
+        code, out, err = run_cli("solve", *args)
+        assert code in (0, 2), err
+        bounds = [
+            "--eps",
+            "0.05",
+            "--sigma",
+            "1.79",
+            "--delta-ratio",
+            "0.5",
+            "--target",
+            "additive",
+        ]
+        code, out, err = run_cli("bounds", *bounds, "--json")
+    assert code == 0, err
+    assert '"optimizer"' in out

@@ -48,7 +48,7 @@ def test_tight_mode_json_of_bounds_and_solve(run_cli):
         ["cheng", "--alpha", "0.5"],
         ["cheng", "--alpha", "nan"],
         ["cheng", "--alpha", "0.1", "--dim", "4"],
-        ["figure", "--format", "gif", "--no-tight"],
+        ["figure", "--figure-format", "gif", "--no-tight"],
         ["figure", "--rho-f", "0.9", "--no-tight"],
         ["reproduce", "--sigma", "0", "--no-tight"],
         ["solve", "--mode", "tight", "--lipschitz", "-1"],

@@ -37,7 +37,7 @@ def test_tight_sweep_on_two_processes_matches_the_closed_form(run_cli):
     args = ["sweep", "--mode", "tight", "--sigma", "0.75", "--lipschitz", "none,1", "--json"]
     code, out, _ = run_cli(*args, "--method", "optimize", "--jobs", "2")
     assert code == 0
-    rows = json.loads(out)
+    rows = json.loads(out)["rows"]
     keys = [(r["target"], r["lipschitz"], r["claim"]) for r in rows]
     assert keys == [
         (target, lam, "numerical") for target in ("additive", "ratio") for lam in (None, 1.0)
@@ -52,7 +52,7 @@ def test_tight_sweep_on_two_processes_matches_the_closed_form(run_cli):
 def _closed_form_rows(run_cli, args):
     code, out, _ = run_cli(*args)
     assert code == 0
-    rows = json.loads(out)
+    rows = json.loads(out)["rows"]
     assert {r["claim"] for r in rows} == {"proven"}
     return rows
 
@@ -77,7 +77,9 @@ def test_tight_figures_and_reproduction(run_cli, tmp_path):
     h3 = rows["ε up to which H3 alone gives (55), any mode"]
     assert list(h3.values()) == [pytest.approx(1 - 1 / (2 * 1.38))] * len(h3)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["comparison.png", "figure3.png"]
-    code, out, _ = run_cli("figure", "--out", str(tmp_path / "svg"), "--format", "svg", "--json")
+    code, out, _ = run_cli(
+        "figure", "--out", str(tmp_path / "svg"), "--figure-format", "svg", "--json"
+    )
     assert code == 0 and len(json.loads(out)["figures"]) == 2
 
 

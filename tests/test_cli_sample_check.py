@@ -92,9 +92,9 @@ def test_planted_bad_sample_is_reported(run_cli, tmp_path):
     rows = np.column_stack([centers, radii])
     bad.write_text("x,y,z,r\n" + "\n".join(",".join(repr(float(v)) for v in r) for r in rows))
     code, stdout, stderr = run_cli("check", "--balls", str(bad), "--eps", str(eps), "--json")
-    assert code == 0, stderr
+    assert code == 1, stderr  # ran, and found violations
     s = json.loads(stdout)
-    assert s["sparsity_violations"] >= 1
+    assert s["ok"] is False and s["failures"]["sparsity"] == s["sparsity_violations"] >= 1
     worst = s["sparsity_worst"][0]
     assert {worst["i"], worst["j"]} == {0, 1}
     assert worst["ratio"] == pytest.approx(0.3, rel=1e-6)
@@ -127,7 +127,7 @@ GOOD = np.column_stack([np.random.default_rng(1).random((10, 3)), np.full(10, 0.
         (["--mesh", "{text}"], "cannot read mesh"),
         (["--mesh", "{text}", "--lfs", "1", "--sizing", "{text}"], "not both"),
         ([], "give a surface"),
-        (["--sphere", "1", "--lipschitz", "1"], "--balls"),
+        (["--sphere", "1", "--lipschitz", "1"], "goes with balls"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):

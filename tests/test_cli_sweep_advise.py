@@ -13,12 +13,12 @@ from vorobound.bounds.params import QualityParams
 def test_sweep_rho_f_range_is_inclusive_and_matches_the_solver(run_cli):
     code, out, _ = run_cli("sweep", "--rho-f", "1.2:1.5:4", "--mode", "paper", "--format", "json")
     assert code == 0
-    rows = json.loads(out)
+    rows = json.loads(out)["rows"]
     assert [r["rho_f"] for r in rows] == pytest.approx([1.2, 1.3, 1.4, 1.5] * 2)
     assert [r["target"] for r in rows] == ["additive"] * 4 + ["ratio"] * 4
     for row in rows:
-        quality = QualityParams(rho_f=row["rho_f"])
-        expected = solve_eps_star(quality, "paper", row["target"]).eps_star
+        quality = QualityParams(rho_f=row["rho_f"], target=row["target"])
+        expected = solve_eps_star(quality, "paper").eps_star
         assert row["eps_star"] == pytest.approx(expected, rel=1e-10)
 
 
@@ -29,7 +29,7 @@ def test_sweep_csv_and_json_round_trip(run_cli, tmp_path):
     code, _, _ = run_cli(*args, "--format", "csv", "-o", str(target))
     assert code == 0
     from_csv = list(csv.DictReader(io.StringIO(target.read_text())))
-    from_json = json.loads(as_json)
+    from_json = json.loads(as_json)["rows"]
     assert len(from_csv) == len(from_json) == 16  # 2 modes × 2 targets × 2 σ × 2 ρ_f
     for c, j in zip(from_csv, from_json, strict=True):
         assert c["mode"] == j["mode"] and c["target"] == j["target"]
@@ -42,7 +42,7 @@ def test_sweep_over_eps_gives_bound_curves(run_cli):
         "sweep", "--eps", "0.001:0.01:5", "--mode", "rigorous,tight", "--format", "json"
     )
     assert code == 0
-    rows = json.loads(out)
+    rows = json.loads(out)["rows"]
     assert len(rows) == 20 and {"eps", "bound", "limit", "target"} <= rows[0].keys()
     for mode in ("rigorous", "tight"):
         for target in ("additive", "ratio"):

@@ -55,7 +55,8 @@ def test_closed_form_matches_the_optimizer_at_random_parameter_sets():
         assert closed.status is ClosedFormStatus.exact
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            optimized = tight_supremum(QualityParams(sigma, ratio).at(eps), lam, **OPTIMIZER_BUDGET)
+            quality = QualityParams(sigma, ratio, lipschitz=lam, target="additive")
+            optimized = tight_supremum(quality.at(eps), **OPTIMIZER_BUDGET)
         assert optimized.supremum == pytest.approx(closed.value, rel=OPTIMIZER_RTOL), (
             eps,
             sigma,
@@ -83,7 +84,9 @@ def test_worst_vertex_attains_the_closed_form_at_60_digits(eps, sigma, ratio, la
     ]
     exact = reference(points, [0.0, vertex.w_b, vertex.w_c])["delta"]
     assert float(exact) == pytest.approx(closed.value, rel=REFERENCE_RTOL)
-    assert feasible_mask(vertex.triangles(), QualityParams(sigma, ratio).at(eps), lam).all()
+    assert feasible_mask(
+        vertex.triangles(), QualityParams(sigma, ratio, lipschitz=lam).at(eps)
+    ).all()
     assert vertex.circumradius == pytest.approx(eps / (1 - eps), rel=1e-15)
 
 
@@ -96,14 +99,14 @@ def test_worst_vertex_attains_the_closed_form_at_60_digits(eps, sigma, ratio, la
     st.integers(0, 2**32 - 1),
 )
 def test_no_feasible_triangle_exceeds_the_closed_form(eps, sigma, ratio, lam, seed):
-    params = QualityParams(sigma, ratio).at(eps)
+    params = QualityParams(sigma, ratio, lipschitz=lam).at(eps)
     if sigma * (1 - eps) > math.sqrt(3):  # the constraint set is empty (docs/tight.md, step 5)
         with pytest.raises(VoroboundError):
-            sample_feasible(params, 2000, np.random.default_rng(seed), lam)
+            sample_feasible(params, 2000, np.random.default_rng(seed))
         with pytest.raises(VoroboundError):
             tight_supremum_closed_form(eps, sigma, ratio, 1.0, lam)
         return
-    tri = sample_feasible(params, 2000, np.random.default_rng(seed), lam)
+    tri = sample_feasible(params, 2000, np.random.default_rng(seed))
     closed = tight_supremum_closed_form(eps, sigma, ratio, 1.0, lam)
     if len(tri):
         assert tri.radius_gap(params).max() <= closed.value * (1 + SAMPLE_RTOL)
@@ -122,10 +125,10 @@ def test_the_proofs_key_step_on_sampled_triangles(eps, sigma, lam, seed):
     Lengths over εL_i; h = e(2 + e) with e = L/L_i − 1; m_B = h_j/c², m_C = h_k/b²; d over δ².
     Acute and obtuse angles both occur in the sample.
     """
-    params = QualityParams(sigma, 1.0).at(eps)
+    params = QualityParams(sigma, 1.0, lipschitz=lam).at(eps)
     if sigma * (1 - eps) > math.sqrt(3):  # no feasible triangle (docs/tight.md, step 5)
         return
-    tri = sample_feasible(params, 1000, np.random.default_rng(seed), lam)
+    tri = sample_feasible(params, 1000, np.random.default_rng(seed))
     if not len(tri):
         return
     b, c, a, theta = tri.b, tri.c, tri.a, tri.theta
@@ -162,7 +165,7 @@ def test_where_the_vertex_is_infeasible_the_closed_form_is_an_upper_bound(eps, s
     closed = tight_supremum_closed_form(eps, sigma, ratio)
     assert closed.status is ClosedFormStatus.upper_bound
     assert not closed_form_is_exact(eps, sigma, ratio)
-    params = QualityParams(sigma, ratio).at(eps)
+    params = QualityParams(sigma, ratio, target="additive").at(eps)
     assert not feasible_mask(closed.maximizer.triangles(), params).any()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)

@@ -32,3 +32,13 @@ def test_block_matches_its_example(doc, name, block):
         module.quick_check(block)
     else:
         assert block == module.render(), f"{doc.name} is stale: run python scripts/update_docs.py"
+
+
+def test_the_api_page_is_current():
+    """docs/api.md is what scripts/api_docs.py generates from today's docstrings."""
+    import api_docs
+
+    page = (ROOT / "docs" / "api.md").read_text(encoding="utf-8")
+    assert page == api_docs.render(), "docs/api.md is stale: run python scripts/api_docs.py"
+    for name in ("solve", "check", "sample", "advise", "lfs", "certify", "bound"):
+        assert f"## `vorobound.{name}`" in page

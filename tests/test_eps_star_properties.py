@@ -12,13 +12,12 @@ from vorobound.bounds.eps_star import (
     STATUS_EXCEEDS_AT_START,
     STATUS_NO_CROSSING,
     STATUS_OK,
-    NoCrossing,
     solve_eps_star,
     solve_eps_star_batch,
 )
 from vorobound.bounds.params import QualityParams
 from vorobound.bounds.tight import tight_supremum
-from vorobound.errors import NoAdmissibleEps
+from vorobound.errors import NoAdmissibleEps, NoCrossing
 
 RESIDUAL_TOL = 1e-9
 """bound/target − 1 at a reported ε*. The root finders stop at a few float spacings of ε; near
@@ -58,24 +57,24 @@ def test_batch_solver_matches_brentq_row_by_row():
     for mode, target in itertools.product(("paper", "rigorous"), ("additive", "ratio")):
         stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode, target=target)
         for s, r, q, star, code in zip(sigma, ratio, rho_f, stars, status, strict=True):
-            quality = QualityParams(sigma=s, delta_ratio=r, rho_f=q)
+            quality = QualityParams(sigma=s, delta_ratio=r, rho_f=q, target=target)
             codes.add(int(code))
             if code == STATUS_OK:
-                expected = solve_eps_star(quality, mode, target).eps_star
+                expected = solve_eps_star(quality, mode).eps_star
                 assert star == pytest.approx(expected, rel=BATCH_RTOL)
                 if s > np.sqrt(3):  # the constraint set is empty below 1 − √3/σ
                     assert star > 1 - np.sqrt(3) / s
             elif code == STATUS_EMPTY:
                 with pytest.raises(NoAdmissibleEps):
-                    solve_eps_star(quality, mode, target)
+                    solve_eps_star(quality, mode)
             elif code == STATUS_EXCEEDS_AT_START:
                 with pytest.raises(NoAdmissibleEps, match="already") as caught:
-                    solve_eps_star(quality, mode, target)
+                    solve_eps_star(quality, mode)
                 assert not isinstance(caught.value, NoCrossing)
             else:
                 assert code == STATUS_NO_CROSSING
                 with pytest.raises(NoCrossing):
-                    solve_eps_star(quality, mode, target)
+                    solve_eps_star(quality, mode)
     assert {STATUS_OK, STATUS_EXCEEDS_AT_START} <= codes
 
 
@@ -98,10 +97,11 @@ def test_eps_star_is_monotone_in_rho_f():
 @pytest.mark.parametrize("eps", [0.0047, 0.02])
 def test_tight_supremum_is_monotone_in_lambda_down_to_tiny_values(eps):
     """sup is nondecreasing in λ, and sup/λ tends to a constant as λ → 0 (no collapse)."""
-    params = QualityParams().at(eps)
+    params = QualityParams(target="additive").at(eps)
     lambdas = [1e-9, 1e-7, 1e-5, 1e-3, 1e-1, 1.0]
     sups = [
-        tight_supremum(params, lam, dense_samples=2000, de_maxiter=40).supremum for lam in lambdas
+        tight_supremum(params.but(lipschitz=lam), dense_samples=2000, de_maxiter=40).supremum
+        for lam in lambdas
     ]
     assert all(a <= b * (1 + LAMBDA_RTOL) for a, b in zip(sups, sups[1:], strict=False))
     per_lambda = np.array(sups[:3]) / np.array(lambdas[:3])

@@ -43,7 +43,7 @@ def certificate(tmp_path_factory) -> dict:
     path = tmp_path_factory.mktemp("certificate") / "cert.json"
     from vorobound.cli import main
 
-    assert main(["certify", "--eps", "0.005", "--out", str(path)]) == 0
+    assert main(["certify", "--eps", "0.005", "-o", str(path)]) == 0
     return json.loads(path.read_text())
 
 

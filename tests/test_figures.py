@@ -57,7 +57,7 @@ def test_plotting_on_a_given_axes_returns_its_figure():
 @pytest.mark.parametrize("fmt", ["png", "pdf", "svg"])
 def test_figure_command_writes_each_format(run_cli, tmp_path, fmt):
     code, out, _ = run_cli(
-        "figure", "--no-tight", "--out", str(tmp_path), "--format", fmt, "--json"
+        "figure", "--no-tight", "--out", str(tmp_path), "--figure-format", fmt, "--json"
     )
     assert code == 0
     paths = json.loads(out)["figures"]
@@ -161,10 +161,10 @@ def _legends_over_data(fig) -> list[str]:
 def committed_figures():
     """Figure 3 and the comparison exactly as `vorobound figure` draws them (tight curves
     included)."""
-    from vorobound.cli.figure_cmd import tight_stars
+    from vorobound.api.figures import tight_stars
     from vorobound.reports.figure_data import figure_set_data
 
-    figure3, comparison = figure_set_data(PARAMS.quality, tight_stars(PARAMS.quality, None))
+    figure3, comparison = figure_set_data(PARAMS.quality, tight_stars(PARAMS.quality))
     return plot_figure3(figure3), plot_comparison(comparison)
 
 

@@ -14,6 +14,7 @@ LAYERS = [
     {"studies"},
     {"reports"},
     {"plotting"},
+    {"api"},
     {"cli", "__main__"},
 ]
 """Lowest first; a module may import from its own layer and the layers below it. The root

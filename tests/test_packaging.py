@@ -110,7 +110,7 @@ def test_changelog_has_the_released_version_and_an_unreleased_one_above_it():
 
 
 def test_default_output_folders_are_ignored_by_git():
-    from vorobound.cli.figure_cmd import DEFAULT_OUT
+    from vorobound.api.figures import DEFAULT_OUT
 
     ignored = {
         line.strip().strip("/")

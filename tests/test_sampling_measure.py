@@ -36,9 +36,9 @@ def test_realized_gap_is_below_the_tight_supremum(variable_torus):
     report = variable_torus
     g = report.guides
     assert (g.gap_ratio > 0).any()  # L varies, so the weights do and R − R̂ is not 0
-    unit = SamplingParams(report.params.eps, QUALITY)
+    unit = SamplingParams(report.params.eps, QUALITY.but(target="additive"))
     for lipschitz in (None, 1.0):
-        supremum = tight_supremum(unit, lipschitz).supremum
+        supremum = tight_supremum(unit.but(lipschitz=lipschitz)).supremum
         assert (g.radius_gap <= supremum * g.lfs[:, 0] * (1 + BOUND_RTOL)).all()
     assert not any(rows.any() for rows in g.exceeds.values())
 
@@ -98,7 +98,7 @@ def test_a_triangle_outside_the_constraint_set_is_reported():
     params = SamplingParams(eps, QUALITY)
     centers = np.array([[0, 0, 0], [1, 0, 0], [0.5, 0.8, 0], [0.5, 0.3, -3], [0.4, 0.2, 3.0]])
     radii = np.array([0.62, 0.62, 0.62, 0.1, 0.1])
-    report = check_balls(make_balls(centers, radii), params, 1.0)
+    report = check_balls(make_balls(centers, radii), params.but(lipschitz=1.0))
     s = report.summary()
     assert s["n_guide_triangles"] >= 1
     assert s["outside_constraint_set"] >= 1
@@ -106,12 +106,12 @@ def test_a_triangle_outside_the_constraint_set_is_reported():
 
 
 def test_mode_bounds_per_unit_lfs():
-    params = SamplingParams(0.01, QualityParams(lfs=7.0))
-    bounds = {b.mode: b for b in mode_bounds(params, 1.0)}
+    params = SamplingParams(0.01, QualityParams(lfs=7.0, lipschitz=1.0))
+    bounds = {b.mode: b for b in mode_bounds(params, "additive")}
     assert set(bounds) == {"paper", "rigorous", "tight", "tight_lipschitz"}
     assert bounds["tight_lipschitz"].value <= bounds["tight"].value
     assert bounds["rigorous"].claim == "proven" and bounds["paper"].claim == "invalid"
-    reference = tight_supremum(SamplingParams(0.01, QualityParams(lfs=1.0))).supremum
+    reference = tight_supremum(QualityParams(target="additive").at(0.01)).supremum
     assert bounds["tight"].value == pytest.approx(reference, rel=1e-9)
 
 

@@ -57,9 +57,8 @@ def test_ratio_closed_form_matches_the_optimizer_at_random_parameter_sets():
         assert closed.status is ClosedFormStatus.exact
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            found = tight_supremum(
-                QualityParams(sigma, ratio).at(eps), lam, target="ratio", **OPTIMIZER_BUDGET
-            )
+            quality = QualityParams(sigma, ratio, lipschitz=lam, target="ratio")
+            found = tight_supremum(quality.at(eps), **OPTIMIZER_BUDGET)
         assert found.supremum == pytest.approx(closed.share, rel=OPTIMIZER_RTOL), (eps, sigma, lam)
 
 
@@ -67,8 +66,8 @@ def test_no_sampled_triangle_beats_the_ratio_closed_form():
     """R̂/R ≥ 1 − μ* on random feasible triangles, with and without λ (R/R̂ from the core)."""
     rng = np.random.default_rng(3)
     for eps, lam in ((0.005, None), (0.02, 1.0), (0.05, 0.3)):
-        params = QualityParams().at(eps)
-        tri = sample_feasible(params, 20_000, rng, lam)
+        params = QualityParams(lipschitz=lam).at(eps)
+        tri = sample_feasible(params, 20_000, rng)
         share = tri.radius_gap(params) / tri.circumradius
         bound = ratio_supremum_closed_form(eps, 0.75, 2.0, lam).share
         assert share.max() <= bound * (1 + SAMPLE_RTOL)
@@ -77,11 +76,11 @@ def test_no_sampled_triangle_beats_the_ratio_closed_form():
 
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_ratio_eps_star_closed_form_matches_the_optimizer(lam):
-    closed = eps_star(QualityParams(), "tight", "ratio", lam)
+    closed = eps_star(QualityParams(lipschitz=lam, target="ratio"), "tight")
     assert closed.claim == "proven" and closed.method == "closed form"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        found = eps_star(QualityParams(), "tight", "ratio", lam, method="optimize")
+        found = eps_star(QualityParams(lipschitz=lam), "tight", method="optimize")
     assert found.claim == "numerical"
     assert found.eps_star == pytest.approx(closed.eps_star, rel=1e-9)
     # At ε* the worst vertex has R/R̂ = ρ_f exactly.
@@ -90,26 +89,26 @@ def test_ratio_eps_star_closed_form_matches_the_optimizer(lam):
 
 
 def test_ratio_eps_star_values_at_the_paper_parameters():
-    assert eps_star(QualityParams(), "tight", "ratio").eps_star == pytest.approx(
+    assert eps_star(QualityParams(target="ratio"), "tight").eps_star == pytest.approx(
         0.0094976911, rel=1e-8
     )
-    assert eps_star(QualityParams(), "tight", "ratio", 1.0).eps_star == pytest.approx(
+    assert eps_star(QualityParams(lipschitz=1.0), "tight").eps_star == pytest.approx(
         0.0255700324, rel=1e-8
     )
     assert (
-        eps_star(QualityParams(), "tight", "ratio").eps_star
-        < 0.5 * eps_star(QualityParams(), "tight", "additive").eps_star
+        eps_star(QualityParams(), "tight").eps_star
+        < 0.5 * eps_star(QualityParams(target="additive"), "tight").eps_star
     )
 
 
 @pytest.mark.parametrize("lam", [None, 1.0])
 def test_ratio_certificate_passes_below_and_fails_above_eps_star(lam):
-    below = certify(0.75, 2.0, 1.38, lam, target="ratio", fraction=0.99)
+    below = certify(QualityParams(lipschitz=lam, target="ratio"), fraction=0.99)
     report = check_certificate(below.certificate())
     assert report.target == "ratio" and report.largest_bound <= 1
     assert below.eps_certified == pytest.approx(0.99 * below.request.eps_star_tight, rel=1e-12)
     with pytest.raises(NotCertified) as failure:
-        certify(0.75, 2.0, 1.38, lam, target="ratio", fraction=1.01)
+        certify(QualityParams(lipschitz=lam, target="ratio"), fraction=1.01)
     found = failure.value.counterexample
     assert found is not None and found.ratio_lower > 1
     # The counterexample breaks R ≤ ρ_f·R̂ in the float geometry core too.
@@ -123,7 +122,7 @@ def test_ratio_certificate_passes_below_and_fails_above_eps_star(lam):
 
 
 def test_a_ratio_certificate_is_not_an_additive_one():
-    payload = certify(0.75, 2.0, 1.38, None, target="ratio").certificate()
+    payload = certify(QualityParams(target="ratio")).certificate()
     assert payload["target"] == "ratio" and "R <= rho_f * R^" in payload["statement"]
     assert "circumradius" not in payload["enclosures"]
     forged = dict(payload, nodes=[["circumradius", 0.5]])
@@ -161,7 +160,7 @@ def test_rigorous_chain_ratio_bound_holds_on_sampled_triangles():
         share = tri.radius_gap(params) / tri.circumradius
         bound = float(chain_bounds(params, "rigorous").share_bound)
         assert share.max() <= bound * (1 + SAMPLE_RTOL)
-        assert bound_at(params, "rigorous", "ratio").claim == "proven"
+        assert bound_at(params.but(target="ratio"), "rigorous").claim == "proven"
 
 
 def test_h3_route_is_the_eps_where_h3_becomes_eq_55():
@@ -182,7 +181,7 @@ def test_sigma_above_sqrt3_has_an_eps_star_above_the_empty_range():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         for target in ("additive", "ratio"):
-            star = eps_star(quality, "tight", target)
+            star = eps_star(quality.but(target=target), "tight")
             assert star.eps_star > empty_below
             assert star.claim == "numerical"
             assert star.proven_lower_bound is not None
@@ -236,7 +235,7 @@ def test_defaults_are_proven(run_cli, args):
 def test_default_sweep_and_advice_are_proven(run_cli):
     code, out, _ = run_cli("sweep", "--json")
     assert code == 0
-    rows = json.loads(out)
+    rows = json.loads(out)["rows"]
     assert {r["claim"] for r in rows} == {"proven"}
     assert {r["target"] for r in rows} == {"additive", "ratio"}
     code, out, _ = run_cli("advise", "--sphere", "1", "--json")
@@ -265,10 +264,10 @@ def test_readme_guarantee_bullets_match_the_computed_values():
     section = text[text.index("Which number guarantees what") : text.index("Supported parameter")]
     quoted = [float(x) for x in re.findall(r"ε ≤\s+(0\.\d+)", section)]
     quality = QualityParams()
-    ratio = eps_star(quality, "tight", "ratio").eps_star
-    ratio_lam = eps_star(quality, "tight", "ratio", 1.0).eps_star
-    additive = eps_star(quality, "tight", "additive").eps_star
-    certified = certify(0.75, 2.0, 1.38, None, target="ratio").eps_certified
+    ratio = eps_star(quality, "tight").eps_star
+    ratio_lam = eps_star(quality.but(lipschitz=1.0), "tight").eps_star
+    additive = eps_star(quality.but(target="additive"), "tight").eps_star
+    certified = certify(quality).eps_certified
     expected = [ratio, ratio_lam, additive, h3_route(quality).eps_star, 0.0047]
     for value in expected:
         assert any(math.isclose(q, value, rel_tol=5e-5) for q in quoted), value

@@ -1,7 +1,9 @@
 """vorobound: weighted-triangle geometry and the VoroCrust circumradius/orthoradius bounds.
 
-The top-level names load their modules on first use (module ``__getattr__``), so importing
-the package, or running ``vorobound --help``, does not import numpy.
+Every command has a function of the same name here (``vorobound.solve``, ``vorobound.check``,
+...; the command ``bounds`` is ``vorobound.bound``, since ``vorobound.bounds`` is the package of
+the bounds). The top-level names load their modules on first use (module ``__getattr__``), so
+importing the package, or running ``vorobound --help``, does not import numpy.
 """
 
 from __future__ import annotations
@@ -13,6 +15,23 @@ from .errors import VoroboundError
 __version__ = "0.2.0"
 
 _LAZY = {
+    # One function per command (vorobound.api): keyword arguments like the options, a result
+    # whose to_dict() is the command's --json.
+    "solve": "vorobound.api.solve",
+    "bound": "vorobound.api.bound",
+    "sweep": "vorobound.api.sweep",
+    "advise": "vorobound.api.advise",
+    "certify": "vorobound.api.certify",
+    "check_certificate": "vorobound.api.certify",
+    "sample": "vorobound.api.sample",
+    "check": "vorobound.api.check",
+    "lfs": "vorobound.api.lfs",
+    "triangle": "vorobound.api.triangle",
+    "validate": "vorobound.api.validate",
+    "figure": "vorobound.api.figures",
+    "reproduce": "vorobound.api.figures",
+    "cheng": "vorobound.api.cheng",
+    # The library underneath.
     "WeightedTriangles": "vorobound.geometry",
     "theorem1_from_edges": "vorobound.geometry",
     "weighted_triangles": "vorobound.geometry",

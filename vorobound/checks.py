@@ -28,6 +28,23 @@ def brief(value) -> str:
     return f"{text[: BRIEF_CHARS - 10]}... ({size})"
 
 
+# The supported ranges of the sampling parameters (README, "Supported parameter ranges"). They
+# keep every product the bounds form (weights ~ (δ/ε)²ε³L², the allowance (ρ_f − 1)δL_i, ...)
+# inside float64; every layer checks its inputs against these.
+EPS_RANGE = (1e-12, 0.999)
+"""Supported sampling densities ε (1 − ε ≥ 10⁻³ keeps every (1 − ε)⁻ᵏ of the chain small)."""
+SIGMA_RANGE = (1e-6, 1e3)
+"""Supported sparsity factors σ (σ ≥ 2 leaves no feasible guide triangle at small ε)."""
+DELTA_RATIO_RANGE = (1e-6, 1e6)
+"""Supported δ/ε (weights scale as (δ/ε)²)."""
+RHO_F_MAX = 1e6
+"""Largest supported quality constant ρ_f (ρ_f > 1 is required)."""
+LFS_RANGE = (1e-50, 1e50)
+"""Supported local feature sizes and lengths (the chain multiplies up to four lengths)."""
+LIPSCHITZ_RANGE = (1e-12, 1e6)
+"""Supported positive Lipschitz constants λ (λ = 0, constant L, is supported too)."""
+
+
 def checked_number(value, name: str, low: float, high: float, *, open_low: bool = False) -> float:
     """``value`` as a float if it is a real number in [low, high] (or (low, high]); else raise."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
@@ -44,6 +61,21 @@ def checked_number(value, name: str, low: float, high: float, *, open_low: bool 
             f"got {brief(value)}"
         )
     return number
+
+
+def checked_lipschitz(value) -> float | None:
+    """λ, the Lipschitz constant of L (|L(x) − L(y)| ≤ λ|x − y|), as a float: 0 allowed, None
+    for "no Lipschitz condition"; else raise."""
+    if value is None:
+        return None
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
+        return 0.0
+    return checked_number(value, "lipschitz", *LIPSCHITZ_RANGE)
+
+
+def checked_length(value, name: str) -> float:
+    """A length (radius, local feature size) in the supported range :data:`LFS_RANGE`."""
+    return checked_number(value, name, *LFS_RANGE)
 
 
 def checked_count(value, name: str, low: int, high: int) -> int:

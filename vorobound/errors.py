@@ -21,6 +21,25 @@ class NoAdmissibleEps(VoroboundError):
     """
 
 
+class NoCrossing(NoAdmissibleEps):
+    """The bound stays below the target wherever it is defined: no root, so no ε*."""
+
+
+class NotCertified(VoroboundError):
+    """An interval search stopped without a certificate: ``counterexample`` (a feasible guide
+    triangle above the target) or ``box`` (the box it could not resolve within its limits)."""
+
+    def __init__(self, message: str, counterexample=None, box=None):
+        super().__init__(message)
+        self.counterexample = counterexample
+        self.box = box
+
+
+class EmptyConstraintSet(NoAdmissibleEps):
+    """No guide triangle satisfies the constraint set (33)–(36) with H3 at this ε:
+    σ(1 − ε) > √3. Every bound holds there vacuously, so nothing can be bounded or measured."""
+
+
 class ReadError(VoroboundError):
     """A file cannot be read or is not what the command expects (mesh, sizing, balls, ...)."""
 
@@ -35,6 +54,10 @@ class CertificateError(VoroboundError):
 
 class NoGuideTriangles(VoroboundError):
     """A set of balls has no guide triangle, so nothing can be measured against the bounds."""
+
+
+class MissingDependency(VoroboundError):
+    """An optional dependency a function needs is not installed (the message says how)."""
 
 
 class VoroboundWarning(RuntimeWarning):

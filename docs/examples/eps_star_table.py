@@ -18,7 +18,7 @@ def render() -> str:
     lines = ["| mode | target | ε* | claim | command |", "|---|---|---|---|---|"]
     for target in ("additive", "ratio"):
         for label, mode, lam, flags in MODES:
-            star = eps_star(quality, mode, target, lam)
+            star = eps_star(quality.but(target=target, lipschitz=lam), mode)
             command = f"vorobound solve {flags} --target {target}"
             lines.append(
                 f"| {label} | {target} | {star.eps_star:.10f} | {star.claim} | `{command}` |"

@@ -41,8 +41,8 @@ def rows(kind: str, dims: tuple, value: str) -> tuple[str, str, str]:
     quality = QualityParams()
     named = {
         "paper": PAPER_EPS,
-        "tight": tight_eps_star(quality).eps_star,
-        "ratio": tight_eps_star(quality, target="ratio").eps_star,
+        "tight": tight_eps_star(quality.but(target="additive")).eps_star,
+        "ratio": tight_eps_star(quality.but(target="ratio")).eps_star,
     }
     shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
     eps = named.get(value) or float(value)

@@ -150,7 +150,7 @@ def audit_chain(
 
 
 @dataclass(frozen=True)
-class Counterexample:
+class StepCounterexample:
     """A feasible guide triangle for which one printed step fails."""
 
     label: str
@@ -160,7 +160,7 @@ class Counterexample:
     bound: float
 
 
-def printed_step_counterexamples(params: SamplingParams) -> list[Counterexample]:
+def printed_step_counterexamples(params: SamplingParams) -> list[StepCounterexample]:
     """Feasible configurations violating the invalid printed steps (49) and (52).
 
     The triangle: b = c = σεL_i (the shortest edges sparsity allows) and the largest angle at
@@ -178,10 +178,10 @@ def printed_step_counterexamples(params: SamplingParams) -> list[Counterexample]
     found = []
     cos_t, sin_t = float(np.cos(theta)), float(np.sin(theta))
     if cos_t < float(printed.k_cos):
-        found.append(Counterexample("(49)", "cos θ ≥ k_cos", tri, cos_t, float(printed.k_cos)))
+        found.append(StepCounterexample("(49)", "cos θ ≥ k_cos", tri, cos_t, float(printed.k_cos)))
     if sin_t < float(printed.sin_min_obtuse):
         found.append(
-            Counterexample(
+            StepCounterexample(
                 "(52)",
                 "θ > π/2: sin θ ≥ sqrt(1 − k_cos²)",
                 tri,

@@ -23,9 +23,10 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from ..checks import EPS_RANGE
 from ..errors import InputError
 from . import constraints as limits
-from .params import EPS_RANGE, Mode, SamplingParams
+from .params import Mode, SamplingParams
 
 
 def _eq(label: str, text: str):
@@ -61,10 +62,10 @@ class ChainBounds:
     bound_acute: np.ndarray = _eq("(29)", "θ ≤ π/2: bound on R − R̂")
     bound_obtuse: np.ndarray = _eq("(29)", "θ > π/2: bound on R − R̂")
     bound: np.ndarray = _eq("(29)", "upper bound on R − R̂ (worse case)")
-    target: np.ndarray = _eq("(55)", "(ρ_f − 1)·δ·L_i")
+    gap_allowance: np.ndarray = _eq("(55)", "largest R − R̂ of the additive target: (ρ_f − 1)·δ·L_i")
     share_bound: np.ndarray = _eq("(30)", "upper bound on (R − R̂)/R (worse case)")
     ratio_bound: np.ndarray = _eq("(30), (54)", "upper bound on R/R̂: 1/(1 − that), ∞ from 1 on")
-    share_target: np.ndarray = _eq("(54)", "largest (R − R̂)/R with R ≤ ρ_f·R̂: 1 − 1/ρ_f")
+    share_allowance: np.ndarray = _eq("(54)", "largest (R − R̂)/R with R ≤ ρ_f·R̂: 1 − 1/ρ_f")
 
     def rows(self):
         """(name, equation, description, value) for every quantity, in chain order."""
@@ -172,10 +173,10 @@ def chain_arrays(eps, sigma, delta_ratio, lfs, rho_f, mode: Mode | str) -> Chain
         bound_acute=bound_acute,
         bound_obtuse=bound_obtuse,
         bound=bound,
-        target=(rho_f - 1) * ratio * e * lfs,
+        gap_allowance=(rho_f - 1) * ratio * e * lfs,
         share_bound=share_bound,
         ratio_bound=ratio_bound,
-        share_target=1 - 1 / rho_f,
+        share_allowance=1 - 1 / rho_f,
     )
 
 

@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
 from ..geometry import weighted_triangles
 from . import constraints
 from .params import SamplingParams
@@ -167,11 +166,10 @@ class GuideConfiguration:
         return GuideTriangles.of(self.b, self.c, self.theta, self.excess_j, self.excess_k)
 
 
-def feasible_mask(
-    tri: GuideTriangles, params: SamplingParams, lipschitz: float | None = None
-) -> np.ndarray:
-    """True where a configuration satisfies the constraint set (boundary points included)."""
-    limits = constraints.ConstraintParams(params.eps, params.sigma, lipschitz)
+def feasible_mask(tri: GuideTriangles, params: SamplingParams) -> np.ndarray:
+    """True where a configuration satisfies the constraint set with ``params.lipschitz``
+    (boundary points included)."""
+    limits = constraints.ConstraintParams(params.eps, params.sigma, params.lipschitz)
     inside = (tri.theta > 0) & (tri.theta < np.pi)
     return inside & constraints.feasible(tri.scaled(params), limits)
 
@@ -181,9 +179,8 @@ def _candidates(
     n: int,
     rng: np.random.Generator,
     biased: bool,
-    lipschitz: float | None,
 ):
-    eps, lfs = params.eps, params.lfs
+    eps, lfs, lipschitz = params.eps, params.lfs, params.lipschitz
     lo = constraints.edge_min(eps, params.sigma) * lfs
     hi = constraints.edge_cap(eps, params.sigma) * eps * lfs
     b = rng.uniform(lo, hi, n)
@@ -224,19 +221,15 @@ def sample_feasible(
     params: SamplingParams,
     count: int,
     rng: np.random.Generator,
-    lipschitz: float | None = None,
     biased_fraction: float = 0.5,
     max_rounds: int = 200,
 ) -> GuideTriangles:
-    """``count`` feasible configurations by rejection: uniform, and biased to the boundaries.
+    """``count`` feasible configurations (the constraint set with ``params.lipschitz``) by
+    rejection: uniform, and biased to the boundaries.
 
-    Raises InputError when the constraint set is empty at ``params`` (σ(1−ε) > √3).
+    Raises EmptyConstraintSet when the constraint set is empty at ``params`` (σ(1−ε) > √3).
     """
-    if constraints.is_empty(params.eps, params.sigma):
-        raise InputError(
-            f"no guide triangle is feasible at eps={params.eps:g}, sigma={params.sigma:g}: "
-            "sparsity (34)-(36) and H3 need sigma*(1 - eps) <= sqrt(3)"
-        )
+    constraints.require_guide_triangles(params.eps, params.sigma)
     kept: list[GuideTriangles] = []
     total = 0
     for _ in range(max_rounds):
@@ -244,8 +237,8 @@ def sample_feasible(
             break
         batch = max(4 * (count - total), 1024)
         biased = rng.random() < biased_fraction
-        cand = _candidates(params, batch, rng, biased, lipschitz)
-        good = cand.take(feasible_mask(cand, params, lipschitz))
+        cand = _candidates(params, batch, rng, biased)
+        good = cand.take(feasible_mask(cand, params))
         kept.append(good)
         total += len(good)
     if not kept or total == 0:

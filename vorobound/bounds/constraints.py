@@ -36,6 +36,8 @@ from types import ModuleType
 
 import numpy as np
 
+from ..errors import EmptyConstraintSet
+
 FEASIBILITY_RTOL = 1e-12
 """A numeric constraint counts as met when ``large − small ≥ −FEASIBILITY_RTOL·(|large| +
 |small|)``: points on the boundary, up to rounding, are feasible."""
@@ -92,6 +94,17 @@ def is_empty(eps, sigma) -> bool:
     k_sin > √3/2, which no angle of a triangle can exceed at all three vertices.
     """
     return bool(sigma * (1 - eps) > SQRT3)
+
+
+def require_guide_triangles(eps, sigma) -> None:
+    """Raise :class:`~vorobound.errors.EmptyConstraintSet` when :func:`is_empty` holds: the one
+    place that says so, for every bound, solver and sampler of feasible triangles."""
+    if is_empty(eps, sigma):
+        raise EmptyConstraintSet(
+            f"no feasible guide triangle at eps = {float(eps):g}, sigma = {float(sigma):g}: "
+            "sparsity (34)-(36) and H3 need sigma*(1 - eps) <= sqrt(3) (every edge is at least "
+            "sigma*eps*L_i and the shortest at most sqrt(3) R), so every bound is vacuous there"
+        )
 
 
 def empty_below(sigma) -> float:

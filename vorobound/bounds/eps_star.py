@@ -9,28 +9,25 @@ eq. (52) needs |k_cos| ≤ 1) before it reaches the target, there is no ε*, and
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, NoAdmissibleEps
+from ..checks import EPS_RANGE
+from ..errors import InputError, NoAdmissibleEps, NoCrossing
 from . import constraints
 from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
 from .configurations import GuideConfiguration
-from .params import EPS_RANGE, Mode, QualityParams, SamplingParams
-from .targets import Target
+from .params import Mode, QualityParams, SamplingParams, Target
+from .roots import bracketed_roots, largest_root
 
 SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 800)
 """ε values scanned for the first crossing of bound and target (log-spaced)."""
 RTOL = 1e-13
-"""Relative tolerance of brentq on ε (its absolute tolerance scales with the bracket)."""
+"""Relative width of the bracket at which an ε* is final (well below what any output prints)."""
 EMPTY_START_RTOL = 1e-6
 """Scans for σ > √3 start this far (relative) above the ε below which no guide triangle exists."""
-
-
-class NoCrossing(NoAdmissibleEps):
-    """The bound stays below the target wherever it is defined: no root, so no ε*."""
 
 
 @dataclass(frozen=True)
@@ -38,9 +35,10 @@ class EpsStar:
     """Result of an ε* solver."""
 
     eps_star: float
-    """Largest ε with bound(ε) ≤ (ρ_f − 1)·δ·L_i (the first crossing above the scan start)."""
+    """Largest ε whose bound meets the target (the first crossing above the scan start)."""
     mode: str
     quality: QualityParams
+    """The parameters asked about: σ, δ/ε, ρ_f, L_i, λ and the target."""
     residual: float
     """bound(ε*)/target(ε*) − 1 (zero up to the root finder's tolerance)."""
     iterations: int
@@ -52,10 +50,6 @@ class EpsStar:
     """Strength of the result: a word of :mod:`vorobound.bounds.claims`."""
     maximizer: GuideConfiguration | None = None
     """For the tight mode: the worst guide triangle at ε*."""
-    lipschitz: float | None = None
-    """The Lipschitz constant of the constraint set (tight mode), if any."""
-    target: str = "additive"
-    """Which target ε* is for: additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂)."""
     proven_lower_bound: float | None = None
     """When the claim is numerical: an ε* proven by the closed form to be admissible (a lower
     bound on the tight ε*), or None."""
@@ -64,6 +58,16 @@ class EpsStar:
     def params(self) -> SamplingParams:
         """The quality parameters at ε*."""
         return self.quality.at(self.eps_star)
+
+    @property
+    def target(self) -> str:
+        """Which target ε* is for: additive (R − R̂ ≤ (ρ_f − 1)δL_i) or ratio (R ≤ ρ_f·R̂)."""
+        return self.quality.target.value
+
+    @property
+    def lipschitz(self) -> float | None:
+        """The Lipschitz constant of the constraint set (tight mode), if any."""
+        return self.quality.lipschitz
 
 
 def feasible_start(quality: QualityParams, mode: str) -> float:
@@ -91,15 +95,13 @@ def feasible_grid(grid, start: float) -> np.ndarray:
 
 
 def chain_gap(chain, target: Target | str) -> np.ndarray:
-    """bound/target − 1 of a chain for ``target`` (NaN where the chain is undefined)."""
+    """bound/allowance − 1 of a chain for ``target`` (NaN where the chain is undefined)."""
     if Target(target) is Target.ratio:
-        return chain.share_bound / chain.share_target - 1
-    return chain.bound / chain.target - 1
+        return chain.share_bound / chain.share_allowance - 1
+    return chain.bound / chain.gap_allowance - 1
 
 
-def relative_gap_function(
-    quality: QualityParams, mode: Mode | str, target: Target | str = Target.additive
-) -> Callable:
+def relative_gap_function(quality: QualityParams, mode: Mode | str) -> Callable:
     """ε ↦ bound(ε)/target(ε) − 1 for the closed-form chains (vectorized; NaN where undefined).
 
     For the ratio target the bound is the chain's bound on (R − R̂)/R (eq. (30)) and the
@@ -111,7 +113,7 @@ def relative_gap_function(
         chain = chain_arrays(
             eps, quality.sigma, quality.delta_ratio, quality.lfs, quality.rho_f, mode
         )
-        return chain_gap(chain, target)
+        return chain_gap(chain, quality.target)
 
     return gap
 
@@ -171,44 +173,38 @@ def find_eps_star(
     grid=SCAN_GRID,
     method: str = "chain",
 ) -> EpsStar:
-    """Scan ``grid`` for the first ε where ``gap`` turns positive, then refine with brentq.
+    """Scan ``grid`` for the first ε where ``gap`` turns positive, then refine the crossing
+    with :func:`vorobound.bounds.roots.largest_root` (the largest ε whose gap is ≤ 0).
 
-    ``gap`` must accept an array of ε (for the scan) and a float (for brentq).
+    ``gap`` must accept an array of ε (for the scan) and a float (for the refinement).
     """
-    from scipy.optimize import brentq
-
     grid = np.asarray(grid, dtype=float)
     with np.errstate(invalid="ignore"):
         values = np.asarray(gap(grid), dtype=float)
     lo, hi = crossing_bracket(gap, values, grid, mode)
-    root, info = brentq(
-        lambda x: float(gap(x)), lo, hi, xtol=lo * RTOL, rtol=RTOL, full_output=True
-    )
+    root, steps = largest_root(lambda x: float(gap(x)), lo, hi, rtol=RTOL)
     return EpsStar(
         eps_star=float(root),
         mode=mode,
         quality=quality,
         residual=float(gap(root)),
-        iterations=int(info.iterations),
+        iterations=steps,
         bracket=(lo, hi),
         method=method,
         claim=claim,
     )
 
 
-def solve_eps_star(
-    quality: QualityParams, mode: Mode | str = Mode.paper, target: Target | str = Target.additive
-) -> EpsStar:
+def solve_eps_star(quality: QualityParams, mode: Mode | str = Mode.paper) -> EpsStar:
     """Largest ε keeping a chain's bound within the target.
 
     Parameters
     ----------
     quality : QualityParams
-        σ, δ/ε, ρ_f and L_i.
+        σ, δ/ε, ρ_f, L_i and the target: R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54))
+        through eq. (30). The chains have no Lipschitz condition.
     mode : {"paper", "rigorous"}
         Which chain; the tight mode lives in :mod:`vorobound.bounds.tight`.
-    target : {"additive", "ratio"}
-        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)) through eq. (30).
 
     Raises
     ------
@@ -220,21 +216,15 @@ def solve_eps_star(
     ----------
     Eq. (29), (33)–(55); Figure 3.
     """
-    mode, target = Mode(mode), Target(target)
+    mode = Mode(mode)
     if mode is Mode.tight:
         raise InputError("solve_eps_star handles the chains; use vorobound.bounds.tight")
     start = feasible_start(quality, mode.value)
-    gap = relative_gap_function(quality, mode, target)
+    gap = relative_gap_function(quality, mode)
     grid = feasible_grid(SCAN_GRID, start)
-    result = find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
-    return replace(result, target=target.value)
+    return find_eps_star(gap, mode.value, quality, CHAIN_CLAIM[mode.value], grid=grid)
 
 
-ROOT_ITERATIONS = 100
-"""Most Illinois (safeguarded regula falsi) steps per row in the batched solver; rows stop as
-soon as their bracket is a few float spacings wide (typically after 6 to 10 steps)."""
-ROOT_SPACINGS = 4
-"""A row's root is converged when its bracket is at most this many float spacings wide."""
 BATCH_SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 200)
 """Coarser scan for the batched solver; bound/target rises monotonically in ε for the chains,
 so the first crossing is the same (checked against :func:`solve_eps_star` in the tests)."""
@@ -342,47 +332,6 @@ def solve_eps_star_batch(
     status[first_eps[:, 0] >= EPS_RANGE[1]] = STATUS_EMPTY
     ok = status == STATUS_OK
     rows = np.flatnonzero(ok)
-    lo[rows] = _bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)
+    lo[rows] = bracketed_roots(gap_at, lo[rows], hi[rows], f_lo[rows], f_hi[rows], rows)[0]
     stars = np.where(ok, lo, np.nan).reshape(shape)
     return stars, status.reshape(shape)
-
-
-def _bracketed_roots(gap, lo, hi, f_lo, f_hi, index) -> np.ndarray:
-    """Vectorized Illinois iteration: for each row, the largest ε with gap ≤ 0 in [lo, hi].
-
-    ``gap(eps, index)`` evaluates the rows ``index``; on entry gap(lo) ≤ 0 < gap(hi). Each step
-    takes the secant point of log(1 + gap) against log ε (the chains behave like powers of ε,
-    so this is nearly linear; the midpoint if the point is not strictly inside), keeps the
-    sign change, and halves the retained end's value after two steps on the same side, which
-    makes the convergence superlinear without losing the bracket.
-    """
-    lo, hi, f_lo, f_hi = (np.array(x, dtype=float) for x in (lo, hi, f_lo, f_hi))
-    side = np.zeros(lo.shape, dtype=int)
-    active = np.arange(lo.size)
-    for _ in range(ROOT_ITERATIONS):
-        width = hi[active] - lo[active]
-        active = active[width > ROOT_SPACINGS * np.spacing(hi[active])]
-        if not active.size:
-            break
-        a, b = lo[active], hi[active]
-        with np.errstate(all="ignore"):
-            fa, fb = np.log1p(f_lo[active]), np.log1p(f_hi[active])
-            x = np.exp(np.log(b) - fb * (np.log(b) - np.log(a)) / (fb - fa))
-        # Keep the point a few float spacings inside the bracket: when the secant lands on an
-        # end (its value there is already ~0), this step then closes the bracket.
-        margin = ROOT_SPACINGS / 2 * np.spacing(b)
-        x = np.where(np.isfinite(x), x, 0.5 * (a + b))
-        x = np.clip(x, a + margin, b - margin)
-        with np.errstate(invalid="ignore"):
-            fx = gap(x, index[active])
-        above = fx > 0
-        rows_above, rows_below = active[above], active[~above]
-        hi[rows_above], f_hi[rows_above] = x[above], fx[above]
-        lo[rows_below], f_lo[rows_below] = x[~above], fx[~above]
-        # Illinois: a second step on the same side halves the other end's value.
-        same_above = rows_above[side[rows_above] == 1]
-        same_below = rows_below[side[rows_below] == -1]
-        f_lo[same_above] *= 0.5
-        f_hi[same_below] *= 0.5
-        side[rows_above], side[rows_below] = 1, -1
-    return lo

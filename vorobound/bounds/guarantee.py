@@ -18,9 +18,9 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..progress import Progress
 from .claims import CHAIN_CLAIM
+from .constraints import require_guide_triangles
 from .eps_star import EpsStar, solve_eps_star
-from .params import Mode, QualityParams, SamplingParams, checked_lipschitz
-from .targets import Target
+from .params import Mode, QualityParams, SamplingParams, Target, checked_mode
 
 DEFAULT_MODE = Mode.tight
 """The proven mode every command defaults to (closed form where proven, docs/tight.md)."""
@@ -29,43 +29,40 @@ DEFAULT_TARGET = Target.ratio
 ALL_TARGETS = (Target.additive, Target.ratio)
 
 
-def checked_question(mode, target, lipschitz):
-    """(Mode, Target, λ) validated once; λ belongs to the tight mode only."""
-    try:
-        mode = Mode(mode)
-    except ValueError:
-        raise InputError(f"mode must be paper, rigorous or tight, got {mode!r}") from None
-    try:
-        target = Target(target)
-    except ValueError:
-        raise InputError(f"target must be additive or ratio, got {target!r}") from None
-    lipschitz = checked_lipschitz(lipschitz)
-    if mode is not Mode.tight and lipschitz is not None:
+def checked_question(mode, quality: QualityParams) -> Mode:
+    """The mode, validated against the parameters once: λ belongs to the tight mode only (the
+    chains are stated without a Lipschitz condition)."""
+    mode = checked_mode(mode)
+    if not isinstance(quality, QualityParams):
+        raise InputError(f"quality must be QualityParams, got {type(quality).__name__}")
+    if mode is not Mode.tight and quality.lipschitz is not None:
         raise InputError("a Lipschitz constant applies to the tight mode only")
-    return mode, target, lipschitz
+    return mode
+
+
+def for_mode(quality: QualityParams, mode) -> QualityParams:
+    """``quality`` as ``mode`` takes it: the chains drop λ (they have no Lipschitz condition)."""
+    if checked_mode(mode) is Mode.tight or quality.lipschitz is None:
+        return quality
+    return quality.but(lipschitz=None)
 
 
 def eps_star(
     quality: QualityParams,
     mode: Mode | str = DEFAULT_MODE,
-    target: Target | str = DEFAULT_TARGET,
-    lipschitz: float | None = None,
     method: str = "auto",
     progress: Progress | None = None,
 ) -> EpsStar:
-    """The largest ε at which ``mode``'s bound meets ``target`` (with its claim).
+    """The largest ε at which ``mode``'s bound meets ``quality.target`` (with its claim).
 
     Parameters
     ----------
     quality : QualityParams
-        σ, δ/ε, ρ_f and L_i.
+        σ, δ/ε, ρ_f, L_i, λ (tight mode only) and the target: R − R̂ ≤ (ρ_f − 1)δL_i
+        (additive), or R ≤ ρ_f·R̂ (ratio, eq. (54)).
     mode : {"paper", "rigorous", "tight"}
         The printed chain (invalid), the corrected chain (proven) or the supremum over the
         constraint set (proven in closed form where docs/tight.md says so, else numerical).
-    target : {"additive", "ratio"}
-        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)).
-    lipschitz : float, optional
-        λ of the tight mode's Lipschitz conditions.
     method : {"auto", "optimize"}
         Tight mode: the closed form where proven, or always the optimizer.
     progress : Progress, optional
@@ -75,12 +72,12 @@ def eps_star(
     NoAdmissibleEps
         No ε meets the target (or, as NoCrossing, every supported ε does).
     """
-    mode, target, lipschitz = checked_question(mode, target, lipschitz)
+    mode = checked_question(mode, quality)
     if mode is Mode.tight:
         from .tight.method import tight_eps_star
 
-        return tight_eps_star(quality, lipschitz, method, progress, target)
-    return solve_eps_star(quality, mode, target)
+        return tight_eps_star(quality, method, progress)
+    return solve_eps_star(quality, mode)
 
 
 @dataclass(frozen=True)
@@ -110,43 +107,46 @@ class BoundAt:
 def bound_at(
     params: SamplingParams,
     mode: Mode | str = DEFAULT_MODE,
-    target: Target | str = DEFAULT_TARGET,
-    lipschitz: float | None = None,
     method: str = "auto",
 ) -> BoundAt:
-    """``mode``'s bound at ``params.eps`` for ``target`` (NaN fraction where a chain is
-    undefined)."""
-    mode, target, lipschitz = checked_question(mode, target, lipschitz)
+    """``mode``'s bound at ``params.eps`` for ``params.target``.
+
+    Raises
+    ------
+    EmptyConstraintSet
+        When no guide triangle exists at this ε (σ(1 − ε) > √3): every bound is vacuous.
+    """
+    mode = checked_question(mode, params.quality)
+    require_guide_triangles(params.eps, params.sigma)
     if mode is Mode.tight:
         from .tight.method import tight_bound
 
-        tight = tight_bound(params, lipschitz, method, target)
-        limit = params.rho_f if target is Target.ratio else params.target
+        tight = tight_bound(params, method)
         return BoundAt(
             mode.value,
-            target.value,
+            params.target.value,
             tight.value,
-            limit,
+            params.limit,
             tight.fraction,
             tight.claim,
             tight.method,
-            lipschitz,
+            params.lipschitz,
             tight,
         )
     from .chain import chain_bounds
 
     chain = chain_bounds(params, mode)
-    if target is Target.ratio:
-        value, limit = float(chain.ratio_bound), params.rho_f
-        fraction = float(chain.share_bound) / float(chain.share_target)
+    if params.target is Target.ratio:
+        value = float(chain.ratio_bound)
+        fraction = float(chain.share_bound) / params.share_allowance
     else:
-        value, limit = float(chain.bound), float(chain.target)
-        fraction = value / limit
+        value = float(chain.bound)
+        fraction = value / params.gap_allowance
     return BoundAt(
         mode.value,
-        target.value,
+        params.target.value,
         value,
-        limit,
+        params.limit,
         fraction,
         CHAIN_CLAIM[mode.value],
         "chain",

@@ -23,21 +23,11 @@ Eq. (16), (29)–(30), (54)–(55) and property H3 of Section 4.1.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
 
+from ..checks import EPS_RANGE
 from ..errors import NoAdmissibleEps
 from .claims import PROVEN
-from .params import EPS_RANGE, QualityParams
-
-
-class Target(str, Enum):
-    """Which quality statement a bound is asked to meet."""
-
-    additive = "additive"
-    """R − R̂ ≤ (ρ_f − 1)·δ·L_i (gives (55) through R̂ ≤ δL_i); the paper's target."""
-    ratio = "ratio"
-    """R ≤ ρ_f·R̂, eq. (54) (VoroCrust's Lemma 9 as the paper quotes it)."""
-
+from .params import QualityParams, Target
 
 STATEMENT = {
     Target.additive: "R - R^ <= (rho_f - 1) * delta * L_i (gives eq. (55) through R^ <= delta L_i)",
@@ -52,13 +42,6 @@ H3_STATUS = (
     "(h3_ratio_max <= 1 where it holds)"
 )
 """What every bound over the constraint set rests on, said wherever such a bound is printed."""
-
-
-def target_share(target: Target | str, rho_f: float) -> float:
-    """The largest admissible (R − R̂)/R for the ratio target: 1 − 1/ρ_f."""
-    if Target(target) is not Target.ratio:
-        raise ValueError("target_share is the ratio target's (R - R^)/R limit")
-    return 1 - 1 / rho_f
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,7 @@ app = typer.Typer(
     name="vorobound",
     no_args_is_help=True,
     add_completion=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
     help=(
         "Weighted-triangle geometry (circumradius vs orthoradius, Theorem 1) and the "
         "VoroCrust sampling bounds, audited."
@@ -58,10 +59,26 @@ app = typer.Typer(
 )
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        print(f"vorobound {__version__}")
+        raise typer.Exit(0)
+
+
 @app.callback()
 def _root(
     debug: bool = typer.Option(
-        False, "--debug", help="Show the traceback of an unexpected error (a bug)."
+        False, "--debug", metavar="", help="Show the traceback of an unexpected error (a bug)."
+    ),
+    version: bool = typer.Option(
+        False,
+        "--version",
+        metavar="",
+        callback=_print_version,
+        is_eager=True,
+        help="Print the version and exit.",
     ),
 ) -> None:
     """Weighted-triangle geometry (Theorem 1) and the VoroCrust sampling bounds, audited.

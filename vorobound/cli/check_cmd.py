@@ -8,11 +8,25 @@ from typing import Annotated
 
 import typer
 
-from ..errors import InputError
-from .options import DeltaRatio, Eps, Json, RhoF, Seed, Sigma
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .options import (
+    DeltaRatio,
+    Eps,
+    FigureFormat,
+    FigureFormatOpt,
+    Json,
+    MeshLfsOpt,
+    MeshOpt,
+    RhoF,
+    Seed,
+    Sigma,
+    SizingOpt,
+    SphereOpt,
+    TorusOpt,
+    parse_numbers,
+)
 from .progress import progress_bar
-from .render import fmt, print_json, print_table
-from .sample_cmd import MeshLfsOpt, MeshOpt, SizingOpt, SphereOpt, TorusOpt, surface_shape
+from .render import emit, fmt, print_table
 
 
 class EngineChoice(str, Enum):
@@ -33,19 +47,21 @@ def check(
         Path | None,
         typer.Option(
             "--balls",
+            metavar="FILE",
             help="Check these balls instead of sampling: CSV or NPZ with x, y, z, r, or a "
             "point set meshio reads with a point-data array r/radius. L_i = r_i/δ. With a "
             "surface option too, coverage is measured on that surface.",
         ),
     ] = None,
-    sigma: Sigma = 0.75,
-    delta_ratio: DeltaRatio = 2.0,
-    rho_f: RhoF = 1.38,
+    sigma: Sigma = PAPER_SIGMA,
+    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
+    rho_f: RhoF = PAPER_RHO_F,
     seed: Seed = 0,
     lipschitz: Annotated[
         float | None,
         typer.Option(
             "--lipschitz",
+            metavar="LAMBDA",
             help="λ that L = r/δ of --balls should satisfy, |L_i − L_j| ≤ λ|p_i − p_j| "
             "(default 1, as for a local feature size); a sampled surface uses its own λ.",
         ),
@@ -63,69 +79,51 @@ def check(
         Path | None,
         typer.Option(
             "--out",
+            metavar="DIR",
             help="Folder for triangles.csv, summary.json, sample.vtu (ParaView) and "
-            "gap_histogram.<format>.",
+            "gap_histogram.<figure format>, written as one set.",
         ),
     ] = None,
-    fmt_: Annotated[
-        str, typer.Option("--format", help="Figure format for --out: png, pdf or svg.")
-    ] = "png",
+    figure_format: FigureFormatOpt = FigureFormat.png,
     as_json: Json = False,
-) -> None:
+) -> int:
     """Sample a surface (or read balls) and measure every guide triangle against the bounds.
 
     Guide triangles are the ball triples whose two seeds lie outside every other ball. Each is
     measured: realized ρ = R/(δL_i), gap (R − R̂)/(εL_i) of Theorem 1, whether it lies in the
     constraint set (33)–(36), H3, sparsity and λ-Lipschitz, and whether it exceeds each mode's
     bound at this ε. The sample itself is checked for coverage, sparsity and Lipschitz L.
+    Exit code 1 when anything checked fails (the last line counts it). Python:
+    vorobound.check(eps=..., torus=(3, 1)).
     """
-    from ..bounds.params import SamplingParams, checked_lipschitz
-    from ..checks import checked_seed
-    from ..files import checked_folder
-    from ..reports.check import check_balls, check_surface
-    from .options import quality_params
+    from ..api.check import check as run
 
-    if fmt_ not in ("png", "pdf", "svg"):
-        raise InputError(f"--format: expected png, pdf or svg, got {fmt_!r}")
-    seed = checked_seed(seed)
-    if out is not None:
-        checked_folder(out)
-    quality = quality_params(sigma, delta_ratio, rho_f)
-    params = SamplingParams(eps, quality)
     with progress_bar(not as_json) as progress:
-        shape = surface_shape(sphere, torus, mesh, lfs, sizing, balls is None, progress)
-        if balls is not None:
-            from ..sampling.io.balls import read_balls
+        result = run(
+            eps=eps,
+            sphere=sphere,
+            torus=None if torus is None else parse_numbers(torus, "--torus", 2),
+            mesh=mesh,
+            lfs=lfs,
+            sizing=sizing,
+            balls=balls,
+            sigma=sigma,
+            delta_ratio=delta_ratio,
+            rho_f=rho_f,
+            seed=seed,
+            lipschitz=lipschitz,
+            engine=engine.value,
+            out=out,
+            figure_format=figure_format.value,
+            progress=progress,
+        )
+    return emit(result, as_json, _show)
 
-            lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
-            report = check_balls(
-                read_balls(balls), params, lam, engine.value, shape, balls.name, progress
-            )
-        else:
-            if lipschitz is not None:
-                raise InputError("--lipschitz goes with --balls (a surface's L has a known λ)")
-            report = check_surface(shape, params.eps, quality, seed, engine.value, progress)
-        written = _write_outputs(report, out, fmt_) if out is not None else []
-    summary = report.summary()
-    if as_json:
-        print_json(summary | {"written": [str(p) for p in written]})
-        return
-    _print_summary(summary)
-    for path in written:
+
+def _show(result) -> None:
+    _print_summary(result.to_dict())
+    for path in result.written:
         print(f"wrote {path}")
-
-
-def _write_outputs(report, out, fmt_: str) -> list:
-    """triangles.csv, summary.json, sample.vtu and the gap histogram, written as one set."""
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_gap_histogram
-    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks, output_writers
-
-    folder = ensure_folder(out)
-    writers = output_writers(report, folder)
-    figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
-    writers[folder / f"{GAP_HISTOGRAM_STEM}.{fmt_}"] = figure_writer(figure, fmt_)
-    return write_set(writers)
 
 
 def _print_summary(s: dict) -> None:

@@ -2,55 +2,50 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated
 
 import typer
 
 from .options import Json, Seed
 from .progress import progress_bar
-from .render import fmt, print_json, print_table
+from .render import emit, fmt, print_table
 
 
 def cheng(
-    alpha: Annotated[float, typer.Option("--alpha", help="Weight factor α in [0, 1/2).")],
+    alpha: Annotated[
+        float, typer.Option("--alpha", metavar="ALPHA", help="Weight factor α in [0, 1/2).")
+    ],
     dim: Annotated[
-        int, typer.Option("--dim", help="2: triangles; 3: tetrahedra (circumsphere/orthosphere).")
+        int,
+        typer.Option(
+            "--dim", metavar="2|3", help="2: triangles; 3: tetrahedra (circumsphere/orthosphere)."
+        ),
     ] = 2,
     seed: Seed = 0,
     as_json: Json = False,
-) -> None:
+) -> int:
     """R/R̂ for weights in [0, α²N(s)²]: c_rad = 1/sqrt(1−4α²), the conjectured 1/sqrt(1−3α²),
     and the numerically maximized ratio (docs/cheng.md)."""
-    from ..studies.cheng import cheng_constants
+    from ..api.cheng import cheng as run
 
     with progress_bar(not as_json) as progress:
-        progress("global search and polishes", 0, None)
-        result = cheng_constants(alpha, dim=dim, seed=seed)
-    unbounded = math.isinf(result.numeric_sup)
-    if as_json:
-        print_json(
-            {
-                "alpha": result.alpha,
-                "dim": result.dim,
-                "c_rad": result.c_rad,
-                "c_conjectured": result.c_conjectured,
-                "numeric_sup": result.numeric_sup,
-                "unbounded": unbounded,
-                "maximizer": result.maximizer,
-                "evidence": result.evidence,
-            }
-        )
-        return
+        result = run(alpha=alpha, dim=dim, seed=seed, progress=progress)
+    return emit(result, as_json, _show)
+
+
+def _show(result) -> None:
     print_table(
-        f"Cheng et al. constant, α = {alpha:g}, {'triangles' if dim == 2 else 'tetrahedra'}",
+        f"Cheng et al. constant, α = {result.alpha:g}, "
+        f"{'triangles' if result.dim == 2 else 'tetrahedra'}",
         ("quantity", "value"),
         [
             ("c_rad = 1/sqrt(1 − 4α²)", fmt(result.c_rad, 12)),
             ("conjectured 1/sqrt(1 − 3α²)", fmt(result.c_conjectured, 12)),
             (
                 "numeric sup R/R̂",
-                "unbounded (grows like 1/height)" if unbounded else fmt(result.numeric_sup, 12),
+                "unbounded (grows like 1/height)"
+                if result.unbounded
+                else fmt(result.numeric_sup, 12),
             ),
         ],
     )

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Annotated
 
@@ -10,13 +9,25 @@ import typer
 
 from .options import Json, Seed
 from .progress import progress_bar
-from .render import fmt, print_json, print_table
+from .render import emit, fmt, print_table
 
 
 def lfs(
+    mesh_file: Annotated[
+        Path | None,
+        typer.Argument(
+            metavar="[MESH]",
+            hidden=True,
+            help="The mesh as a positional argument (deprecated: use --mesh, as every command "
+            "does).",
+        ),
+    ] = None,
     mesh: Annotated[
-        Path, typer.Argument(help="Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...).")
-    ],
+        Path | None,
+        typer.Option(
+            "--mesh", metavar="FILE", help="Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
+        ),
+    ] = None,
     output: Annotated[
         list[Path] | None,
         typer.Option(
@@ -43,6 +54,7 @@ def lfs(
         float,
         typer.Option(
             "--lipschitz",
+            metavar="LAMBDA",
             help="λ in [1e-12, 1e6]: make L λ-Lipschitz, L(x) ← min_y L(y) + λ|x − y|. The "
             "distance to the medial axis is already 1-Lipschitz; λ < 1 lowers it (a gentler "
             "sizing field).",
@@ -52,6 +64,7 @@ def lfs(
         float,
         typer.Option(
             "--sharp-angle",
+            metavar="DEGREES",
             help="Edges whose face normals differ by more than this many degrees are sharp: "
             "they split the surface into smooth patches, and L is that of the piecewise-smooth "
             "surface (docs/lfs.md).",
@@ -59,7 +72,7 @@ def lfs(
     ] = 30.0,
     seed: Seed = 0,
     as_json: Json = False,
-) -> None:
+) -> int:
     """Local feature size L of the piecewise-smooth surface a mesh describes, at every vertex.
 
     Sharp edges (--sharp-angle) split the surface into smooth patches. L is the largest
@@ -71,67 +84,27 @@ def lfs(
     say where the two estimates disagree, and name an open or non-manifold mesh, degenerate
     faces or coarse curved patches. `sample --mesh` and `advise --mesh` use this same L.
     """
-    import numpy as np
+    from ..api.lfs import lfs as run
+    from ..errors import InputError
 
-    from ..checks import checked_seed
-    from ..files import write_set
-    from ..sampling.io.lfs_files import checked_lfs_output, lfs_writers
-    from ..sampling.io.meshes import read_triangle_mesh
-    from ..sampling.lfs.estimate import estimate_lfs
-
-    seed = checked_seed(seed)
-    outputs = [checked_lfs_output(path) for path in output or []]
-    start = time.perf_counter()
-    triangle_mesh = read_triangle_mesh(mesh)
+    if (mesh is None) == (mesh_file is None):
+        raise InputError("give the mesh once: --mesh FILE")
     with progress_bar(not as_json) as progress:
-        options = {} if samples is None else {"samples": samples}
-        estimate = estimate_lfs(
-            triangle_mesh,
+        result = run(
+            mesh=mesh or mesh_file,
+            output=output or None,
+            samples=samples,
             lipschitz=lipschitz,
             sharp_angle=sharp_angle,
             seed=seed,
             progress=progress,
-            **options,
         )
-    seconds = time.perf_counter() - start
-    written = [str(path) for path in write_set(lfs_writers(outputs, estimate))]
-    values = estimate.lfs
-    report = estimate.mesh_report
-    payload = {
-        "mesh": str(mesh),
-        "method": estimate.method,
-        "vertices": len(triangle_mesh.points),
-        "triangles": len(triangle_mesh.triangles),
-        "samples": estimate.sample_count,
-        "added_samples": estimate.added_samples,
-        "medial_points": len(estimate.medial_points),
-        "lipschitz": estimate.lipschitz,
-        "lfs_min": float(values.min()),
-        "lfs_median": float(np.median(values)),
-        "lfs_max": float(values.max()),
-        "sharp_angle": estimate.sharp_angle,
-        "sharp_edges": len(estimate.sharp_edges),
-        "patches": estimate.patches,
-        "feature_edges": estimate.feature_edges,
-        "feature_corners": len(estimate.feature_corners),
-        "feature_length": estimate.feature_length,
-        "feature_inv_lfs": estimate.feature_inv_lfs,
-        "rounds": estimate.rounds,
-        "face_sites": int((estimate.sites.kind == 1).sum()),
-        "thickness_min": _finite_min(estimate.sites.thickness),
-        "disagreement": estimate.disagreement,
-        "max_dihedral": estimate.max_dihedral,
-        "boundary_edges": report.boundary_edges,
-        "nonmanifold_edges": report.nonmanifold_edges,
-        "degenerate_triangles": report.degenerate_triangles,
-        "duplicate_vertices": report.duplicate_vertices,
-        "warnings": list(estimate.warnings),
-        "written": written,
-        "seconds": seconds,
-    }
-    if as_json:
-        print_json(payload)
-        return
+    return emit(result, as_json, _show)
+
+
+def _show(result) -> None:
+    estimate = result.estimate
+    payload = result.to_dict()
     rows = [
         ("vertices / triangles", f"{payload['vertices']:,} / {payload['triangles']:,}"),
         (
@@ -154,20 +127,14 @@ def lfs(
             " / ".join(fmt(payload[k], 6) for k in ("lfs_min", "lfs_median", "lfs_max")),
         ),
         ("Lipschitz constant", fmt(estimate.lipschitz)),
-        (f"sharp edges (> {sharp_angle:g}°)", f"{payload['sharp_edges']:,}"),
+        (f"sharp edges (> {estimate.sharp_angle:g}°)", f"{payload['sharp_edges']:,}"),
         ("largest dihedral angle", f"{estimate.max_dihedral:.1f}°"),
-        ("time", f"{seconds:.2f} s"),
+        ("time", f"{result.seconds:.2f} s"),
     ]
-    rows += [("written", path) for path in written]
-    print_table(f"Local feature size of {mesh.name}", ("quantity", "value"), rows)
+    rows += [("written", path) for path in result.written]
+    name = Path(result.mesh).name
+    print_table(f"Local feature size of {name}", ("quantity", "value"), rows)
     print(f"method: {estimate.method}; estimate (numerical), not a certified bound")
-
-
-def _finite_min(values):
-    import numpy as np
-
-    finite = values[np.isfinite(values)]
-    return float(finite.min()) if len(finite) else None
 
 
 def _disagreement(info: dict) -> str:

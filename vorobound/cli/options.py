@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from enum import Enum
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -46,11 +47,12 @@ TargetsOpt = Annotated[
 
 def parse_targets(text: str) -> list[str]:
     """``--target`` as a comma list of additive, ratio (duplicates dropped, order kept)."""
-    names = [t.strip() for t in text.split(",")]
-    bad = [t for t in names if t not in TargetChoice.__members__]
-    if bad or not names:
-        raise InputError(f"--target: expected additive or ratio, got {text!r}")
-    return list(dict.fromkeys(names))
+    from ..bounds.params import checked_targets
+
+    try:
+        return [t.value for t in checked_targets(text)]
+    except InputError:
+        raise InputError(f"--target: expected additive or ratio, got {text!r}") from None
 
 
 TightMethodOpt = Annotated[
@@ -68,40 +70,114 @@ MODE_HELP = (
     "(33)–(53), invalid (docs/errata.md E4), kept to reproduce the paper."
 )
 
-Eps = Annotated[float, typer.Option("--eps", help="Sampling density ε, 0 < ε < 1.")]
-Sigma = Annotated[float, typer.Option("--sigma", help=f"Sparsity σ (paper: {PAPER_SIGMA:g}).")]
+Eps = Annotated[float, typer.Option("--eps", metavar="EPS", help="Sampling density ε, 0 < ε < 1.")]
+Sigma = Annotated[
+    float, typer.Option("--sigma", metavar="SIGMA", help=f"Sparsity σ (paper: {PAPER_SIGMA:g}).")
+]
 DeltaRatio = Annotated[
     float,
     typer.Option(
         "--delta-ratio",
+        metavar="RATIO",
         help=f"Ball radius over ε, δ/ε (paper: {PAPER_DELTA_RATIO:g}, δ = 2ε).",
     ),
 ]
-Lfs = Annotated[float, typer.Option("--lfs", help="Local feature size L_i (paper: 1).")]
+Lfs = Annotated[
+    float, typer.Option("--lfs", metavar="L", help="Local feature size L_i (paper: 1).")
+]
 RhoF = Annotated[
     float,
     typer.Option(
-        "--rho-f", help=f"Quality constant ρ_f > 1 in R ≤ ρ_f δ L_i (paper: {PAPER_RHO_F:g})."
+        "--rho-f",
+        metavar="RHO_F",
+        help=f"Quality constant ρ_f > 1 in R ≤ ρ_f δ L_i (paper: {PAPER_RHO_F:g}).",
     ),
 ]
-ModeOpt = Annotated[ModeChoice, typer.Option("--mode", help=MODE_HELP)]
+ModeOpt = Annotated[ModeChoice, typer.Option("--mode", metavar="MODES", help=MODE_HELP)]
 Lipschitz = Annotated[
     float | None,
     typer.Option(
         "--lipschitz",
+        metavar="LAMBDA",
         help="Tight mode only: add |L_x − L_y| ≤ λ|p_x − p_y| for each pair (λ = 1: local "
         "feature size; sizing fields often use 0.1–0.3).",
     ),
 ]
-Json = Annotated[bool, typer.Option("--json", help="Print one JSON object (for programs).")]
-Seed = Annotated[int, typer.Option("--seed", help="Random seed, 0 ≤ seed < 2⁶³ (deterministic).")]
+SphereOpt = Annotated[
+    float | None, typer.Option("--sphere", metavar="R", help="Sphere of radius R (L = R).")
+]
+TorusOpt = Annotated[
+    str | None,
+    typer.Option("--torus", metavar="R,r", help="Ring torus, radii R > r (L = min(r, ρ))."),
+]
+MeshOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--mesh",
+        metavar="FILE",
+        help="Triangle mesh (any format meshio reads); L from --lfs, --sizing, or else "
+        "estimated from the mesh as by `vorobound lfs` (sharp features sampled first).",
+    ),
+]
+MeshLfsOpt = Annotated[
+    float | None,
+    typer.Option("--lfs", metavar="L", help="Constant local feature size L of the mesh."),
+]
+SizingOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--sizing", metavar="FILE", help="CSV with the local feature size L per mesh vertex."
+    ),
+]
 
 
-def quality_params(sigma: float, delta_ratio: float, rho_f: float, lfs: float = 1.0):
+Out = Annotated[
+    Path,
+    typer.Option(
+        "--out",
+        metavar="DIR",
+        help="Folder to write the figures into (default: ./vorobound-figures, created).",
+    ),
+]
+NoTight = Annotated[
+    bool,
+    typer.Option(
+        "--no-tight", metavar="", help="Skip the tight mode (its optimizations take time)."
+    ),
+]
+
+
+class FigureFormat(str, Enum):
+    png = "png"
+    pdf = "pdf"
+    svg = "svg"
+
+
+FigureFormatOpt = Annotated[
+    FigureFormat, typer.Option("--figure-format", help="File format of the figures.")
+]
+
+
+Json = Annotated[
+    bool, typer.Option("--json", metavar="", help="Print one JSON object (for programs).")
+]
+Seed = Annotated[
+    int, typer.Option("--seed", metavar="SEED", help="Random seed, 0 ≤ seed < 2⁶³ (deterministic).")
+]
+
+
+def quality_params(
+    sigma: float,
+    delta_ratio: float,
+    rho_f: float,
+    lfs: float = 1.0,
+    lipschitz: float | None = None,
+    target: str = "ratio",
+):
     """The validated ε-free parameters (InputError names the parameter and its range)."""
     from ..bounds.params import QualityParams
 
-    return QualityParams(sigma=sigma, delta_ratio=delta_ratio, rho_f=rho_f, lfs=lfs)
+    return QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target)
 
 
 def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> dict:
@@ -116,11 +192,12 @@ def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> 
 
 def parse_modes(text: str) -> list[str]:
     """``--mode`` as a comma list of paper, rigorous, tight (duplicates dropped, order kept)."""
-    names = [m.strip() for m in text.split(",")]
-    bad = [m for m in names if m not in ModeChoice.__members__]
-    if bad or not names:
-        raise InputError(f"--mode: expected paper, rigorous or tight, got {text!r}")
-    return list(dict.fromkeys(names))
+    from ..bounds.params import checked_modes
+
+    try:
+        return [m.value for m in checked_modes(text)]
+    except InputError:
+        raise InputError(f"--mode: expected paper, rigorous or tight, got {text!r}") from None
 
 
 def parse_numbers(text: str, what: str, count: int | Sequence[int]) -> list[float]:

@@ -6,28 +6,16 @@ rendering, and a documented empty cell is ``null`` with its reason beside it.
 
 from __future__ import annotations
 
-import dataclasses
-import enum
 import json
 import math
 from collections.abc import Iterable, Sequence
 
 
 def jsonable(value):
-    """Plain JSON types for numpy values, dataclasses, enums, tuples; NaN/inf become null."""
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        value = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
-    if isinstance(value, enum.Enum):
-        value = value.value
-    if hasattr(value, "tolist"):
-        value = value.tolist()
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {str(k): jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [jsonable(v) for v in value]
-    return value
+    """Plain JSON types (see :func:`vorobound.api.result.jsonable`)."""
+    from ..api.result import jsonable as plain
+
+    return plain(value)
 
 
 def json_text(payload, indent: int | None = 2) -> str:
@@ -39,27 +27,50 @@ def print_json(payload) -> None:
     print(json_text(payload))
 
 
+ATOMIC_CELL = 24
+"""Cells with a digit and at most this many characters (numbers, counts, ranges) are never
+broken across lines."""
+
+
+def _atomic(cell: str) -> bool:
+    return len(cell) <= ATOMIC_CELL and any(ch.isdigit() for ch in cell)
+
+
 def print_table(title: str, columns: Sequence[str], rows: Iterable[Sequence[str]]) -> None:
-    """A rich table that never cuts a cell short: narrow columns fold their text onto more
-    lines (no "…"), and output that is not a terminal is laid out as wide as it needs."""
+    """A rich table that never cuts or breaks a number: a column of numbers is as wide as its
+    widest number, text folds onto more lines, and when even the numbers do not fit the width
+    of the terminal each row is printed as "column: value" lines instead. Output that is not a
+    terminal is laid out as wide as it needs."""
     import shutil
     import sys
 
     from rich.console import Console
     from rich.table import Table
 
-    rows = [list(row) for row in rows]
-    table = Table(title=title)
-    for name in columns:
-        table.add_column(name, overflow="fold")
-    for row in rows:
-        table.add_row(*row)
+    rows = [[str(cell) for cell in row] for row in rows]
+    cells = [list(columns), *rows]
+    widest = [max(len(r[i]) for r in cells) for i in range(len(columns))]
+    atomic = [
+        max((len(r[i]) for r in rows if _atomic(r[i])), default=0) for i in range(len(columns))
+    ]
     width = None
     if not sys.stdout.isatty():
-        cells = [list(columns), *rows]
-        widest = [max(len(str(r[i])) for r in cells) for i in range(len(columns))]
         width = max(shutil.get_terminal_size((100, 24)).columns, sum(widest) + 3 * len(widest) + 4)
-    Console(width=width).print(table)
+    console = Console(width=width)
+    needed = sum(max(a, min(w, 6)) for a, w in zip(atomic, widest, strict=True))
+    if needed + 3 * len(columns) + 1 > console.width:
+        console.print(title, style="italic", markup=False)
+        for row in rows:
+            for name, cell in zip(columns, row, strict=True):
+                console.print(f"  {name}: {cell}", markup=False, highlight=False, soft_wrap=True)
+            console.print()
+        return
+    table = Table(title=title)
+    for name, size in zip(columns, atomic, strict=True):
+        table.add_column(name, overflow="fold", min_width=size or None)
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
 
 
 def fmt(value, digits: int = 10) -> str:
@@ -69,3 +80,22 @@ def fmt(value, digits: int = 10) -> str:
     if isinstance(value, float):
         return f"{value:.{digits}g}"
     return str(value)
+
+
+EXIT_VIOLATION = 1
+"""The command ran and found a violation, or failed to certify (the count is in the last
+line)."""
+
+
+def emit(result, as_json: bool, show) -> int:
+    """Print ``result`` (its JSON, or ``show(result)`` for people) and return the exit code:
+    0 when everything the command checked holds, else 1 with the verdict as the last line."""
+    if as_json:
+        print_json(result.to_dict())
+    else:
+        show(result)
+    if result.ok:
+        return 0
+    if not as_json:
+        print(result.verdict)
+    return EXIT_VIOLATION

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from .figure_cmd import DEFAULT_OUT, NoTight, Out, tight_stars, write_figures
-from .options import DeltaRatio, Json, Lfs, RhoF, Sigma, params_dict, quality_params
+from ..api.figures import DEFAULT_OUT
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .options import DeltaRatio, Json, Lfs, NoTight, Out, RhoF, Sigma
 from .progress import progress_bar
-from .render import fmt, print_json, print_table
+from .render import emit, fmt, print_table
 
 
 def _cell(value) -> str:
@@ -16,13 +17,13 @@ def _cell(value) -> str:
 
 def reproduce(
     out: Out = DEFAULT_OUT,
-    sigma: Sigma = 0.75,
-    delta_ratio: DeltaRatio = 2.0,
+    sigma: Sigma = PAPER_SIGMA,
+    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     lfs: Lfs = 1.0,
-    rho_f: RhoF = 1.38,
+    rho_f: RhoF = PAPER_RHO_F,
     no_tight: NoTight = False,
     as_json: Json = False,
-) -> None:
+) -> int:
     """Every number the paper states beside this project's value for each mode; writes figures.
 
     Modes: paper (the printed chain: invalid), rigorous (the corrected chain: proven), tight
@@ -32,29 +33,23 @@ def reproduce(
     H3 alone gives (55). The tight modes are also certified by interval arithmetic up to
     0.999·ε* for both targets (`vorobound certify` writes the file).
     """
-    from ..reports.reproduce import reproduce as run_reproduce
+    from ..api.figures import reproduce as run
 
-    quality = quality_params(sigma, delta_ratio, rho_f, lfs)
     with progress_bar(not as_json) as progress:
-        summaries, rows = run_reproduce(quality, tight=not no_tight, progress=progress)
-        stars = {}
-        if not no_tight:
-            stars = tight_stars(quality, progress)
-        paths = write_figures(quality, out, "png", stars, progress)
-    if as_json:
-        print_json(
-            {
-                "params": params_dict(quality),
-                "eps_star": {s.mode: s.star.eps_star for s in summaries},
-                "eps_star_ratio": {s.mode: s.ratio_star.eps_star for s in summaries},
-                "claims": {s.mode: s.star.claim for s in summaries},
-                "rows": [
-                    {"quantity": r.quantity, "paper": r.paper, "values": r.values} for r in rows
-                ],
-                "figures": [str(p) for p in paths],
-            }
+        result = run(
+            out=out,
+            sigma=sigma,
+            delta_ratio=delta_ratio,
+            lfs=lfs,
+            rho_f=rho_f,
+            tight=not no_tight,
+            progress=progress,
         )
-        return
+    return emit(result, as_json, _show)
+
+
+def _show(result) -> None:
+    summaries, rows = result.summaries, result.rows
     modes = [s.mode for s in summaries]
     print_table(
         "The paper's claims and this project's values",
@@ -62,5 +57,5 @@ def reproduce(
         [(r.quantity, r.paper, *(_cell(r.values[m]) for m in modes)) for r in rows],
     )
     print("claims: " + ", ".join(f"{s.mode}: {s.star.claim}" for s in summaries))
-    for path in paths:
+    for path in result.written:
         print(f"wrote {path}")

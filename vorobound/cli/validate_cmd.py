@@ -6,6 +6,7 @@ from typing import Annotated
 
 import typer
 
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from .options import (
     DeltaRatio,
     Eps,
@@ -15,55 +16,58 @@ from .options import (
     RhoF,
     Seed,
     Sigma,
-    params_dict,
-    quality_params,
 )
 from .progress import progress_bar
-from .render import fmt, print_json, print_table
+from .render import emit, fmt, print_table
 
 
 def validate(
     eps: Eps,
     samples: Annotated[
-        int, typer.Option("--samples", help="Feasible configurations to draw (at most 2,000,000).")
+        int,
+        typer.Option(
+            "--samples", metavar="N", help="Feasible configurations to draw (at most 2,000,000)."
+        ),
     ] = 20000,
     seed: Seed = 0,
     lipschitz: Lipschitz = None,
-    sigma: Sigma = 0.75,
-    delta_ratio: DeltaRatio = 2.0,
+    sigma: Sigma = PAPER_SIGMA,
+    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     lfs: Lfs = 1.0,
-    rho_f: RhoF = 1.38,
+    rho_f: RhoF = PAPER_RHO_F,
     no_tight: Annotated[
-        bool, typer.Option("--no-tight", help="Do not compare with the tight supremum.")
+        bool, typer.Option("--no-tight", metavar="", help="Do not compare with the tight supremum.")
     ] = False,
     as_json: Json = False,
-) -> None:
+) -> int:
     """Sample feasible guide triangles and check every printed inequality and every mode's bound.
 
     Samples are uniform over the constraint set and biased to its boundary. A printed step with
-    violations is wrong (docs/errata.md); a rigorous or tight ratio above 1 would be a bug.
+    violations is wrong (docs/errata.md); a rigorous or tight ratio above 1 would be a bug (exit
+    code 1). Python: vorobound.validate(eps=...).
     """
-    from ..reports.validate import validate as run_validation
+    from ..api.validate import validate as run
 
-    params = quality_params(sigma, delta_ratio, rho_f, lfs).at(eps)
     with progress_bar(not as_json) as progress:
-        progress("sampling and auditing", 0, None)
-        report = run_validation(params, samples, seed, lipschitz, tight=not no_tight)
-    if as_json:
-        print_json(
-            {
-                "params": params_dict(params.quality, params.eps),
-                "samples": report.samples,
-                "seed": report.seed,
-                "lipschitz": report.lipschitz,
-                "max_radius_gap": report.max_radius_gap,
-                "inequalities": report.inequalities,
-                "modes": report.modes,
-            }
+        result = run(
+            eps=eps,
+            samples=samples,
+            seed=seed,
+            lipschitz=lipschitz,
+            sigma=sigma,
+            delta_ratio=delta_ratio,
+            lfs=lfs,
+            rho_f=rho_f,
+            tight=not no_tight,
+            progress=progress,
         )
-        return
+    return emit(result, as_json, _show)
+
+
+def _show(result) -> None:
+    report = result.report
     print_table(
-        f"Printed chain on {report.samples} feasible guide triangles (ε = {eps:g})",
+        f"Printed chain on {report.samples} feasible guide triangles (ε = {result.eps:g})",
         ("equation", "checked", "violations", "worst value/bound"),
         [
             (label, str(a.checked), str(a.violations), fmt(a.worst_ratio, 6))

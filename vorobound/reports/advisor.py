@@ -19,8 +19,8 @@ import math
 from dataclasses import dataclass
 
 from ..bounds.claims import CERTIFIED, NUMERICAL, PROVEN
-from ..bounds.guarantee import eps_star
-from ..bounds.params import Mode, QualityParams, checked_lipschitz
+from ..bounds.guarantee import eps_star, for_mode
+from ..bounds.params import Mode, QualityParams
 from ..bounds.targets import H3Route, Target, h3_route
 from ..constants import BASELINE_EPS
 from ..errors import InputError, NoAdmissibleEps
@@ -169,13 +169,13 @@ def advise(
     quality: QualityParams,
     surface: Surface,
     modes: list[str],
-    lipschitz: float | None = None,
     progress: Progress | None = None,
     targets: list[str] = ("additive", "ratio"),
 ) -> Advice:
     """Advice for each (mode, target): ε*, ball radius, spacing and sample counts on
-    ``surface``, the H3 row, and the recommended ε."""
-    lipschitz = checked_lipschitz(lipschitz)
+    ``surface``, the H3 row, and the recommended ε. ``quality.lipschitz`` is the tight mode's
+    λ (the chains have none); ``quality.target`` is replaced by each of ``targets``."""
+    lipschitz = quality.lipschitz
     for name, value in (("area", surface.area), ("integral of 1/L²", surface.inv_lfs_sq_integral)):
         if not (math.isfinite(value) and value > 0):
             raise InputError(f"{surface.name}: its {name} is not a positive finite number")
@@ -183,9 +183,10 @@ def advise(
     for target in dict.fromkeys(Target(t) for t in targets):
         for name in dict.fromkeys(modes):  # each mode once, in the order given
             mode = Mode(name)
-            lam = lipschitz if mode is Mode.tight else None
+            asked = for_mode(quality.but(target=target), mode)
+            lam = asked.lipschitz
             try:
-                star = eps_star(quality, mode, target, lam, progress=progress)
+                star = eps_star(asked, mode, progress=progress)
             except NoAdmissibleEps as err:  # this row has no ε*; the others still do
                 rows.append(_no_row(mode, target, lam, err))
                 continue

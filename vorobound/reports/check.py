@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bounds.params import QualityParams, SamplingParams
+from ..bounds.params import QualityParams, SamplingParams, Target
 from ..bounds.targets import H3_STATUS
 from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
@@ -33,7 +33,6 @@ from ..sampling.guides.measure import (
     ModeBound,
     measure_guides,
     mode_bounds,
-    ratio_bounds,
 )
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
 from ..sampling.io.balls import fill_vtu
@@ -240,19 +239,20 @@ def check_surface(
 def check_balls(
     balls: Balls,
     params: SamplingParams,
-    lipschitz: float | None,
     engine: Engine | str = Engine.auto,
     shape=None,
     source: str = "balls",
     progress: Progress | None = None,
 ) -> CheckReport:
-    """Check balls made elsewhere: L_i = r_i/δ with δ = (δ/ε)·ε from ``params``.
+    """Check balls made elsewhere: L_i = r_i/δ with δ = (δ/ε)·ε from ``params``, and
+    ``params.lipschitz`` the λ that L should satisfy.
 
     ``shape``, if given, is the surface the balls sample (for the coverage measurement).
     """
     lfs = balls.radii / params.delta
     stages = _Stages(progress)
-    return _check(balls, lfs, params, lipschitz, engine, shape, None, stages, source, "required")
+    lam = params.lipschitz
+    return _check(balls, lfs, params, lam, engine, shape, None, stages, source, "required")
 
 
 def _check(
@@ -280,10 +280,11 @@ def _check(
         lipschitz_pairs = conditions.lipschitz(balls.centers, lfs, lipschitz, near)
         coverage, where, probes = _coverage(shape, balls, params.eps, search.guide, seed)
     with stages("bounds", announce=True):
-        bounds = mode_bounds(params, lipschitz)
-        ratios = ratio_bounds(params, lipschitz)
+        params = params.but(lipschitz=lipschitz)
+        bounds = mode_bounds(params, Target.additive)
+        ratios = mode_bounds(params, Target.ratio)
     with stages("measure", announce=True):
-        guides = measure_guides(search.guide, lfs, params, lipschitz, bounds, ratios)
+        guides = measure_guides(search.guide, lfs, params, bounds, ratios)
     return CheckReport(
         source=source,
         params=params,
@@ -312,7 +313,7 @@ def _measured_lipschitz(points, lfs, triples, near: conditions.Neighbours) -> fl
     """The λ the sample has: the largest |L_a − L_b|/|p_a − p_b| over neighbouring samples and
     over the edges of the guide triangles, so every guide triangle meets the Lipschitz
     conditions with it; 0 only for a constant L."""
-    from ..bounds.params import LIPSCHITZ_RANGE
+    from ..checks import LIPSCHITZ_RANGE
 
     edges = np.concatenate([triples[:, [0, 1]], triples[:, [1, 2]], triples[:, [2, 0]]])
     change = np.abs(lfs[edges[:, 0]] - lfs[edges[:, 1]])
@@ -328,15 +329,8 @@ def _coverage(shape, balls: Balls, eps: float, guides, seed):
     """Coverage over random probes plus the guide triangles' circumcenters on the surface."""
     if shape is None:
         return None, None, 0
-    rng = np.random.default_rng([0 if seed is None else seed, 1])
-    count = max(conditions.MIN_PROBES, conditions.PROBES_PER_SAMPLE * len(balls))
-    probes, probe_lfs = shape.random_points(count, rng)
-    projected = shape.project(guides.geometry.circumcenter) if len(guides.triples) else None
-    if projected is not None:
-        probes = np.concatenate([probes, projected[0]])
-        probe_lfs = np.concatenate([probe_lfs, projected[1]])
-    ratio, where = conditions.coverage(balls.centers, eps, probes, probe_lfs)
-    return ratio, where, len(probes)
+    extra = guides.geometry.circumcenter if len(guides.triples) else None
+    return conditions.surface_coverage(shape, balls.centers, eps, seed, extra)
 
 
 # --- Output files ----------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..bounds.chain import chain_bounds
 from ..bounds.eps_star import EpsStar, solve_eps_star
-from ..bounds.params import Mode, QualityParams
+from ..bounds.params import Mode, QualityParams, Target
 from ..constants import BASELINE_EPS
 from ..progress import Counter, Progress
 
@@ -54,7 +54,9 @@ class ComparisonData:
 def figure3_data(
     quality: QualityParams, mode: Mode | str = Mode.paper, points: int = FIGURE3_POINTS
 ) -> Figure3Data:
-    """Curves of Figure 3 on ε ∈ (0, 1.5·max(ε*, 1/500)], both θ cases, and the markers."""
+    """Curves of Figure 3 on ε ∈ (0, 1.5·max(ε*, 1/500)], both θ cases, and the markers (the
+    paper's additive target)."""
+    quality = quality.but(target=Target.additive, lipschitz=None)
     star = solve_eps_star(quality, mode)
     top = FIGURE3_RANGE_FACTOR * max(star.eps_star, BASELINE_EPS)
     eps = np.linspace(top / points, top, points)
@@ -63,7 +65,7 @@ def figure3_data(
         eps=eps,
         bound_acute=chain.bound_acute,
         bound_obtuse=chain.bound_obtuse,
-        target=chain.target,
+        target=chain.gap_allowance,
         eps_baseline=BASELINE_EPS,
         eps_star=star.eps_star,
         mode=Mode(mode).value,
@@ -81,30 +83,28 @@ TIGHT_CURVE_EPS_MAX = 0.5
 
 
 def chain_curve(quality: QualityParams, mode: Mode | str, eps=COMPARISON_EPS) -> ModeCurve:
-    """bound(ε)/(ε L_i) of a chain on ``eps``, and its ε*."""
+    """bound(ε)/(ε L_i) of a chain on ``eps``, and its ε* (additive target)."""
+    quality = quality.but(target=Target.additive, lipschitz=None)
     star = solve_eps_star(quality, mode)
     chain = chain_bounds(quality.at(float(eps[0])), mode, eps=eps)
     return ModeCurve(Mode(mode).value, eps, chain.bound / (eps * quality.lfs), star.eps_star)
 
 
-def tight_curve(
-    quality: QualityParams,
-    star: EpsStar,
-    lipschitz: float | None,
-    progress: Progress | None = None,
-) -> ModeCurve:
-    """Tight supremum / (ε L_i) at a few ε around ε*."""
+def tight_curve(star: EpsStar, progress: Progress | None = None) -> ModeCurve:
+    """Tight supremum / (ε L_i) at a few ε around a tight additive ε* (its parameters, λ
+    included)."""
     from ..bounds.tight.method import tight_bound
 
     low, high = TIGHT_CURVE_SPAN
     eps = np.geomspace(
         star.eps_star * low, min(high * star.eps_star, TIGHT_CURVE_EPS_MAX), TIGHT_CURVE_POINTS
     )
+    quality, lipschitz = star.quality, star.lipschitz
     name = "tight" if lipschitz is None else f"tight, λ = {lipschitz:g}"
     counter = Counter(progress, f"{name} curve", len(eps))
     values = []
     for e in eps:
-        values.append(tight_bound(quality.at(float(e)), lipschitz).value)
+        values.append(tight_bound(quality.at(float(e))).value)
         counter.step()
     return ModeCurve(name, eps, np.array(values) / (eps * quality.lfs), star.eps_star)
 
@@ -119,15 +119,15 @@ TIGHT_SETTINGS = (None, 1.0)
 
 
 def figure_set_data(
-    quality: QualityParams, tight_stars: dict, progress: Progress | None = None
+    quality: QualityParams, tight_stars: list[EpsStar], progress: Progress | None = None
 ) -> tuple[Figure3Data, ComparisonData]:
     """The data of every figure: Figure 3 and the comparison of modes.
 
-    ``tight_stars`` maps λ (or None) to the tight ε* to draw; empty for no tight curves.
+    ``tight_stars`` are the tight additive ε* to draw (one curve each); empty for none.
     """
     curves = [chain_curve(quality, mode) for mode in ("paper", "rigorous")]
-    for lipschitz, star in tight_stars.items():
-        curves.append(tight_curve(quality, star, lipschitz, progress))
+    for star in tight_stars:
+        curves.append(tight_curve(star, progress))
     return figure3_data(quality), comparison_data(curves, quality)
 
 

@@ -22,18 +22,16 @@ import numpy as np
 from ..bounds.chain import chain_arrays
 from ..bounds.claims import CHAIN_CLAIM
 from ..bounds.eps_star import STATUS_OK, STATUS_REASONS, solve_eps_star_batch
-from ..bounds.params import (
+from ..bounds.params import Mode, QualityParams, Target
+from ..checks import (
     DELTA_RATIO_RANGE,
     EPS_RANGE,
     RHO_F_MAX,
     SIGMA_RANGE,
-    Mode,
-    QualityParams,
     checked_lipschitz,
+    checked_number,
 )
-from ..bounds.targets import Target
-from ..checks import checked_number
-from ..errors import InputError, NoAdmissibleEps, VoroboundError
+from ..errors import EmptyConstraintSet, InputError, NoAdmissibleEps, VoroboundError
 from ..progress import Counter, Progress
 
 MAX_GRID_ROWS = 100_000_000
@@ -258,7 +256,7 @@ def _chain_rows(spec: SweepSpec, mode: Mode, target: Target) -> Iterator[SweepRo
             if target is Target.ratio:
                 bounds, limits = chain.ratio_bound, np.broadcast_to(rho_f, eps.shape)
             else:
-                bounds, limits = chain.bound, chain.target
+                bounds, limits = chain.bound, chain.gap_allowance
             for s, q, r, e, b, t in zip(sigma, rho_f, ratio, eps, bounds, limits, strict=True):
                 defined = bool(np.isfinite(b))
                 if defined:
@@ -297,27 +295,26 @@ def tight_row(task: tuple) -> SweepRow:
     from ..bounds.guarantee import bound_at, eps_star
 
     eps, lam, sigma, rho_f, ratio, lfs, method, target = task
-    quality = QualityParams(sigma, ratio, rho_f, lfs)
-    head = ("tight", Target(target).value, lam, sigma, rho_f, ratio)
+    quality = QualityParams(sigma, ratio, rho_f, lfs, lipschitz=lam, target=target)
+    head = ("tight", quality.target.value, lam, sigma, rho_f, ratio)
     if eps is not None:
         params = quality.at(eps)
-        limit = rho_f if Target(target) is Target.ratio else params.target
         try:
-            bound = bound_at(params, Mode.tight, target, lam, method)
-        except InputError as exc:  # an empty constraint set at this ε
-            return SweepRow(*head, eps=eps, limit=limit, note=str(exc))
+            bound = bound_at(params, Mode.tight, method)
+        except EmptyConstraintSet as exc:  # every bound is vacuous at this ε
+            return SweepRow(*head, eps=eps, limit=params.limit, note=str(exc))
         finite = math.isfinite(bound.value)
         note = "" if finite else "no finite bound on R/R^: R^ can reach 0"
         return SweepRow(
             *head,
             eps=eps,
             bound=bound.value if finite else None,
-            limit=limit,
+            limit=params.limit,
             claim=bound.claim,
             note=note,
         )
     try:
-        star = eps_star(quality, Mode.tight, target, lam, method)
+        star = eps_star(quality, Mode.tight, method)
     except NoAdmissibleEps as exc:
         return SweepRow(*head, note=str(exc))
     return SweepRow(*head, eps_star=star.eps_star, claim=star.claim)

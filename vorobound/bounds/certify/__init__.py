@@ -10,13 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ...checks import checked_count, checked_number
-from ...errors import InputError, VoroboundError
+from ...checks import EPS_RANGE, checked_count, checked_number
+from ...errors import InputError, NotCertified, VoroboundError
 from ...progress import Progress
-from ..params import DELTA_RATIO_RANGE, EPS_RANGE, RHO_F_MAX, SIGMA_RANGE, checked_lipschitz
-from .certificate import CheckReport, certificate_payload, check_certificate
+from ..params import QualityParams
+from .certificate import CertificateReport, certificate_payload, check_certificate
 from .interval import Setting, nearest_float
-from .search import MAX_BOXES, MAX_DEPTH, Counterexample, NotCertified, SearchResult, search
+from .search import MAX_BOXES, MAX_DEPTH, Counterexample, SearchResult, search
 
 DEFAULT_FRACTION = 0.999
 """Without an explicit ε_max, certify this fraction of the tight ε* (what ``solve`` prints)."""
@@ -47,51 +47,36 @@ class CertifyRequest:
     @classmethod
     def of(
         cls,
-        sigma: float,
-        delta_ratio: float,
-        rho_f: float,
-        lipschitz: float | None = None,
+        quality: QualityParams,
         *,
         eps: float | None = None,
         fraction: float = DEFAULT_FRACTION,
-        target: str = "additive",
         progress: Progress | None = None,
     ) -> CertifyRequest:
-        """Validate the parameters (InputError) and fix ε_max: ``eps``, else ``fraction``·ε*."""
-        from ..params import QualityParams
-        from ..targets import Target
-
-        sigma = checked_number(sigma, "sigma", *SIGMA_RANGE)
-        delta_ratio = checked_number(delta_ratio, "delta_ratio", *DELTA_RATIO_RANGE)
-        rho_f = checked_number(rho_f, "rho_f", 1.0, RHO_F_MAX, open_low=True)
-        lipschitz = checked_lipschitz(lipschitz)
-        try:
-            target = Target(target).value
-        except ValueError:
-            raise InputError(f"target must be additive or ratio, got {target!r}") from None
-        quality = QualityParams(sigma, delta_ratio, rho_f)
+        """Fix ε_max for ``quality`` (its target and λ): ``eps``, else ``fraction``·ε*."""
+        if not isinstance(quality, QualityParams):
+            raise InputError(f"quality must be QualityParams, got {type(quality).__name__}")
         if eps is None:
             fraction = checked_number(fraction, "fraction", *FRACTION_RANGE)
-            star, status, base = _tight_eps_star(quality, lipschitz, target, progress)
+            star, status, base = _tight_eps_star(quality, progress)
             eps = min(fraction * base, EPS_RANGE[1])
         else:
             # An explicit ε_max needs no ε*: the search proves the claim or finds a
             # counterexample (there may be no ε* at these parameters).
             eps = checked_number(eps, "eps", *EPS_RANGE)
             try:
-                star, status, _ = _tight_eps_star(
-                    quality, lipschitz, target, progress, default=False
-                )
+                star, status, _ = _tight_eps_star(quality, progress, default=False)
             except VoroboundError as exc:
                 star, status = None, f"none: {exc}"
-        if sigma * (1 - eps) >= 2:
-            raise InputError(f"sigma*(1 - eps) must be below 2, got sigma={sigma:g}, eps={eps:g}")
-        setting = Setting.of(sigma, delta_ratio, rho_f, lipschitz, eps, target)
-        return cls(setting, star, status)
+        if quality.sigma * (1 - eps) >= 2:
+            raise InputError(
+                f"sigma*(1 - eps) must be below 2, got sigma={quality.sigma:g}, eps={eps:g}"
+            )
+        return cls(Setting.of(quality, eps), star, status)
 
 
 def _tight_eps_star(
-    quality, lipschitz, target: str, progress, default: bool = True
+    quality: QualityParams, progress, default: bool = True
 ) -> tuple[float, str, float | None]:
     """(ε*, its status, the ε* a default certificate covers a fraction of), from the one tight
     solver ``solve`` uses too.
@@ -111,7 +96,7 @@ def _tight_eps_star(
     from ..claims import PROVEN
     from ..tight.method import tight_eps_star
 
-    result = tight_eps_star(quality, lipschitz, progress=progress, target=target)
+    result = tight_eps_star(quality, progress=progress)
     if result.claim == PROVEN:
         return result.eps_star, "proven exact (closed form)", result.eps_star
     lower = result.proven_lower_bound
@@ -119,16 +104,16 @@ def _tight_eps_star(
         return result.eps_star, "numerical (optimizer; no proven lower bound)", None
     if lower is None:
         raise InputError(
-            f"the tight {target} eps* = {result.eps_star:.6g} here is numerical and has no "
-            "proven lower bound, so there is no default to certify: certifying a numerical "
-            "eps* can take many minutes and still fail; give --eps to try a value"
+            f"the tight {quality.target.value} eps* = {result.eps_star:.6g} here is numerical "
+            "and has no proven lower bound, so there is no default to certify: certifying a "
+            "numerical eps* can take many minutes and still fail; give --eps to try a value"
         )
     status = f"numerical (optimizer); the default certifies its proven lower bound {lower:.12g}"
     return result.eps_star, status, lower
 
 
 @dataclass(frozen=True)
-class CertifyResult:
+class Certification:
     """A finished certification: every ε in (0, eps_certified] meets the target."""
 
     request: CertifyRequest
@@ -150,32 +135,25 @@ class CertifyResult:
 
 
 def certify(
-    sigma: float,
-    delta_ratio: float,
-    rho_f: float,
-    lipschitz: float | None = None,
+    quality: QualityParams,
     *,
     eps: float | None = None,
     fraction: float = DEFAULT_FRACTION,
-    target: str = "additive",
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
-) -> CertifyResult:
+) -> Certification:
     """Prove the target for every ε ≤ ε_max and every feasible guide triangle.
 
     Parameters
     ----------
-    sigma, delta_ratio, rho_f : float
-        σ, δ/ε and ρ_f of Section 4.1.
-    lipschitz : float, optional
-        λ of the optional Lipschitz conditions.
+    quality : QualityParams
+        σ, δ/ε and ρ_f of Section 4.1, λ of the optional Lipschitz conditions, and the
+        target: R − R̂ ≤ (ρ_f − 1)δL_i (additive), or R ≤ ρ_f·R̂ (ratio, eq. (54)).
     eps : float, optional
         ε_max; by default ``fraction`` times the tight ε* of the same target.
     fraction : float
         Used when ``eps`` is not given.
-    target : {"additive", "ratio"}
-        R − R̂ ≤ (ρ_f − 1)δL_i, or R ≤ ρ_f·R̂ (eq. (54)).
     max_depth, max_boxes : int
         Limits of the search.
     progress : Progress, optional
@@ -183,7 +161,7 @@ def certify(
 
     Returns
     -------
-    CertifyResult
+    Certification
         ε_max, the tight ε* it is compared with, and the bisection tree.
 
     Raises
@@ -195,16 +173,7 @@ def certify(
     ----------
     Theorem 1, eq. (33)–(37), (54)–(55), property H3; docs/tight.md.
     """
-    request = CertifyRequest.of(
-        sigma,
-        delta_ratio,
-        rho_f,
-        lipschitz,
-        eps=eps,
-        fraction=fraction,
-        target=target,
-        progress=progress,
-    )
+    request = CertifyRequest.of(quality, eps=eps, fraction=fraction, progress=progress)
     return certify_request(request, max_depth=max_depth, max_boxes=max_boxes, progress=progress)
 
 
@@ -226,15 +195,15 @@ def certify_request(
     max_depth: int = MAX_DEPTH,
     max_boxes: int = MAX_BOXES,
     progress: Progress | None = None,
-) -> CertifyResult:
+) -> Certification:
     """:func:`certify` for parameters already validated by :meth:`CertifyRequest.of`."""
     limits = search_limits(max_depth, max_boxes)
-    return CertifyResult(request, search(request.setting, **limits, progress=progress))
+    return Certification(request, search(request.setting, **limits, progress=progress))
 
 
 __all__ = [
-    "CertifyResult",
-    "CheckReport",
+    "Certification",
+    "CertificateReport",
     "Counterexample",
     "NotCertified",
     "CertifyRequest",

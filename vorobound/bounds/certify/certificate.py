@@ -27,18 +27,12 @@ from pathlib import Path
 from flint import arb
 
 from ... import __version__
-from ...checks import brief, checked_number
+from ...checks import EPS_RANGE, brief, checked_number
 from ...errors import CertificateError, ReadError
 from ...files import write_text
 from ...progress import Progress, silent
 from .. import constraints
-from ..params import (
-    DELTA_RATIO_RANGE,
-    EPS_RANGE,
-    RHO_F_MAX,
-    SIGMA_RANGE,
-    checked_lipschitz,
-)
+from ..params import QualityParams
 from . import interval
 from .interval import DIMENSIONS, Setting, nearest_float
 from .search import MAX_DEPTH, Leaf, SearchResult
@@ -171,7 +165,7 @@ def read_certificate(path) -> dict:
 
 
 @dataclass(frozen=True)
-class CheckReport:
+class CertificateReport:
     """A certificate that passed :func:`check_certificate`."""
 
     eps_max: float
@@ -190,7 +184,7 @@ class CheckReport:
     seconds: float
 
 
-def check_certificate(payload: dict, progress: Progress | None = None) -> CheckReport:
+def check_certificate(payload: dict, progress: Progress | None = None) -> CertificateReport:
     """Re-verify a certificate independently of how it was found.
 
     Parameters
@@ -202,7 +196,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
 
     Returns
     -------
-    CheckReport
+    CertificateReport
         What is certified.
 
     Raises
@@ -258,7 +252,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> CheckR
         )
     report("checking", len(nodes), len(nodes))
     params = _parameters(setting)
-    return CheckReport(
+    return CertificateReport(
         eps_max=params["eps_max"],
         target=setting.target,
         sigma=params["sigma"],
@@ -347,13 +341,16 @@ def _setting(payload: dict) -> Setting:
     if not isinstance(params, dict):
         raise CertificateError("certificate has no parameters")
     try:
-        sigma = checked_number(params.get("sigma"), "sigma", *SIGMA_RANGE)
-        ratio = checked_number(params.get("delta_ratio"), "delta_ratio", *DELTA_RATIO_RANGE)
-        rho_f = checked_number(params.get("rho_f"), "rho_f", 1.0, RHO_F_MAX, open_low=True)
+        quality = QualityParams(
+            params.get("sigma"),
+            params.get("delta_ratio"),
+            params.get("rho_f"),
+            lipschitz=params.get("lipschitz"),
+            target=target,
+        )
         eps_max = checked_number(params.get("eps_max"), "eps_max", *EPS_RANGE)
-        lam = checked_lipschitz(params.get("lipschitz"))
     except ValueError as exc:
         raise CertificateError(f"certificate parameters: {exc}") from None
-    if sigma * (1 - eps_max) >= 2:
+    if quality.sigma * (1 - eps_max) >= 2:
         raise CertificateError("certificate parameters: sigma*(1 - eps_max) must be below 2")
-    return Setting.of(sigma, ratio, rho_f, lam, eps_max, target)
+    return Setting.of(quality, eps_max)

@@ -33,6 +33,7 @@ from fractions import Fraction
 from flint import arb, ctx, fmpq
 
 from .. import constraints
+from ..params import Target
 
 PRECISION_BITS = 64
 """Working precision of the ball arithmetic (recorded in certificates)."""
@@ -43,7 +44,7 @@ ENCLOSURES = ("circumradius", "chord", "exact")
 """Names of the upper enclosures of the additive target's fraction, in the order tried."""
 RATIO_ENCLOSURES = ("chord", "exact")
 """Names of the enclosures of the ratio target's fraction (R − R̂ ≤ R says nothing there)."""
-TARGETS = ("additive", "ratio")
+TARGETS = tuple(target.value for target in Target)
 """The targets a certificate can be about (:mod:`vorobound.bounds.targets`)."""
 
 
@@ -96,13 +97,12 @@ class Setting:
     """``"additive"`` (R − R̂ ≤ (ρ_f − 1)δL_i) or ``"ratio"`` (R ≤ ρ_f·R̂, eq. (54))."""
 
     @classmethod
-    def of(cls, sigma, delta_ratio, rho_f, lipschitz, eps_max, target="additive") -> Setting:
-        """From floats (each converted exactly)."""
-        if target not in TARGETS:
-            raise ValueError(f"target must be one of {TARGETS}, got {target!r}")
-        lam = None if lipschitz is None else exact_rational(lipschitz)
-        values = (exact_rational(v) for v in (sigma, delta_ratio, rho_f))
-        return cls(*values, lam, exact_rational(eps_max), target)
+    def of(cls, quality, eps_max: float) -> Setting:
+        """From validated parameters (:class:`~vorobound.bounds.params.QualityParams`) and a
+        float ε_max, each converted exactly."""
+        lam = None if quality.lipschitz is None else exact_rational(quality.lipschitz)
+        values = (exact_rational(v) for v in (quality.sigma, quality.delta_ratio, quality.rho_f))
+        return cls(*values, lam, exact_rational(eps_max), quality.target.value)
 
     def scale(self) -> arb:
         """The target in the enclosures' units: ρ_f − 1, or 1 − 1/ρ_f for the ratio target."""

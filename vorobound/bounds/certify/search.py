@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from flint import arb
 
-from ...errors import InputError, VoroboundError
+from ...errors import InputError, NotCertified
 from ...progress import Progress, silent
 from . import interval
 from .interval import Box, Setting, nearest_float
@@ -75,15 +75,6 @@ class Counterexample:
     ratio_upper: float
     ratio_float: float
     """The same ratio in floating point (geometry core), for comparison."""
-
-
-class NotCertified(VoroboundError):
-    """The search stopped without a certificate: a counterexample, or an unresolved box."""
-
-    def __init__(self, message: str, counterexample: Counterexample | None, box: Box | None):
-        super().__init__(message)
-        self.counterexample = counterexample
-        self.box = box
 
 
 @dataclass(frozen=True)
@@ -151,16 +142,17 @@ def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
         nearest_float(setting.sigma),
         nearest_float(setting.delta_ratio),
         nearest_float(setting.rho_f),
+        lipschitz=None if setting.lipschitz is None else nearest_float(setting.lipschitz),
+        target=setting.target,
     )
     params = quality.at(eps)
     tri = absolute_configuration(point)
-    lam = None if setting.lipschitz is None else nearest_float(setting.lipschitz)
-    if not feasible_mask(tri, params, lam)[0]:
+    if not feasible_mask(tri, params)[0]:
         return None
     gap = float(tri.radius_gap(params)[0])
     if setting.target == "ratio":
-        return gap / float(tri.circumradius[0]) / (1 - 1 / params.rho_f)
-    return gap / params.target
+        return gap / float(tri.circumradius[0]) / params.share_allowance
+    return gap / params.gap_allowance
 
 
 def absolute_configuration(point: tuple[float, ...]):

@@ -27,28 +27,23 @@ from enum import Enum
 
 import numpy as np
 
-from ...checks import checked_number
-from ...errors import InputError, NoAdmissibleEps
-from ..configurations import GuideConfiguration
-from ..eps_star import NoCrossing
-from ..params import (
+from ...checks import (
     DELTA_RATIO_RANGE,
     EPS_RANGE,
     LFS_RANGE,
     RHO_F_MAX,
     SIGMA_RANGE,
     checked_lipschitz,
+    checked_number,
 )
+from ...errors import InputError, NoAdmissibleEps, NoCrossing
+from ..configurations import GuideConfiguration
+from ..roots import largest_root
 
 VERTEX_MARGIN_RTOL = 1e-12
 """The worst vertex counts as feasible (the closed form as exact) only if the sparsity of its
 opposite edge holds with this relative margin, so rounding cannot turn a bound into an exact
 claim."""
-ROOT_XTOL = 1e-24
-"""Absolute tolerance of the ε* root (below 4·machine-ε times the smallest supported ε, so the
-relative tolerance decides)."""
-ROOT_RTOL = 4 * np.finfo(float).eps
-"""Relative tolerance of the ε* root."""
 
 
 class ClosedFormStatus(str, Enum):
@@ -222,7 +217,7 @@ def tight_supremum_closed_form(
 def tight_eps_star_closed_form(
     sigma: float, delta_ratio: float, rho_f: float, lipschitz: float | None = None
 ) -> ClosedFormEpsStar:
-    """The tight ε*: the root of min(1, μ*(ε)) = (1−ε)(ρ_f − 1)δ/ε (brentq, microseconds).
+    """The tight ε*: the root of min(1, μ*(ε)) = (1−ε)(ρ_f − 1)δ/ε (tens of microseconds).
 
     Both sides are monotone (the left increases, the right decreases), so the root is unique
     and every smaller ε meets the target.
@@ -244,8 +239,6 @@ def tight_eps_star_closed_form(
     ----------
     Eq. (54)–(55); the supremum of :func:`tight_supremum_closed_form`.
     """
-    from scipy.optimize import brentq
-
     sigma, delta_ratio, _, lipschitz = _checked_quality(sigma, delta_ratio, 1.0, lipschitz)
     rho_f = checked_number(rho_f, "rho_f", 1.0, RHO_F_MAX, open_low=True)
     scale = (rho_f - 1) * delta_ratio
@@ -264,10 +257,7 @@ def tight_eps_star_closed_form(
             f"the tight bound stays within the target up to eps = {high:g}: "
             "no crossing, so no eps* in the supported range"
         )
-    root = brentq(gap, low, high, xtol=ROOT_XTOL, rtol=ROOT_RTOL)
-    # brentq may stop a little above the root: step down until the float gap says ≤ 0, so
-    # the ε* printed meets the target where it is evaluated too.
-    root = step_below(root, lambda eps: gap(eps) <= 0)
+    root, _ = largest_root(gap, low, high)  # gap(root) ≤ 0: the ε* printed meets the target
     _require_triangles(root, sigma)
     supremum = tight_supremum_closed_form(root, sigma, delta_ratio, 1.0, lipschitz)
     ratio = float(tight_ratio_closed_form(root, sigma, delta_ratio, rho_f, lipschitz))
@@ -278,17 +268,6 @@ def tight_eps_star_closed_form(
         residual=ratio - 1,
         rho_f=rho_f,
     )
-
-
-def step_below(root: float, holds, steps: int = 64) -> float:
-    """The largest of root, and up to ``steps`` floats below it, at which ``holds`` is true
-    (the root itself if none is: rounding of the check, not of the root)."""
-    x = root
-    for _ in range(steps):
-        if holds(x):
-            return x
-        x = math.nextafter(x, 0.0)
-    return root
 
 
 def _require_triangles(eps: float, sigma: float) -> None:

@@ -14,13 +14,14 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from enum import Enum
 
-from ...errors import VoroboundError
+from ...checks import EPS_RANGE
+from ...errors import NoCrossing, VoroboundError
 from ...progress import Progress
 from ..claims import NUMERICAL, PROVEN
 from ..configurations import GuideConfiguration
-from ..eps_star import EpsStar, NoCrossing, feasible_start
-from ..params import EPS_RANGE, QualityParams, SamplingParams, checked_lipschitz
-from ..targets import Target, target_share
+from ..constraints import require_guide_triangles
+from ..eps_star import EpsStar, feasible_start
+from ..params import QualityParams, SamplingParams, Target
 from .closed_form import (
     ClosedFormStatus,
     tight_eps_star_closed_form,
@@ -62,31 +63,25 @@ class TightBound:
     sup((R − R̂)/R)/(1 − 1/ρ_f); at most 1 where the target is met."""
 
 
-def tight_bound(
-    params: SamplingParams,
-    lipschitz: float | None = None,
-    method: TightMethod | str = "auto",
-    target: Target | str = Target.additive,
-) -> TightBound:
-    """The tight bound at ``params.eps`` (see the module docstring for ``method``)."""
-    method, target = TightMethod(method), Target(target)
-    lipschitz = checked_lipschitz(lipschitz)
-    share = target_share(target, params.rho_f) if target is Target.ratio else None
+def tight_bound(params: SamplingParams, method: TightMethod | str = "auto") -> TightBound:
+    """The tight bound at ``params.eps`` for ``params.target``, over the constraint set with
+    ``params.lipschitz`` (see the module docstring for ``method``)."""
+    method, target, lipschitz = TightMethod(method), params.target, params.lipschitz
+    require_guide_triangles(params.eps, params.sigma)
     if method is TightMethod.auto:
         if target is Target.ratio:
             ratio = ratio_supremum_closed_form(
                 params.eps, params.sigma, params.delta_ratio, lipschitz
             )
             if ratio.status is ClosedFormStatus.exact:
-                maximizer = ratio.vertex.maximizer
                 return TightBound(
                     ratio.value,
-                    maximizer,
+                    ratio.vertex.maximizer,
                     CLOSED_FORM,
                     PROVEN,
                     None,
                     target.value,
-                    ratio.share / share,
+                    ratio.share / params.share_allowance,
                 )
         else:
             closed = tight_supremum_closed_form(
@@ -100,44 +95,42 @@ def tight_bound(
                     PROVEN,
                     None,
                     target.value,
-                    closed.value / params.target,
+                    closed.value / params.gap_allowance,
                 )
-    result = tight_supremum(params, lipschitz, target=target)
+    result = tight_supremum(params)
     if target is Target.ratio:
         top = result.supremum
         value = float("inf") if top >= 1 else 1 / (1 - top)
-        fraction = top / share
+        fraction = top / params.share_allowance
     else:
-        value, fraction = result.supremum, result.supremum / params.target
+        value, fraction = result.supremum, result.supremum / params.gap_allowance
     return TightBound(value, result.maximizer, OPTIMIZER, NUMERICAL, result, target.value, fraction)
 
 
 def tight_eps_star(
     quality: QualityParams,
-    lipschitz: float | None = None,
     method: TightMethod | str = "auto",
     progress: Progress | None = None,
-    target: Target | str = Target.additive,
 ) -> EpsStar:
-    """The tight ε* for ``target`` (see the module docstring for ``method``).
+    """The tight ε* for ``quality.target`` with ``quality.lipschitz`` (see the module
+    docstring for ``method``).
 
     The closed form's ε* is the tight ε* itself when the worst vertex is feasible there
     (docs/tight.md, steps 5–6 and "The ratio target"); it is used then. Otherwise the
     optimizer's ε* is returned (numerical), with the closed form's root as
     ``proven_lower_bound`` when guide triangles exist there (it is then proven admissible).
     """
-    method, target = TightMethod(method), Target(target)
-    lipschitz = checked_lipschitz(lipschitz)
+    method, lipschitz = TightMethod(method), quality.lipschitz
     feasible_start(quality, "tight")
+    if lipschitz == 0:
+        raise NoCrossing(
+            "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide "
+            "triangle: the tight bound never reaches the target (no crossing), so no eps*"
+        )
     lower = None
     if method is TightMethod.auto:
-        if lipschitz == 0:
-            raise NoCrossing(
-                "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide "
-                "triangle: the tight bound never reaches the target (no crossing), so no eps*"
-            )
         try:
-            closed = _closed_eps_star(quality, lipschitz, target)
+            closed = _closed_eps_star(quality)
         except NoCrossing:
             raise
         except VoroboundError:
@@ -157,17 +150,16 @@ def tight_eps_star(
                 method=CLOSED_FORM,
                 claim=PROVEN,
                 maximizer=maximizer,
-                lipschitz=lipschitz,
-                target=target.value,
             )
         lower = None if closed is None else closed.eps_star
-    result = solve_tight(quality, lipschitz, progress=progress, target=target)
+    result = solve_tight(quality, progress=progress)
     return replace(result, proven_lower_bound=lower)
 
 
-def _closed_eps_star(quality: QualityParams, lipschitz: float | None, target: Target):
-    """The closed-form ε* of ``target`` (its ``status`` says exact or a proven lower bound)."""
-    if target is Target.ratio:
+def _closed_eps_star(quality: QualityParams):
+    """The closed-form ε* of the target (its ``status`` says exact or a proven lower bound)."""
+    lipschitz = quality.lipschitz
+    if quality.target is Target.ratio:
         return ratio_eps_star_closed_form(
             quality.sigma, quality.delta_ratio, quality.rho_f, lipschitz
         )

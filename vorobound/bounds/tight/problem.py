@@ -21,8 +21,7 @@ import numpy as np
 from ...errors import InputError
 from .. import constraints
 from ..configurations import GuideConfiguration, GuideTriangles
-from ..params import SamplingParams, checked_lipschitz
-from ..targets import Target, target_share
+from ..params import SamplingParams, Target
 
 PROJECTION_STEPS = 6
 """Newton steps onto active constraints (quadratic convergence: three or four suffice)."""
@@ -44,9 +43,16 @@ class Problem:
     """
 
     params: SamplingParams
-    lipschitz: float | None
-    target: Target = Target.additive
-    """What is maximized: R − R̂ (additive) or (R − R̂)/R (ratio, eq. (54))."""
+    """ε, σ, δ/ε, ρ_f, L_i, λ and the target: R − R̂ is maximized for the additive target,
+    (R − R̂)/R for the ratio target (eq. (54))."""
+
+    @property
+    def lipschitz(self) -> float | None:
+        return self.params.lipschitz
+
+    @property
+    def target(self) -> Target:
+        return self.params.target
 
     @property
     def lfs_scale(self) -> float:
@@ -76,11 +82,7 @@ class Problem:
         """Coordinate bounds: (34)–(35), (33), and θ from sin of every angle ≥ k_sin (48)."""
         eps, sigma = self.params.eps, self.params.sigma
         k_sin = constraints.k_sin(eps, sigma)
-        if constraints.is_empty(eps, sigma):
-            raise InputError(
-                f"no feasible guide triangle for sigma={sigma:g}, eps={eps:g} "
-                "(sigma*(1-eps) > sqrt(3))"
-            )
+        constraints.require_guide_triangles(eps, sigma)
         theta_lo = np.arcsin(k_sin)
         # The other two angles are each ≥ arcsin(k_sin); near σ(1−ε) = √3 both ends of θ and
         # of the edges close in on the equilateral triangle.
@@ -193,8 +195,8 @@ class Problem:
         """The target in the objective's units: (ρ_f − 1)δL_i (eq. (55)), or 1 − 1/ρ_f, the
         largest (R − R̂)/R with R ≤ ρ_f·R̂ (eq. (54))."""
         if self.target is Target.ratio:
-            return target_share(self.target, self.params.rho_f)
-        return self.params.target
+            return self.params.share_allowance
+        return self.params.gap_allowance
 
     def ratio(self, scaled: float) -> float:
         """A scaled objective as a fraction of the target (1 means the target is just met)."""
@@ -285,13 +287,9 @@ def describe(problem: Problem, x: np.ndarray) -> GuideConfiguration:
     return GuideConfiguration.of(problem.triangles(x), problem.params)
 
 
-def checked_problem(
-    params: SamplingParams, lipschitz: float | None, target: Target | str = Target.additive
-) -> Problem:
-    """The problem for ``params``, ``lipschitz`` and ``target``; raises if λ is invalid or the
-    set is empty."""
+def checked_problem(params: SamplingParams) -> Problem:
+    """The problem for ``params``; raises if the constraint set is empty."""
     if not isinstance(params, SamplingParams):
         raise InputError(f"params must be SamplingParams, got {type(params).__name__}")
-    problem = Problem(params, checked_lipschitz(lipschitz), Target(target))
-    problem.box()
-    return problem
+    constraints.require_guide_triangles(params.eps, params.sigma)
+    return Problem(params)

@@ -28,17 +28,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ...errors import NoAdmissibleEps
+from ...checks import EPS_RANGE, RHO_F_MAX
+from ...errors import NoAdmissibleEps, NoCrossing
 from .. import constraints
-from ..eps_star import NoCrossing
-from ..params import EPS_RANGE, RHO_F_MAX
+from ..roots import step_below
 from .closed_form import (
     ClosedFormStatus,
     ClosedFormSupremum,
     _checked,
     _checked_quality,
     _vertex_feasible,
-    step_below,
     tight_supremum_closed_form,
 )
 

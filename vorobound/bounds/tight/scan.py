@@ -36,13 +36,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...errors import VoroboundWarning
+from ...errors import NoCrossing, VoroboundWarning
 from ...progress import Progress, silent
 from ..claims import NUMERICAL
 from ..configurations import GuideConfiguration, sample_feasible
-from ..eps_star import EpsStar, NoCrossing, feasible_grid, feasible_start, find_eps_star
-from ..params import QualityParams, SamplingParams, checked_lipschitz
-from ..targets import Target
+from ..eps_star import EpsStar, feasible_grid, feasible_start, find_eps_star
+from ..params import QualityParams, SamplingParams
 from .problem import AGREE_RTOL, Problem, checked_problem, describe
 from .search import SearchEvidence, best_feasible, best_of_sample, extremum, polish
 
@@ -73,35 +72,41 @@ class TightResult:
     evidence: SearchEvidence
     """Why the supremum is believed global: optima from several starts, a dense sample."""
     infimum_evidence: SearchEvidence
-    eps: float
-    lipschitz: float | None
-    target: str = "additive"
+    params: SamplingParams
+    """ε, λ and the target the extremes are for."""
+
+    @property
+    def eps(self) -> float:
+        return self.params.eps
+
+    @property
+    def lipschitz(self) -> float | None:
+        return self.params.lipschitz
+
+    @property
+    def target(self) -> str:
+        return self.params.target.value
 
 
 def tight_supremum(
     params: SamplingParams,
-    lipschitz: float | None = None,
     seed: int = 0,
     *,
     dense_samples: int = DENSE_SAMPLES,
     de_maxiter: int = DE_MAXITER,
-    target: Target | str = Target.additive,
 ) -> TightResult:
-    """Supremum and infimum of R − R̂ (or of (R − R̂)/R) over all feasible guide triangles at
-    ``params.eps``.
+    """Supremum and infimum of R − R̂ (additive target) or of (R − R̂)/R = 1 − R̂/R (ratio
+    target R ≤ ρ_f·R̂, eq. (54)) over all feasible guide triangles at ``params.eps``.
 
     Parameters
     ----------
     params : SamplingParams
-        ε, σ, δ/ε and L_i (ρ_f does not enter).
-    lipschitz : float, optional
-        λ ≥ 0 adds |L_x − L_y| ≤ λ|p_x − p_y| for each pair of vertices.
+        ε, σ, δ/ε, L_i, the target and λ (λ ≥ 0 adds |L_x − L_y| ≤ λ|p_x − p_y| for each
+        pair of vertices); ρ_f does not enter.
     seed : int
         Seeds the dense sample, the choice of starts and differential evolution.
     dense_samples, de_maxiter : int
         Budgets of the dense feasible sample and of the global search.
-    target : {"additive", "ratio"}
-        Maximize R − R̂, or (R − R̂)/R = 1 − R̂/R (the ratio target R ≤ ρ_f·R̂, eq. (54)).
 
     Returns
     -------
@@ -112,12 +117,11 @@ def tight_supremum(
     ----------
     Eq. (29), (33)–(37), property H3 of Section 4.1.
     """
-    problem = checked_problem(params, lipschitz, target)
-    lipschitz = problem.lipschitz
-    if lipschitz == 0:
+    problem = checked_problem(params)
+    if problem.lipschitz == 0:
         return _constant_lfs_result(problem)
     rng = np.random.default_rng(seed)
-    tri = sample_feasible(params, dense_samples, rng, lipschitz)
+    tri = sample_feasible(params, dense_samples, rng)
     sample = problem.coordinates(tri)
     x_max, sup, evidence = extremum(problem, 1.0, sample, rng, de_maxiter)
     x_min, inf, inf_evidence = extremum(problem, -1.0, sample, rng, de_maxiter)
@@ -128,9 +132,7 @@ def tight_supremum(
         minimizer=describe(problem, x_min),
         evidence=evidence,
         infimum_evidence=inf_evidence,
-        eps=params.eps,
-        lipschitz=lipschitz,
-        target=problem.target.value,
+        params=params,
     )
 
 
@@ -149,19 +151,15 @@ def _constant_lfs_result(problem: Problem) -> TightResult:
         dense_sample_extreme=None,
         methods=("exact: equal weights give R̂ = R",),
     )
-    return TightResult(
-        0.0, 0.0, config, config, evidence, evidence, problem.params.eps, 0.0, problem.target.value
-    )
+    return TightResult(0.0, 0.0, config, config, evidence, evidence, problem.params)
 
 
 class _WarmScan:
     """ε ↦ sup(R − R̂)/target, polishing from the last maximizer, known global ones and the
     best points of a small sample (which catch a change of the maximizer's structure)."""
 
-    def __init__(
-        self, quality, lipschitz, pool: list[np.ndarray], seed: int, advance: Callable, target
-    ):
-        self.quality, self.lipschitz, self.seed, self.target = quality, lipschitz, seed, target
+    def __init__(self, quality, pool: list[np.ndarray], seed: int, advance: Callable):
+        self.quality, self.seed = quality, seed
         self.pool, self.last = pool, pool[-1]
         self.advance = advance
         self.found: dict[float, tuple[np.ndarray, float]] = {}
@@ -170,9 +168,9 @@ class _WarmScan:
     def ratio(self, eps: float) -> float:
         eps = float(eps)
         if eps not in self.found:
-            problem = Problem(self.quality.at(eps), self.lipschitz, self.target)
+            problem = Problem(self.quality.at(eps))
             rng = np.random.default_rng(self.seed)
-            tri = sample_feasible(problem.params, SCAN_SAMPLES, rng, self.lipschitz)
+            tri = sample_feasible(problem.params, SCAN_SAMPLES, rng)
             sample = problem.coordinates(tri)
             picks, _ = best_of_sample(problem, sample, 1.0, SCAN_SAMPLE_STARTS)
             starts = [self.last, *self.pool, *sample[:, picks].T]
@@ -198,14 +196,12 @@ class _WarmScan:
 
 def solve_tight(
     quality: QualityParams,
-    lipschitz: float | None = None,
     progress: Progress | None = None,
     seed: int = 0,
     *,
     dense_samples: int = DENSE_SAMPLES,
     de_maxiter: int = DE_MAXITER,
     grid: np.ndarray = TIGHT_SCAN_GRID,
-    target: Target | str = Target.additive,
 ) -> EpsStar:
     """Largest ε whose numerical tight bound stays within the target: sup(R − R̂) within
     (ρ_f − 1)·δ·L_i, or sup R/R̂ within ρ_f (``target="ratio"``, eq. (54)).
@@ -218,9 +214,8 @@ def solve_tight(
     Parameters
     ----------
     quality : QualityParams
-        σ, δ/ε, ρ_f and L_i.
-    lipschitz : float, optional
-        λ of the Lipschitz conditions, as in :func:`tight_supremum`.
+        σ, δ/ε, ρ_f, L_i, the target (:mod:`vorobound.bounds.targets`) and λ of the
+        Lipschitz conditions, as in :func:`tight_supremum`.
     progress : Progress, optional
         Called with ("scanning ε", done, total), ("refining ε*", ...) and ("global search", ...).
     seed, dense_samples, de_maxiter : int
@@ -228,8 +223,6 @@ def solve_tight(
     grid : array_like
         Increasing ε values scanned for the first crossing (those below the ε from which
         guide triangles exist, σ > √3, are dropped: the target holds vacuously there).
-    target : {"additive", "ratio"}
-        Which target (:mod:`vorobound.bounds.targets`).
 
     Returns
     -------
@@ -241,16 +234,14 @@ def solve_tight(
     ----------
     Eq. (29), (33)–(37), (54)–(55).
     """
-    target = Target(target)
     start = feasible_start(quality, "tight")
-    lipschitz = checked_lipschitz(lipschitz)
-    if lipschitz == 0:
+    if quality.lipschitz == 0:
         raise NoCrossing(
             "with lipschitz = 0 every L is equal, so R - R_hat = 0 for every guide triangle: "
             "the tight bound never reaches the target (no crossing), so no eps*"
         )
     grid = feasible_grid(grid, start)
-    checked_problem(quality.at(float(grid[0])), lipschitz, target)
+    checked_problem(quality.at(float(grid[0])))
     report = progress or silent
     counts: dict[str, int] = {}
 
@@ -261,15 +252,15 @@ def solve_tight(
     def global_max(eps: float) -> tuple[np.ndarray, float]:
         """Maximizer and sup(R − R̂)/target at ``eps`` by the full search."""
         advance("global search")
-        problem = Problem(quality.at(eps), lipschitz, target)
+        problem = Problem(quality.at(eps))
         rng = np.random.default_rng(seed)
-        sample = problem.coordinates(sample_feasible(problem.params, dense_samples, rng, lipschitz))
+        sample = problem.coordinates(sample_feasible(problem.params, dense_samples, rng))
         x, value, _ = extremum(problem, 1.0, sample, rng, de_maxiter)
         return x, problem.ratio(value)
 
     pool = [global_max(float(grid[0]))[0]]
     for _ in range(VERIFY_ROUNDS):
-        scan = _WarmScan(quality, lipschitz, pool, seed, advance, target)
+        scan = _WarmScan(quality, pool, seed, advance)
         stop = scan.first_crossing(grid)
         bracket = grid[max(stop - 1, 0) : stop + 1]
         result = find_eps_star(
@@ -291,7 +282,5 @@ def solve_tight(
     return replace(
         result,
         residual=float(best - 1),
-        maximizer=describe(Problem(result.params, lipschitz, target), x_best),
-        lipschitz=lipschitz,
-        target=target.value,
+        maximizer=describe(Problem(result.params), x_best),
     )

@@ -15,12 +15,12 @@ Theorem 1, eq. (29), (33)–(36), (54)–(55) and property H3 of Section 4.1.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...bounds import constraints
-from ...bounds.params import SamplingParams
+from ...bounds.params import SamplingParams, Target
 from .seeds import SeededTriangles
 
 BOUND_RTOL = 1e-9
@@ -29,7 +29,8 @@ BOUND_RTOL = 1e-9
 
 @dataclass(frozen=True)
 class ModeBound:
-    """One mode's bound on R − R̂ at the sample's ε, per unit L_i."""
+    """One mode's bound at the sample's ε for one target: on R − R̂ per unit L_i (additive)
+    or on R/R̂ (ratio)."""
 
     mode: str
     """paper, rigorous, tight, or tight_lipschitz (tight with the sample's λ)."""
@@ -40,44 +41,33 @@ class ModeBound:
     """proven, numerical or invalid (docs/errata.md, docs/tight.md)."""
 
 
-def ratio_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
-    """The bound on R/R̂ (ratio target, eq. (54)) of the rigorous and tight modes at
-    ``params.eps`` (``tight_lipschitz`` with the sample's λ as in :func:`mode_bounds`)."""
-    from ...bounds.guarantee import bound_at
+def mode_bounds(params: SamplingParams, target: Target | str) -> list[ModeBound]:
+    """Every mode's bound at ``params.eps`` for ``target``, for L_i = 1, through the one
+    facade :func:`vorobound.bounds.guarantee.bound_at`.
 
-    out = [ModeBound("rigorous", bound_at(params, "rigorous", "ratio").value, None, "proven")]
-    for mode, lam in (("tight", None), ("tight_lipschitz", lipschitz)):
-        if mode == "tight" or lam is not None:
-            tight = bound_at(params, "tight", "ratio", lam)
-            out.append(ModeBound(mode, float(tight.value), lam, tight.claim))
-    return out
-
-
-def mode_bounds(params: SamplingParams, lipschitz: float | None) -> list[ModeBound]:
-    """The bound on R − R̂ of every mode at ``params.eps``, for L_i = 1.
-
-    ``tight`` is the supremum over the paper's constraint set; with a Lipschitz constant λ the
-    list also has ``tight_lipschitz``, the supremum once |L_x − L_y| ≤ λ|p_x − p_y| is added.
-    Tight values come from :func:`vorobound.bounds.tight.method.tight_bound` (the closed form
-    where it is proven exact, else the numerical optimizer; the claim says which).
+    Additive target: the paper's and the rigorous chain and ``tight``, the supremum over the
+    paper's constraint set; ratio target (R/R̂, eq. (54)): the rigorous chain and ``tight``
+    (the printed chain's bound on R/R̂ is infinite at practical ε). With ``params.lipschitz``
+    the list also has ``tight_lipschitz``, the supremum once |L_x − L_y| ≤ λ|p_x − p_y| is
+    added. Tight values are the closed form where it is proven exact, else the numerical
+    optimizer; the claim says which.
 
     References
     ----------
-    Eq. (29), (33)–(53).
+    Eq. (29)–(30), (33)–(55).
     """
-    from ...bounds.chain import chain_bounds
-    from ...bounds.claims import CHAIN_CLAIM
-    from ...bounds.tight.method import tight_bound
+    from ...bounds.guarantee import bound_at
 
-    unit = SamplingParams(params.eps, replace(params.quality, lfs=1.0))
-    out = [
-        ModeBound(mode, float(chain_bounds(unit, mode).bound), None, CHAIN_CLAIM[mode])
-        for mode in ("paper", "rigorous")
-    ]
-    for mode, lam in (("tight", None), ("tight_lipschitz", lipschitz)):
-        if mode == "tight" or lam is not None:
-            tight = tight_bound(unit, lam)
-            out.append(ModeBound(mode, float(tight.value), lam, tight.claim))
+    target = Target(target)
+    unit = params.but(lfs=1.0, target=target, lipschitz=None)
+    chains = ("paper", "rigorous") if target is Target.additive else ("rigorous",)
+    cases = [(mode, unit) for mode in (*chains, "tight")]
+    if params.lipschitz is not None:
+        cases.append(("tight_lipschitz", unit.but(lipschitz=params.lipschitz)))
+    out = []
+    for name, case in cases:
+        bound = bound_at(case, "tight" if name == "tight_lipschitz" else name)
+        out.append(ModeBound(name, float(bound.value), case.lipschitz, bound.claim))
     return out
 
 
@@ -131,7 +121,6 @@ def measure_guides(
     guides: SeededTriangles,
     lfs: np.ndarray,
     params: SamplingParams,
-    lipschitz: float | None,
     bounds: list[ModeBound],
     ratio_bounds: list[ModeBound] | None = None,
 ) -> GuideMeasurements:
@@ -144,13 +133,12 @@ def measure_guides(
     lfs : numpy.ndarray
         L of every ball (indexed by ``guides.triples``).
     params : SamplingParams
-        ε, σ, δ/ε of the sample.
-    lipschitz : float or None
-        λ of the sample's L (adds the Lipschitz conditions to the constraint set).
+        ε, σ, δ/ε of the sample and λ of its L (adds the Lipschitz conditions to the
+        constraint set).
     bounds : list of ModeBound
-        From :func:`mode_bounds`.
+        From :func:`mode_bounds` for the additive target (bounds on R − R̂).
     ratio_bounds : list of ModeBound, optional
-        From :func:`ratio_bounds` (bounds on R/R̂).
+        From :func:`mode_bounds` for the ratio target (bounds on R/R̂).
 
     References
     ----------
@@ -168,7 +156,7 @@ def measure_guides(
     config = constraints.scale_configuration(
         b, c, a, geometry.sin_theta, lfs_i, vertex_lfs[:, 1], vertex_lfs[:, 2], params.eps
     )
-    limits = constraints.ConstraintParams(params.eps, params.sigma, lipschitz)
+    limits = constraints.ConstraintParams(params.eps, params.sigma, params.lipschitz)
     gap = geometry.radius_gap
     circumradius = geometry.circumradius
     shifted = circumradius - gap  # R̂ of the min-weight-shifted triangle (≥ 0 up to rounding)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...bounds.params import LFS_RANGE
+from ...checks import LFS_RANGE
 from ...errors import ReadError, VoroboundWarning
 
 

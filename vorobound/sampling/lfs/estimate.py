@@ -34,8 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ...bounds.params import LIPSCHITZ_RANGE
-from ...checks import checked_number, checked_seed
+from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
 from ...errors import InputError, VoroboundError, VoroboundWarning
 from ...progress import Counter, Progress
 from ..io.meshes import TriangleMesh

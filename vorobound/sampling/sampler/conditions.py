@@ -180,3 +180,26 @@ def coverage(
     ratio = dist / (eps * probe_lfs)
     at = int(np.argmax(ratio))
     return float(ratio[at]), probes[at]
+
+
+def surface_coverage(
+    shape, points: np.ndarray, eps: float, seed: int | None, extra=None
+) -> tuple[float, np.ndarray, int]:
+    """Coverage of ``shape`` by samples at ``points``: :func:`coverage` over random surface
+    points (``PROBES_PER_SAMPLE`` per sample, at least ``MIN_PROBES``, fixed by ``seed``) and
+    the projections onto the surface of ``extra`` points (e.g. circumcenters, near which the
+    largest gaps lie). Returns (max ratio, worst probe, probes used).
+
+    References
+    ----------
+    The ε-sample condition of Section 4.1.
+    """
+    rng = np.random.default_rng([0 if seed is None else seed, 1])
+    count = max(MIN_PROBES, PROBES_PER_SAMPLE * len(points))
+    probes, probe_lfs = shape.random_points(count, rng)
+    projected = shape.project(extra) if extra is not None and len(extra) else None
+    if projected is not None:  # (shapes without a projection return None)
+        probes = np.concatenate([probes, projected[0]])
+        probe_lfs = np.concatenate([probe_lfs, projected[1]])
+    ratio, where = coverage(points, eps, probes, probe_lfs)
+    return ratio, where, len(probes)

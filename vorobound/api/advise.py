@@ -1,0 +1,168 @@
+"""``vorobound advise``: sampling parameters and expected sample counts for a surface."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from ..bounds.params import QualityParams, checked_modes, checked_targets
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..progress import Progress
+from .result import Result, params_json
+
+H3_ROUTE_STATEMENT = "H3 alone gives R <= rho_f*delta*L_i (eq. (55)); not eq. (54)"
+
+
+@dataclass(frozen=True, repr=False)
+class AdviseResult(Result):
+    """ε* per mode and target, what it means on the surface, and the ε to use."""
+
+    command = "advise"
+    eps: float | None
+    """The recommended ε (None: no target asked for has a proven or certified ε*)."""
+    claim: str | None
+    ball_radius: float | None
+    samples_low: float | None
+    samples_high: float | None
+    surface_name: str | None
+    lfs_source: str | None
+    advice: object = field(repr=False)
+    """:class:`vorobound.reports.advisor.Advice`."""
+    surface: object = field(repr=False)
+    quality: QualityParams = field(repr=False)
+    modes: tuple[str, ...] = field(repr=False)
+    targets: tuple[str, ...] = field(repr=False)
+
+    def payload(self) -> dict:
+        from ..reports.advisor import GUARANTEE
+
+        surface = self.surface
+        counted = surface is not None
+        entries = []
+        for a in self.advice.rows:
+            entries.append(
+                {
+                    "mode": a.mode,
+                    "target": a.target,
+                    "eps_star": a.eps_star,
+                    "claim": a.claim,
+                    "method": a.method,
+                    "proven_lower_bound": a.proven_lower_bound,
+                    "ball_radius": a.ball_radius,
+                    "min_spacing": a.min_spacing,
+                    "samples_low": a.samples_low if counted else None,
+                    "samples_high": a.samples_high if counted else None,
+                    "reduction_vs_1_500": a.reduction_vs_1_500,
+                    "constraint_set": a.constraint_set,
+                    "note": a.note,
+                }
+            )
+        rec = self.advice.recommendation
+        recommendation = None
+        if rec is not None:
+            features = rec.feature_samples
+            recommendation = {
+                "eps": rec.eps,
+                "binding_target": rec.binding_target,
+                "mode": rec.mode,
+                "claim": rec.claim,
+                "eps_per_target": rec.per_target,
+                "ball_radius": rec.ball_radius,
+                "min_spacing": rec.min_spacing,
+                "samples_low": rec.samples_low if counted else None,
+                "samples_high": rec.samples_high if counted else None,
+                "reduction_vs_1_500": rec.reduction_vs_1_500,
+                "feature_samples_low": None if features is None else features[0],
+                "feature_samples_high": None if features is None else features[1],
+                "lattice_candidates": rec.lattice_candidates,
+                "samplable": rec.samplable,
+            }
+        h3 = self.advice.h3_route
+        surface_info = None
+        if counted:
+            surface_info = {
+                "name": surface.name,
+                "area": surface.area,
+                "lfs_min": surface.lfs_min,
+                "inv_lfs_sq_integral": surface.inv_lfs_sq_integral,
+                "counts_exact": surface.exact,
+                "lfs_source": self.lfs_source,
+                "feature_inv_lfs": surface.feature_inv_lfs,
+            }
+        params = params_json(self.quality, mode=list(self.modes))
+        params["target"] = list(self.targets)
+        return {
+            "params": params,
+            "surface": surface_info,
+            "recommendation": recommendation,
+            "modes": entries,
+            "h3_route": {
+                "eps_star": h3.eps_star,
+                "claim": h3.claim,
+                "premise": h3.premise,
+                "statement": H3_ROUTE_STATEMENT,
+            },
+            "guarantee": GUARANTEE,
+        }
+
+
+def advise(
+    *,
+    rho_f: float = PAPER_RHO_F,
+    sigma: float = PAPER_SIGMA,
+    delta_ratio: float = PAPER_DELTA_RATIO,
+    lipschitz: float | None = None,
+    mode: str | Sequence[str] = "rigorous,tight",
+    target: str | Sequence[str] = "additive,ratio",
+    area: float | None = None,
+    lfs: float | None = None,
+    sphere: float | None = None,
+    torus: Sequence[float] | None = None,
+    mesh: str | os.PathLike | None = None,
+    sizing: str | os.PathLike | None = None,
+    progress: Progress | None = None,
+) -> AdviseResult:
+    """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
+    surface, and the ε to use.
+
+    The recommendation is the most conservative proven or certified ε* among the targets asked
+    for, and says which target binds. Sample counts are a covering lower and a packing upper
+    estimate (exact bounds on a sphere; docs/advisor.md). Without a surface, lengths are per
+    unit L and there are no counts. A mesh without ``lfs`` or ``sizing`` has its L estimated
+    (as by :func:`vorobound.lfs`), and the result says so.
+    """
+    from ..reports.advisor import advise as run
+    from ..sampling.surfaces.analytic import planar_area
+    from .surfaces import count_surface
+
+    modes = tuple(m.value for m in checked_modes(mode))
+    targets = tuple(t.value for t in checked_targets(target))
+    quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz)
+    surface, lfs_source = count_surface(
+        area=area,
+        lfs=lfs,
+        sphere=sphere,
+        torus=torus,
+        mesh=mesh,
+        sizing=sizing,
+        progress=progress,
+    )
+    basis = surface or planar_area(1.0, 1.0)
+    advice = run(quality, basis, list(modes), progress=progress, targets=list(targets))
+    rec = advice.recommendation
+    counted = surface is not None and rec is not None
+    return AdviseResult(
+        eps=None if rec is None else rec.eps,
+        claim=None if rec is None else rec.claim,
+        ball_radius=None if rec is None else rec.ball_radius,
+        samples_low=rec.samples_low if counted else None,
+        samples_high=rec.samples_high if counted else None,
+        surface_name=None if surface is None else surface.name,
+        lfs_source=lfs_source,
+        advice=advice,
+        surface=surface,
+        quality=quality,
+        modes=modes,
+        targets=targets,
+    )

@@ -1,0 +1,207 @@
+"""``vorobound check``: sample a surface (or read balls) and measure every guide triangle
+against every bound."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from ..bounds.params import QualityParams
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..progress import Progress
+from .result import Result, frame, params_json
+
+FIGURE_FORMATS = ("png", "pdf", "svg")
+PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
+"""Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
+so exceeding it is a finding about the paper, not about the sample)."""
+
+
+def failures(summary: dict) -> dict[str, int]:
+    """What the check found broken, by kind, from its summary (zero everywhere: ok)."""
+    coverage = summary.get("coverage_max")
+    return {
+        "coverage": int(coverage is not None and coverage >= 1),
+        "sparsity": summary["sparsity_violations"],
+        "lipschitz": summary["lipschitz_violations"],
+        "outside_constraint_set": summary["outside_constraint_set"],
+        "quality": summary["quality_violations"],
+        "ratio": summary["ratio_violations"],
+        "proven_bound": sum(summary["violations"].get(m) or 0 for m in PROVEN_MODES)
+        + sum(summary["ratio_bound_violations"].get(m) or 0 for m in PROVEN_MODES),
+    }
+
+
+FAILURE_WORDS = {
+    "coverage": "coverage_max >= 1 (not an eps-sample)",
+    "sparsity": "pairs closer than the sparsity allows",
+    "lipschitz": "pairs whose L changes faster than lambda",
+    "outside_constraint_set": "guide triangles outside the constraint set (33)-(36)/H3",
+    "quality": "guide triangles with R > rho_f*delta*L_i (eq. (55))",
+    "ratio": "guide triangles with R > rho_f*R^ (eq. (54))",
+    "proven_bound": "exceedances of a proven bound",
+}
+
+
+@dataclass(frozen=True, repr=False)
+class CheckResult(Result):
+    """The check of one sample: counts, the largest realized quantities, what failed."""
+
+    command = "check"
+    source: str
+    n_samples: int
+    n_guide_triangles: int
+    n_half_covered: int
+    gap_ratio_max: float | None
+    """max (R − R̂)/(εL_i) over the guide triangles."""
+    ratio_max: float | None
+    """max R/R̂ (eq. (54))."""
+    coverage_max: float | None
+    n_failures: int
+    """Sum of :attr:`failures` (0: everything checked holds)."""
+    report: object = field(repr=False)
+    """:class:`vorobound.reports.check.CheckReport`."""
+    written: tuple[str, ...] = field(repr=False, default=())
+    asked: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def failures(self) -> dict[str, int]:
+        return failures(self.report.summary())
+
+    @property
+    def ok(self) -> bool:
+        return self.n_failures == 0
+
+    @property
+    def verdict(self) -> str:
+        found = [f"{n:,} {FAILURE_WORDS[k]}" for k, n in self.failures.items() if n]
+        return f"{self.n_failures:,} violations: " + "; ".join(found)
+
+    def payload(self) -> dict:
+        summary = self.report.summary()
+        found = failures(summary)
+        summary["params"] = params_json(
+            self.report.params.quality, self.report.params.eps, **self.asked
+        )
+        return summary | {
+            "ok": not any(found.values()),
+            "failures": found,
+            "written": list(self.written),
+        }
+
+    def to_frame(self):
+        """One row per guide triangle (the columns of triangles.csv; pandas optional)."""
+        from ..reports.check import triangle_columns
+
+        columns = triangle_columns(self.report)
+        return frame(
+            [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
+        )
+
+
+def check(
+    *,
+    eps: float,
+    sphere: float | None = None,
+    torus: Sequence[float] | None = None,
+    mesh: str | os.PathLike | None = None,
+    lfs: float | None = None,
+    sizing: str | os.PathLike | None = None,
+    balls: str | os.PathLike | None = None,
+    sigma: float = PAPER_SIGMA,
+    delta_ratio: float = PAPER_DELTA_RATIO,
+    rho_f: float = PAPER_RHO_F,
+    seed: int = 0,
+    lipschitz: float | None = None,
+    engine: str = "auto",
+    out: str | os.PathLike | None = None,
+    figure_format: str = "png",
+    progress: Progress | None = None,
+) -> CheckResult:
+    """Sample a surface (or read ``balls``) and measure every guide triangle against the
+    bounds.
+
+    Guide triangles are the ball triples whose two seeds lie outside every other ball. Each is
+    measured: realized ρ = R/(δL_i), gap (R − R̂)/(εL_i) of Theorem 1, R/R̂, whether it lies
+    in the constraint set (33)–(36), H3, sparsity and λ-Lipschitz, and whether it exceeds each
+    mode's bound at this ε. The sample is checked for coverage, sparsity and Lipschitz L.
+    ``ok`` is False when any of that fails (the paper's invalid chain aside). ``out`` names a
+    folder for triangles.csv, summary.json, sample.vtu and the gap histogram, written as one
+    set. ``lipschitz`` is the λ that L = r/δ of ``balls`` should satisfy (default 1); a
+    sampled surface uses its own λ.
+    """
+    from ..checks import checked_lipschitz, checked_seed
+    from ..errors import InputError
+    from ..files import checked_folder
+    from ..reports.check import check_balls, check_surface
+    from .surfaces import sample_shape
+
+    if figure_format not in FIGURE_FORMATS:
+        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    seed = checked_seed(seed)
+    if out is not None:
+        checked_folder(out)
+    quality = QualityParams(sigma, delta_ratio, rho_f)
+    params = quality.at(eps)
+    shape = sample_shape(
+        sphere=sphere,
+        torus=torus,
+        mesh=mesh,
+        lfs=lfs,
+        sizing=sizing,
+        required=balls is None,
+        progress=progress,
+    )
+    if balls is not None:
+        from ..sampling.io.balls import read_balls
+
+        lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
+        name = os.path.basename(os.fspath(balls))
+        report = check_balls(
+            read_balls(balls), params.but(lipschitz=lam), engine, shape, name, progress
+        )
+        asked = {"seed": None, "engine": engine, "balls": os.fspath(balls)}
+    else:
+        if lipschitz is not None:
+            raise InputError("lipschitz goes with balls (a surface's L has a known λ)")
+        report = check_surface(shape, params.eps, quality, seed, engine, progress)
+        asked = {"seed": seed, "engine": engine}
+    summary = report.summary()
+    result = CheckResult(
+        source=report.source,
+        n_samples=summary["n_samples"],
+        n_guide_triangles=summary["n_guide_triangles"],
+        n_half_covered=summary["n_half_covered"],
+        gap_ratio_max=summary["gap_ratio_max"],
+        ratio_max=summary["ratio_max"],
+        coverage_max=summary["coverage_max"],
+        n_failures=sum(failures(summary).values()),
+        report=report,
+        asked=asked,
+    )
+    if out is not None:
+        result = write_outputs(result, out, figure_format)
+    return result
+
+
+def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
+    """triangles.csv, summary.json (the result's JSON), sample.vtu and the gap histogram,
+    written as one set; the result names them."""
+    import dataclasses
+    import json
+
+    from ..files import ensure_folder, write_set
+    from ..plotting import figure_writer, plot_gap_histogram
+    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks, output_writers
+
+    report = result.report
+    folder = ensure_folder(out)
+    writers = output_writers(report, folder)
+    figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
+    writers[folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
+    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
+    text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
+    writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
+    write_set(writers)
+    return result

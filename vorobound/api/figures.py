@@ -1,0 +1,141 @@
+"""``vorobound figure`` and ``vorobound reproduce``: the paper's numbers beside this project's,
+and the figures (Figure 3 of the paper, the comparison of modes)."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..bounds.params import QualityParams, Target
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..progress import Progress
+from .result import Result, params_json
+
+DEFAULT_OUT = Path("vorobound-figures")
+"""Default output folder (not the repository's committed figures/)."""
+FIGURE_FORMATS = ("png", "pdf", "svg")
+
+
+def tight_stars(quality: QualityParams, progress: Progress | None = None) -> list:
+    """The tight additive ε* for each λ of :data:`vorobound.reports.figure_data.TIGHT_SETTINGS`
+    (the tight curves of the comparison figure)."""
+    from ..bounds.tight.method import tight_eps_star
+    from ..reports.figure_data import TIGHT_SETTINGS
+
+    additive = quality.but(target=Target.additive)
+    return [
+        tight_eps_star(additive.but(lipschitz=lam), progress=progress) for lam in TIGHT_SETTINGS
+    ]
+
+
+def write_figures(
+    quality: QualityParams, out, figure_format: str, stars: list, progress=None
+) -> list[Path]:
+    """Figure 3 and the comparison of modes, written as one set (all files or none)."""
+    from ..errors import InputError
+    from ..plotting import plot_comparison, plot_figure3, save_set
+    from ..reports.figure_data import figure_set_data
+
+    if figure_format not in FIGURE_FORMATS:
+        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    figure3, comparison = figure_set_data(quality, stars, progress)
+    figures = {"figure3": plot_figure3(figure3), "comparison": plot_comparison(comparison)}
+    return save_set(figures, out, figure_format)
+
+
+@dataclass(frozen=True, repr=False)
+class FigureResult(Result):
+    """The figures written."""
+
+    command = "figure"
+    written: tuple[str, ...]
+    quality: QualityParams = field(repr=False)
+
+    def payload(self) -> dict:
+        params = params_json(self.quality)
+        params["target"] = Target.additive.value
+        return {"params": params, "figures": list(self.written)}
+
+
+def figure(
+    *,
+    out: str | os.PathLike = DEFAULT_OUT,
+    figure_format: str = "png",
+    sigma: float = PAPER_SIGMA,
+    delta_ratio: float = PAPER_DELTA_RATIO,
+    lfs: float = 1.0,
+    rho_f: float = PAPER_RHO_F,
+    tight: bool = True,
+    progress: Progress | None = None,
+) -> FigureResult:
+    """Regenerate every figure: Figure 3 of the paper and the comparison of modes (additive
+    target), as one set in ``out``: if anything fails, the previous files stay as they were."""
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs)
+    stars = tight_stars(quality, progress) if tight else []
+    paths = write_figures(quality, out, figure_format, stars, progress)
+    return FigureResult(tuple(os.fspath(p) for p in paths), quality)
+
+
+@dataclass(frozen=True, repr=False)
+class ReproduceResult(Result):
+    """Every number the paper states beside this project's value for each mode."""
+
+    command = "reproduce"
+    paper_eps_star: float
+    """The printed chain's ε* (the paper's 0.0047, additive target)."""
+    tight_eps_star: float | None
+    """The tight ε* of the ratio target, eq. (54) (None without the tight modes)."""
+    written: tuple[str, ...] = field(repr=False)
+    summaries: tuple = field(repr=False)
+    rows: tuple = field(repr=False)
+    quality: QualityParams = field(repr=False)
+
+    def payload(self) -> dict:
+        params = params_json(self.quality)
+        del params["target"], params["lipschitz"]
+        return {
+            "params": params,
+            "eps_star": {s.mode: s.star.eps_star for s in self.summaries},
+            "eps_star_ratio": {s.mode: s.ratio_star.eps_star for s in self.summaries},
+            "claims": {s.mode: s.star.claim for s in self.summaries},
+            "rows": [
+                {"quantity": r.quantity, "paper": r.paper, "values": r.values} for r in self.rows
+            ],
+            "figures": list(self.written),
+        }
+
+
+def reproduce(
+    *,
+    out: str | os.PathLike = DEFAULT_OUT,
+    sigma: float = PAPER_SIGMA,
+    delta_ratio: float = PAPER_DELTA_RATIO,
+    lfs: float = 1.0,
+    rho_f: float = PAPER_RHO_F,
+    tight: bool = True,
+    progress: Progress | None = None,
+) -> ReproduceResult:
+    """Every number the paper states beside this project's value for each mode; writes the
+    figures into ``out``.
+
+    Modes: paper (the printed chain: invalid), rigorous (the corrected chain: proven), tight
+    (the supremum over the constraint set: proven in closed form, docs/tight.md) and tight with
+    the 1-Lipschitz condition (λ = 1). The tight modes are certified by interval arithmetic up
+    to 0.999·ε* for both targets.
+    """
+    from ..reports.reproduce import reproduce as run
+
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs)
+    summaries, rows = run(quality, tight=tight, progress=progress)
+    stars = [s.star for s in summaries if s.star.mode == "tight"]
+    paths = write_figures(quality, out, "png", stars, progress)
+    tight_ratio = next((s.ratio_star.eps_star for s in summaries if s.mode == "tight"), None)
+    return ReproduceResult(
+        paper_eps_star=summaries[0].star.eps_star,
+        tight_eps_star=tight_ratio,
+        written=tuple(os.fspath(p) for p in paths),
+        summaries=tuple(summaries),
+        rows=tuple(rows),
+        quality=quality,
+    )

@@ -1,0 +1,117 @@
+"""What every workflow returns: a frozen result whose ``to_dict()`` is the command's JSON.
+
+Every JSON object carries ``vorobound_version``, ``command`` and a ``params`` object in one
+nested form (ε, σ, δ/ε, ρ_f, L_i, λ, target, mode: whichever the command takes), and names the
+same quantity the same way in every command (R − R̂ is ``radius_gap``). A result prints as a
+short summary of its scalar fields; ``ok`` says whether everything the command checked holds
+(the exit code 0 or 1).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import math
+from collections.abc import Mapping
+
+REPR_LIMIT = 200
+"""Longest repr of a result, in characters."""
+
+
+def jsonable(value):
+    """Plain JSON types for numpy values, dataclasses, enums, paths and tuples; NaN and
+    infinity become null."""
+    if isinstance(value, Result):
+        return value.to_dict()
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        value = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
+    if isinstance(value, enum.Enum):
+        value = value.value
+    if hasattr(value, "tolist"):
+        value = value.tolist()
+    if hasattr(value, "__fspath__"):
+        value = str(value)
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [jsonable(v) for v in value]
+    return value
+
+
+def params_json(quality=None, eps: float | None = None, **asked) -> dict:
+    """The ``params`` object: ε (if given), the quality parameters (σ, δ/ε, ρ_f, L_i, λ, target)
+    and whatever else the command was asked (mode, ...), in one order for every command."""
+    out = {} if eps is None else {"eps": eps}
+    if quality is not None:
+        out |= quality.as_dict()
+    for key, value in asked.items():
+        out[key] = value.value if isinstance(value, enum.Enum) else value
+    return out
+
+
+class Result:
+    """Base of the workflows' results (frozen dataclasses).
+
+    Subclasses set ``command`` and implement :meth:`payload` (the command-specific part of
+    the JSON, ``params`` included).
+    """
+
+    command: str = ""
+
+    def payload(self) -> dict:
+        raise NotImplementedError
+
+    def to_dict(self) -> dict:
+        """The command's ``--json`` object."""
+        from .. import __version__
+
+        head = {"vorobound_version": __version__, "command": self.command}
+        return jsonable(head | self.payload())
+
+    @property
+    def ok(self) -> bool:
+        """True when everything the command checked holds (exit code 0; else 1)."""
+        return True
+
+    @property
+    def verdict(self) -> str:
+        """One line on what failed (printed last, with exit code 1); empty when ``ok``."""
+        return ""
+
+    def __repr__(self) -> str:
+        parts = []
+        for field in dataclasses.fields(self):
+            if field.name.startswith("_") or not field.repr:
+                continue
+            value = getattr(self, field.name)
+            if isinstance(value, bool | int | str | enum.Enum) or value is None:
+                parts.append(f"{field.name}={_short(value)}")
+            elif isinstance(value, float):
+                parts.append(f"{field.name}={value:.6g}")
+        text = f"{type(self).__name__}({', '.join(parts)})"
+        return text if len(text) <= REPR_LIMIT else text[: REPR_LIMIT - 4] + "...)"
+
+
+def _short(value) -> str:
+    if isinstance(value, enum.Enum):
+        value = value.value
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "...'"
+
+
+def as_float(value) -> float | None:
+    """A numpy or Python scalar as a plain float (None stays None)."""
+    return None if value is None else float(value)
+
+
+def frame(rows: list[dict]):
+    """Rows as a pandas DataFrame (pandas is optional: an InputError says how to get it)."""
+    try:
+        import pandas as pd
+    except ImportError:
+        from ..errors import MissingDependency
+
+        raise MissingDependency("to_frame() needs pandas: pip install pandas") from None
+    return pd.DataFrame(rows)
