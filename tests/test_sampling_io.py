@@ -59,13 +59,23 @@ def test_meshio_point_cloud_with_radius(tmp_path):
 @pytest.mark.parametrize(
     "rows, match",
     [
-        (np.column_stack([CENTERS, np.where(np.arange(12) == 3, np.nan, RADII)]), "radius 3"),
-        (np.column_stack([CENTERS, np.where(np.arange(12) == 5, -0.1, RADII)]), "radius 5"),
+        # file lines count the header: ball i is on line i + 2
+        (
+            np.column_stack([CENTERS, np.where(np.arange(12) == 3, np.nan, RADII)]),
+            "line 5: the radius",
+        ),
+        (
+            np.column_stack([CENTERS, np.where(np.arange(12) == 5, -0.1, RADII)]),
+            "line 7: the radius",
+        ),
         (
             np.column_stack([np.where(np.arange(12)[:, None] == 2, np.inf, CENTERS), RADII]),
-            "center 2",
+            "line 4: the center",
         ),
-        (np.column_stack([np.vstack([CENTERS[:11], CENTERS[4]]), RADII]), "coincide"),
+        (
+            np.column_stack([np.vstack([CENTERS[:11], CENTERS[4]]), RADII]),
+            "lines 6 and 13: the centers coincide",
+        ),
         (np.column_stack([CENTERS[:3], RADII[:3]]), "at least 4"),
     ],
     ids=["nan", "negative", "infinite", "duplicate", "too-few"],

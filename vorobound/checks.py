@@ -13,6 +13,20 @@ from .errors import InputError
 
 SEED_MAX = 2**63 - 1
 """Largest accepted random seed (seeds stay printable as int64 in outputs)."""
+BRIEF_CHARS = 40
+"""Longest value quoted whole in a message; longer ones (an integer of 400 digits) are cut."""
+
+
+def brief(value) -> str:
+    """``repr(value)`` for a one-line message, cut to about ``BRIEF_CHARS`` characters."""
+    text = repr(value)
+    if len(text) <= BRIEF_CHARS:
+        return text
+    size = (
+        f"{len(text.lstrip('-'))} digits" if isinstance(value, int) else f"{len(text)} characters"
+    )
+    return f"{text[: BRIEF_CHARS - 10]}... ({size})"
+
 
 # The supported ranges of the sampling parameters (README, "Supported parameter ranges"). They
 # keep every product the bounds form (weights ~ (δ/ε)²ε³L², the allowance (ρ_f − 1)δL_i, ...)
@@ -34,13 +48,17 @@ LIPSCHITZ_RANGE = (1e-12, 1e6)
 def checked_number(value, name: str, low: float, high: float, *, open_low: bool = False) -> float:
     """``value`` as a float if it is a real number in [low, high] (or (low, high]); else raise."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise InputError(f"{name} must be a real number, got {value!r}")
-    number = float(value)
+        raise InputError(f"{name} must be a real number, got {brief(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an integer or fraction beyond float64 (10**400): out of any range
+        number = math.inf
     inside = (low < number if open_low else low <= number) and number <= high
     if not (math.isfinite(number) and inside):
         bracket = "(" if open_low else "["
         raise InputError(
-            f"{name} must lie in {bracket}{low:g}, {high:g}] (the supported range), got {value!r}"
+            f"{name} must lie in {bracket}{low:g}, {high:g}] (the supported range), "
+            f"got {brief(value)}"
         )
     return number
 
@@ -50,7 +68,7 @@ def checked_lipschitz(value) -> float | None:
     for "no Lipschitz condition"; else raise."""
     if value is None:
         return None
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == 0:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
         return 0.0
     return checked_number(value, "lipschitz", *LIPSCHITZ_RANGE)
 
@@ -67,7 +85,7 @@ def checked_count(value, name: str, low: int, high: int) -> int:
         or not isinstance(value, numbers.Integral)
         or not low <= value <= high
     ):
-        raise InputError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        raise InputError(f"{name} must be an integer in [{low}, {high}], got {brief(value)}")
     return int(value)
 
 

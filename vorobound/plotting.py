@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .files import atomic_path, ensure_folder, write_set
-from .reports.figure_data import ComparisonData, Figure3Data
+from .reports.figure_data import ComparisonData, Figure3Data, gap_histogram_data
 
 COLUMN_WIDTH_IN = 3.5
 """One column of a two-column paper, in inches."""
@@ -15,6 +15,17 @@ DPI = 200
 """Resolution of raster formats."""
 COMPARISON_YLIM_FACTOR = 2.5
 """The comparison figure shows bounds up to this multiple of the target."""
+TICKS = 6
+"""At most this many intervals between major ticks on each axis (fixed: see _fixed_ticks)."""
+TICK_STEPS = (1, 2, 5, 10)
+"""Tick spacings allowed (times a power of ten): round labels such as 0.002, not 0.0015."""
+LEGEND_COLUMNS = 2
+"""Columns of the legends of Figure 3 and the comparison, which sit below the axes (never over
+the data); the gap histogram's longer labels take one column."""
+LEGEND_ROW_IN = 0.16
+"""Height added to a figure per legend row, in inches (7-point text and its spacing)."""
+POINT_MASS_WIDTH = 0.012
+"""Width of the bar of a point mass in the gap histogram, as a share of the shown range."""
 _STYLE = {
     "font.size": 8,
     "axes.labelsize": 8,
@@ -33,13 +44,67 @@ def _write(fig, path, fmt: str, dpi: int) -> None:
         fig.savefig(path, format=fmt, dpi=dpi, metadata=_NO_DATES.get(fmt))
 
 
-def _axes(ax):
+def _axes(ax, legend_rows: int = 0):
+    """The given axes and its figure, or a new one-column figure with room for a legend of
+    ``legend_rows`` below the axes. The constrained layout keeps every label and tick label
+    inside the figure."""
     from matplotlib.figure import Figure
 
     if ax is not None:
         return ax.figure, ax
-    fig = Figure(figsize=(COLUMN_WIDTH_IN, FIGURE_HEIGHT_IN), layout="constrained")
+    height = FIGURE_HEIGHT_IN + legend_rows * LEGEND_ROW_IN
+    fig = Figure(figsize=(COLUMN_WIDTH_IN, height), layout="constrained")
     return fig, fig.add_subplot()
+
+
+def _legend_outside(ax, columns: int = LEGEND_COLUMNS, first: str | None = None) -> None:
+    """The legend of ``ax`` outside its axes, so that it never covers data: below it in a
+    figure of its own (the constrained layout makes room), else to its right. The entry
+    labelled ``first`` leads."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    handles, labels = ax.get_legend_handles_labels()
+    if first in labels:
+        lead = labels.index(first)
+        handles.insert(0, handles.pop(lead))
+        labels.insert(0, labels.pop(lead))
+    fig = ax.figure
+    if len(fig.axes) == 1 and isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine):
+        fig.legend(handles, labels, loc="outside lower center", ncols=columns)
+    else:
+        ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+
+
+def style():
+    """The settings every figure is drawn with, as a context manager (``with style(): ...``)."""
+    import matplotlib
+
+    return matplotlib.rc_context(_STYLE)
+
+
+def rendered(fig):
+    """Draw ``fig`` as it is written (style and layout applied) and return the renderer, whose
+    extents (``get_window_extent``) say where each label, legend and line ended up. Query
+    them inside :func:`style` too: tick labels are made again from the settings in force."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    with style():
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+    return canvas.get_renderer()
+
+
+def _fixed_ticks(ax) -> None:
+    """Tick positions that do not depend on the axes' size. Automatic ones are chosen again
+    after the layout has shrunk the axes, and a new last label can then stick out of the
+    figure (the clipped last tick of Figure 3)."""
+    from matplotlib.ticker import LogLocator, MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        if axis.get_scale() == "log":
+            axis.set_major_locator(LogLocator(numticks=TICKS))
+        else:
+            axis.set_major_locator(MaxNLocator(nbins=TICKS, steps=TICK_STEPS))
 
 
 def plot_figure3(data: Figure3Data, ax=None):
@@ -54,7 +119,7 @@ def plot_figure3(data: Figure3Data, ax=None):
     import matplotlib
 
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax)
+        fig, ax = _axes(ax, legend_rows=3)
         ax.plot(data.eps, data.bound_acute, label=r"bound, $\theta \leq \pi/2$", color="C0")
         ax.plot(
             data.eps,
@@ -80,7 +145,8 @@ def plot_figure3(data: Figure3Data, ax=None):
         ax.set_title(f"Figure 3 ({data.mode} chain)")
         ax.set_xlim(0, data.eps[-1])
         ax.set_ylim(0, None)
-        ax.legend(loc="upper left")
+        _fixed_ticks(ax)
+        _legend_outside(ax)
         ax.grid(alpha=0.3)
     return fig
 
@@ -93,7 +159,7 @@ def plot_comparison(data: ComparisonData, ax=None):
     import matplotlib
 
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax)
+        fig, ax = _axes(ax, legend_rows=-(-(len(data.curves) + 1) // LEGEND_COLUMNS))
         for index, curve in enumerate(data.curves):
             color = f"C{index}"
             ax.plot(
@@ -116,7 +182,8 @@ def plot_comparison(data: ComparisonData, ax=None):
         ax.set_ylabel(r"bound on $(R - \hat R)\,/\,(\epsilon L_i)$")
         ax.set_title("Bounds on R − R̂ by mode")
         ax.set_ylim(0, COMPARISON_YLIM_FACTOR * data.target_over_eps)
-        ax.legend(loc="upper left")
+        _fixed_ticks(ax)
+        _legend_outside(ax)
         ax.grid(alpha=0.3, which="both")
     return fig
 
@@ -146,34 +213,42 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
     """Histogram of the realized (R − R̂)/(εL_i) of real guide triangles, each mode's bound marked.
 
     ``marks`` holds (mode, bound over εL_i, claim); non-finite bounds are left out. Counts are
-    on a log scale (a few extreme triangles stay visible). Returns the matplotlib Figure.
+    on a log scale (a few extreme triangles stay visible). When every triangle has the same
+    gap (constant L gives R − R̂ = 0 exactly) the figure shows one labelled bar there, clear of
+    the frame, instead of a histogram. Returns the matplotlib Figure.
 
     References
     ----------
     Theorem 1, eq. (29); the bounds of eq. (33)–(53).
     """
-    import math
-
     import matplotlib
-    import numpy as np
 
-    gap_ratio = np.asarray(gap_ratio, dtype=float)
-    shown = [(mode, value, claim) for mode, value, claim in marks if math.isfinite(value)]
+    data = gap_histogram_data(gap_ratio, marks)
+    entries = len(data.marks) + (data.point_mass is not None)
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax)
-        data_max = float(gap_ratio.max()) if len(gap_ratio) else 0.0
-        low = min(0.0, float(gap_ratio.min()) if len(gap_ratio) else 0.0)
-        high = max([data_max, 1e-12, *(value for _, value, _ in shown)])
-        if len(gap_ratio):
-            ax.hist(gap_ratio, bins=np.linspace(low, high * 1.05, 121), color="0.5", log=True)
-        for index, (mode, value, claim) in enumerate(shown):
+        fig, ax = _axes(ax, legend_rows=entries)
+        if data.point_mass is not None:
+            ax.bar(
+                [data.point_mass],
+                [len(data.values)],
+                width=POINT_MASS_WIDTH * (data.xlim[1] - data.xlim[0]),
+                color="0.35",
+                label=data.note,
+            )
+            ax.set_ylim(0, 1.15 * len(data.values))
+        elif data.bins is not None:
+            ax.hist(data.values, bins=data.bins, color="0.5", log=True)
+            ax.set_ylim(bottom=0.5)  # a bin of one triangle stays visible
+        for index, (mode, value, claim) in enumerate(data.marks):
             label = f"{mode} ({claim}): {value:.3g}"
             style = ("-", "--", "-.", ":")[index % 4]  # equal bounds stay visible
             ax.axvline(value, color=f"C{index}", linewidth=1.2, linestyle=style, label=label)
-        ax.set_xlim(low, high * 1.08)
+        ax.set_xlim(*data.xlim)
         ax.set_xlabel(r"realized $(R - \hat R)\,/\,(\epsilon L_i)$")
         ax.set_ylabel("guide triangles")
-        ax.set_title(f"{title}: {len(gap_ratio):,} guide triangles")
-        ax.legend(loc="upper right")
+        ax.set_title(f"{title}: {data.count:,} guide triangles")
+        _fixed_ticks(ax)
+        if entries:
+            _legend_outside(ax, columns=1, first=data.note)
         ax.grid(alpha=0.3)
     return fig

@@ -5,6 +5,8 @@ Heavy modules (numpy, scipy, matplotlib) are imported inside the commands, so th
 into exit codes: a :class:`~vorobound.errors.VoroboundError` or a usage error is one line on
 stderr and code 2, Ctrl-C or SIGTERM is "interrupted" and code 130, and anything unexpected is
 one line saying it is a bug (code 70; the traceback with ``--debug`` or ``VOROBOUND_DEBUG=1``).
+A reader that stops reading the output (``vorobound ... | head``) ends the run quietly with
+code 141, as a broken pipe ends a program in the shell.
 """
 
 from __future__ import annotations
@@ -41,6 +43,9 @@ EXIT_BUG = 70
 """An unexpected exception (EX_SOFTWARE): a bug in vorobound."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C or SIGTERM."""
+EXIT_BROKEN_PIPE = 128 + signal.SIGPIPE
+"""The reader of the output went away (141: what a shell reports for a program that SIGPIPE
+ended). Not 1, which for a verifying command would read as "found a violation"."""
 
 app = typer.Typer(
     name="vorobound",
@@ -208,6 +213,12 @@ def main(argv: list[str] | None = None) -> int:
             sys.stdout.flush()
     except Interrupted:
         return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
+    except BrokenPipeError:
+        return _broken_pipe()
+    except SystemExit as exc:  # click ends a run with exit(1) when stdout's pipe breaks
+        if isinstance(exc.__context__, BrokenPipeError):
+            return _broken_pipe()
+        raise
     except VoroboundError as exc:
         return _fail(str(exc), EXIT_ERROR)
     except typer.Exit as exc:
@@ -241,6 +252,13 @@ def _bug(exc: BaseException) -> int:
         "rerun with --debug for the traceback",
         EXIT_BUG,
     )
+
+
+def _broken_pipe() -> int:
+    """Nobody reads the output any more: say nothing (stderr may be the same pipe) and make the
+    final flush at exit harmless."""
+    _silence_stdout()
+    return EXIT_BROKEN_PIPE
 
 
 def _silence_stdout() -> None:

@@ -129,3 +129,82 @@ def figure_set_data(
     for star in tight_stars:
         curves.append(tight_curve(star, progress))
     return figure3_data(quality), comparison_data(curves, quality)
+
+
+HISTOGRAM_BINS = 120
+"""Bins of the gap histogram across the shown range."""
+HISTOGRAM_MARGIN = 0.04
+"""Share of the shown range left empty left of the data and right of the last mark, so that no
+bar or line lies on the frame."""
+
+
+@dataclass(frozen=True)
+class GapHistogramData:
+    """What the gap histogram of ``vorobound check`` shows (realized (R − R̂)/(εL_i)).
+
+    When every triangle falls in one bin (a point mass: constant L gives R − R̂ = 0 exactly)
+    there are no bins; ``point_mass`` holds the value and ``note`` says it in words.
+
+    References
+    ----------
+    Theorem 1, eq. (29); the bounds of eq. (33)–(53).
+    """
+
+    values: np.ndarray
+    """The finite gaps, in units of εL_i."""
+    count: int
+    """Guide triangles, including any without a finite gap."""
+    bins: np.ndarray | None
+    """Bin edges, or None for a point mass."""
+    point_mass: float | None
+    """The common value when every finite gap falls in one bin (its centre if they differ)."""
+    note: str | None
+    """The point mass in words, e.g. "all 1,234 triangles have R − R̂ = 0"."""
+    marks: tuple[tuple[str, float, str], ...]
+    """(mode, bound over εL_i, claim) of every mode with a finite bound."""
+    xlim: tuple[float, float]
+
+
+def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
+    """The histogram's bins, or its point mass, and the range that shows the data and marks.
+
+    ``marks`` holds (mode, bound over εL_i, claim); non-finite bounds are left out.
+    """
+    gap_ratio = np.asarray(gap_ratio, dtype=float).ravel()
+    values = gap_ratio[np.isfinite(gap_ratio)]
+    shown = tuple((m, float(v), c) for m, v, c in marks if np.isfinite(v))
+    low = min(0.0, float(values.min())) if len(values) else 0.0
+    high = max([float(values.max()) if len(values) else 0.0, *(v for _, v, _ in shown)])
+    if high <= low:
+        high = low + 1.0  # nothing to scale by: a unit range
+    width = (high - low) / HISTOGRAM_BINS
+    margin = HISTOGRAM_MARGIN * (high - low)
+    xlim = (low - margin, high + margin)
+    if len(values) and float(np.ptp(values)) <= width:
+        return GapHistogramData(
+            values,
+            len(gap_ratio),
+            None,
+            *_point_mass(values, len(gap_ratio)),
+            shown,
+            xlim,
+        )
+    bins = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
+    return GapHistogramData(values, len(gap_ratio), bins, None, None, shown, xlim)
+
+
+def _point_mass(values: np.ndarray, count: int) -> tuple[float, str]:
+    """The value of a point mass and the sentence that states it (exact equality is the
+    point: constant L gives R − R̂ = 0 with no rounding)."""
+    smallest, largest = float(values.min()), float(values.max())
+    with_value = " with a value" if len(values) < count else ""
+    if len(values) == 1:
+        everyone = f"the one triangle{with_value} has"
+    else:
+        everyone = f"all {len(values):,} triangles{with_value} have"
+    if smallest == largest == 0.0:
+        return 0.0, f"{everyone} R − R̂ = 0"
+    if smallest == largest:
+        return smallest, f"{everyone} (R − R̂)/(εL_i) = {smallest:.6g}"
+    middle = 0.5 * (smallest + largest)
+    return middle, f"{everyone} (R − R̂)/(εL_i) in [{smallest:.6g}, {largest:.6g}]"

@@ -33,8 +33,11 @@ class Balls:
         return self.radii * self.radii
 
 
-def make_balls(centers, radii, what: str = "balls") -> Balls:
+def make_balls(centers, radii, what: str = "balls", lines=None) -> Balls:
     """Validated :class:`Balls`; ``what`` names the input in error messages.
+
+    ``lines`` (optional) is the file line of each ball, counted from 1, for messages about a
+    row of a text file; without it a row is named by its 0-based index, as in the arrays.
 
     Raises
     ------
@@ -44,6 +47,14 @@ def make_balls(centers, radii, what: str = "balls") -> Balls:
     """
     centers = np.asarray(centers, dtype=float)
     radii = np.asarray(radii, dtype=float)
+
+    def where(*rows: int) -> str:
+        if lines is not None:
+            numbers = " and ".join(str(int(lines[row])) for row in rows)
+            return f"{what}, line{'s' if len(rows) > 1 else ''} {numbers}"
+        indices = " and ".join(str(int(row)) for row in rows)
+        return f"{what}, ball{'s' if len(rows) > 1 else ''} {indices} (0-based)"
+
     if centers.ndim != 2 or centers.shape[1] != 3:
         raise InputError(f"{what}: centers must have shape (n, 3), got {centers.shape}")
     if radii.shape != (len(centers),):
@@ -52,29 +63,31 @@ def make_balls(centers, radii, what: str = "balls") -> Balls:
         raise InputError(f"{what}: need at least {MIN_BALLS} balls, got {len(radii)}")
     bad = np.flatnonzero(~np.isfinite(centers).all(axis=1))
     if len(bad):
-        raise InputError(f"{what}: center {bad[0]} is not finite ({len(bad)} such rows)")
+        raise InputError(f"{where(bad[0])}: the center is not finite ({len(bad)} such rows)")
     bad = np.flatnonzero(~(np.isfinite(radii) & (radii > 0)))
     if len(bad):
         raise InputError(
-            f"{what}: radius {bad[0]} is {float(radii[bad[0]])!r}; radii must be positive and "
-            f"finite ({len(bad)} such rows)"
+            f"{where(bad[0])}: the radius is {float(radii[bad[0]])!r}; radii must be positive "
+            f"and finite ({len(bad)} such rows)"
         )
     low, high = LENGTH_RANGE
-    if radii.min() < low or radii.max() > high:
+    bad = np.flatnonzero((radii < low) | (radii > high))
+    if len(bad):
         raise InputError(
-            f"{what}: radii must lie in [{low:g}, {high:g}] (the supported range), got "
-            f"{float(radii.min()):g} to {float(radii.max()):g}"
+            f"{where(bad[0])}: radii must lie in [{low:g}, {high:g}] (the supported range), got "
+            f"{float(radii[bad[0]]):g} ({len(bad)} such rows)"
         )
-    if float(np.abs(centers).max()) > high:
+    bad = np.flatnonzero((np.abs(centers) > high).any(axis=1))
+    if len(bad):
         raise InputError(
-            f"{what}: coordinates must lie within ±{high:g} (the supported range), got "
-            f"{float(np.abs(centers).max()):g}"
+            f"{where(bad[0])}: coordinates must lie within ±{high:g} (the supported range), got "
+            f"{float(np.abs(centers[bad[0]]).max()):g} ({len(bad)} such rows)"
         )
     order = np.lexsort(centers.T[::-1])
     same = np.flatnonzero((np.diff(centers[order], axis=0) == 0).all(axis=1))
     if len(same):
         first, second = sorted((int(order[same[0]]), int(order[same[0] + 1])))
         raise InputError(
-            f"{what}: centers {first} and {second} coincide ({len(same)} duplicate pairs)"
+            f"{where(first, second)}: the centers coincide ({len(same)} duplicate pairs)"
         )
     return Balls(np.ascontiguousarray(centers), np.ascontiguousarray(radii))

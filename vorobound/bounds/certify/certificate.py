@@ -27,7 +27,7 @@ from pathlib import Path
 from flint import arb
 
 from ... import __version__
-from ...checks import EPS_RANGE, checked_number
+from ...checks import EPS_RANGE, brief, checked_number
 from ...errors import CertificateError, ReadError
 from ...files import write_text
 from ...progress import Progress, silent
@@ -221,7 +221,7 @@ def check_certificate(payload: dict, progress: Progress | None = None) -> Certif
     precision = payload.get("precision_bits", interval.PRECISION_BITS)
     if isinstance(precision, bool) or not isinstance(precision, int) or not 53 <= precision <= 4096:
         raise CertificateError(
-            f"precision_bits must be an integer in [53, 4096], got {precision!r}"
+            f"precision_bits must be an integer in [53, 4096], got {brief(precision)}"
         )
     report = progress or silent
     names = {c.name for c in constraints.CONSTRAINTS}
@@ -271,7 +271,7 @@ def _is_split(node) -> bool:
     if isinstance(node, bool) or not isinstance(node, int):
         return False
     if not 0 <= node < len(DIMENSIONS):
-        raise CertificateError(f"split coordinate {node} is not in 0..{len(DIMENSIONS) - 1}")
+        raise CertificateError(f"split coordinate {brief(node)} is not in 0..{len(DIMENSIONS) - 1}")
     return True
 
 
@@ -292,18 +292,31 @@ def _check_leaf(index: int, node, box, setting: Setting, names: set[str]) -> flo
             f"node {index}: not a split, a constraint or [enclosure, bound] with an enclosure "
             f"of the {setting.target} target ({', '.join(valid)})"
         )
-    name, bound = node
-    if isinstance(bound, bool) or not isinstance(bound, int | float) or not math.isfinite(bound):
-        raise CertificateError(f"node {index}: bound {bound!r} is not a finite number")
+    name, stored = node
+    bound = _finite_float(stored)
+    if bound is None:
+        raise CertificateError(f"node {index}: bound {brief(stored)} is not a finite float")
     if bound > 1:
         raise CertificateError(f"node {index}: stored bound {bound!r} exceeds the target (1)")
     value = interval.enclosures(point, setting, (name,))[name]
-    if not value <= arb(float(bound)):
+    if not value <= arb(bound):
         raise CertificateError(
             f"node {index}: the {name} enclosure reaches {float(value.upper()):.17g}, above the "
             f"stored bound {bound!r}"
         )
-    return float(bound)
+    return bound
+
+
+def _finite_float(value) -> float | None:
+    """``value`` as a float if it is a JSON number that a finite float holds exactly enough
+    (an integer of 400 digits is not one), else None."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    try:
+        number = float(value)
+    except OverflowError:
+        return None
+    return number if math.isfinite(number) else None
 
 
 def _setting(payload: dict) -> Setting:
@@ -317,11 +330,11 @@ def _setting(payload: dict) -> Setting:
     ):
         raise CertificateError(
             f"not a {FORMAT} (version {' or '.join(map(str, READABLE_VERSIONS))}) file: format "
-            f"{payload.get('format')!r}, version {payload.get('format_version')!r}"
+            f"{brief(payload.get('format'))}, version {brief(version)}"
         )
     target = payload.get("target") if version >= 2 else "additive"
     if target not in interval.TARGETS:
-        raise CertificateError(f"certificate target must be additive or ratio, got {target!r}")
+        raise CertificateError(f"certificate target must be additive or ratio, got {brief(target)}")
     if payload.get("dimensions", list(DIMENSIONS)) != list(DIMENSIONS):
         raise CertificateError(f"certificate coordinates must be {list(DIMENSIONS)}")
     params = payload.get("parameters")

@@ -2,7 +2,8 @@
 
 Accepted inputs, each giving centers x, y, z and radii r:
 
-* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r);
+* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
+  separated by commas, semicolons or tabs (:mod:`.tables`);
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
 * any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
   ``radii`` or ``r``.
@@ -13,7 +14,6 @@ checked by :func:`vorobound.sampling.balls.make_balls`.
 
 from __future__ import annotations
 
-import io
 from functools import partial
 from pathlib import Path
 
@@ -23,6 +23,7 @@ from ...errors import InputError, ReadError
 from ...files import atomic_open, checked_destination, write_set
 from ..balls import Balls, make_balls
 from .meshes import quiet_meshio
+from .tables import DELIMITER_NAMES, read_number_table
 
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""
@@ -44,61 +45,53 @@ def read_balls(path: str | Path) -> Balls:
     if not path.is_file():
         raise ReadError(f"cannot read balls {path}: not a regular file")
     suffix = path.suffix.lower()
+    lines = None
     if suffix == ".csv":
-        centers, radii = _read_csv(path)
+        centers, radii, lines = _read_csv(path)
     elif suffix == ".npz":
         centers, radii = _read_npz(path)
     else:
         centers, radii = _read_meshio(path)
-    return make_balls(centers, radii, f"balls {path.name}")
+    return make_balls(centers, radii, f"balls {path.name}", lines=lines)
 
 
 def _read_csv(path: Path):
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ReadError(
-            f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
-        ) from None
-    lines = [line for line in text.splitlines() if line.strip()]
-    if not lines:
-        raise ReadError(f"balls {path} is empty")
-    header = [cell.strip().lower() for cell in lines[0].split(",")]
+    """Centers, radii and the file line of each ball (for messages about a row)."""
+    table = read_number_table(path, "balls")
     columns = [0, 1, 2, 3]
-    if not _is_number(header[0]):
+    if table.header is not None:
+        header = table.header
         radius = next((name for name in RADIUS_NAMES if name in header), None)
         if radius is None or not {"x", "y", "z"} <= set(header):
-            raise ReadError(f"balls {path}: the header must name x, y, z and r, got {lines[0]!r}")
+            raise ReadError(
+                f"balls {path}: the header must name x, y, z and r, got {', '.join(header)!r}"
+            )
         columns = [header.index("x"), header.index("y"), header.index("z"), header.index(radius)]
-        lines = lines[1:]
-    try:
-        table = np.loadtxt(io.StringIO("\n".join(lines)), delimiter=",", ndmin=2)
-    except ValueError as exc:
-        raise ReadError(f"balls {path}: not a table of numbers ({exc})") from None
-    if table.shape[1] <= max(columns):
-        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {table.shape[1]}")
-    return table[:, columns[:3]], table[:, columns[3]]
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+    values = table.values
+    if values.shape[1] <= max(columns):
+        found = values.shape[1]
+        how = (
+            f"separated by {DELIMITER_NAMES[table.delimiter]}"
+            if found > 1
+            else "no comma, semicolon, tab or space between the numbers"
+        )
+        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {found} ({how})")
+    return values[:, columns[:3]], values[:, columns[3]], table.lines
 
 
 def _read_npz(path: Path):
     import zipfile
+    import zlib
 
+    if not zipfile.is_zipfile(path):
+        raise ReadError(f"cannot read balls {path}: {_not_npz(path)}")
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: np.asarray(data[name]) for name in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        reason = "not an NPZ archive" if isinstance(exc, EOFError | zipfile.BadZipFile) else exc
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        broken = isinstance(exc, EOFError | zipfile.BadZipFile | zlib.error)
+        reason = "a damaged NPZ archive" if broken else " ".join(str(exc).split())
         raise ReadError(f"cannot read balls {path}: {reason}") from None
-    except AttributeError:  # np.load returned a plain array (an NPY file), not an archive
-        raise ReadError(f"cannot read balls {path}: not an NPZ archive") from None
     radius = next((arrays[n] for n in RADIUS_NAMES if n in arrays), None)
     if {"x", "y", "z"} <= arrays.keys():
         columns = [_numeric(np.ravel(arrays[name]), path) for name in "xyz"]
@@ -115,6 +108,25 @@ def _read_npz(path: Path):
             f"balls {path}: need arrays x, y, z and r (or points and radii), got {sorted(arrays)}"
         )
     return _numeric(centers, path), _numeric(radius, path).ravel()
+
+
+NPY_MAGIC = b"\x93NUMPY"
+"""The first bytes of a single-array .npy file (what np.save writes)."""
+
+
+def _not_npz(path: Path) -> str:
+    """Why a file named .npz is not an NPZ archive, for the error message."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(len(NPY_MAGIC))
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    if head == NPY_MAGIC:
+        return (
+            "it is a single NPY array (np.save), not an NPZ archive of named arrays "
+            "(np.savez with x, y, z and r)"
+        )
+    return "not an NPZ archive (a zip file of named arrays, as np.savez writes)"
 
 
 def _read_meshio(path: Path):

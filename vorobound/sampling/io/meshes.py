@@ -1,4 +1,5 @@
-"""Reading the files users bring: triangle meshes (through meshio) and per-vertex sizing CSVs.
+"""Reading the files users bring: surface meshes (through meshio; quads and polygons are split
+into triangles, :mod:`.faces`) and per-vertex sizing CSVs.
 
 meshio reports an unreadable file by printing to stdout and calling ``sys.exit(1)``; here its
 output is captured and every failure becomes a :class:`~vorobound.errors.ReadError` with one
@@ -56,13 +57,19 @@ def quiet_meshio(call, path: Path, what: str):
         raise ReadError(f"cannot read {what} {path}: {message}") from None
 
 
+FACE_TYPES = ("triangle", "quad", "polygon")
+"""meshio cell types read as surface faces; quads and polygons are split into triangles (with a
+one-line warning). Other cells (vertices, lines, volumes) are ignored."""
+
+
 def read_triangle_mesh(path: str | Path) -> TriangleMesh:
-    """Read the triangles of any mesh meshio understands (STL, OBJ, PLY, OFF, VTK, VTU, ...).
+    """Read the faces of any mesh meshio understands (STL, OBJ, PLY, OFF, VTK, VTU, ...) as
+    triangles: quadrilateral and polygonal faces are split (:mod:`.faces`) with a warning.
 
     Raises
     ------
     ReadError
-        Unreadable file, no triangles, points that are not 2-D or 3-D, non-finite coordinates,
+        Unreadable file, no faces, points that are not 2-D or 3-D, non-finite coordinates,
         or faces that refer to missing vertices.
     """
     path = Path(path)
@@ -92,11 +99,18 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
             f"mesh {path}: coordinates must lie within ±{high:g} and the mesh must be at least "
             f"{low:g} across (the supported range of lengths), got size {size:g}"
         )
-    blocks = [np.asarray(block.data) for block in mesh.cells if block.type == "triangle"]
+    blocks = [np.asarray(block.data) for block in mesh.cells if block.type in FACE_TYPES]
     if not blocks or sum(len(b) for b in blocks) == 0:
-        raise ReadError(f"mesh {path} has no triangles")
-    triangles = np.concatenate([_face_indices(block, len(points), path) for block in blocks])
-    return TriangleMesh(points, _without_repeats(points, triangles, path), path.name)
+        raise ReadError(f"mesh {path} has no triangles (nor quads or polygons to split)")
+    from .faces import triangulate
+
+    split = triangulate(points, [_face_indices(block, len(points), path) for block in blocks])
+    note = split.note(path.name)
+    if note is not None:
+        warnings.warn(note, VoroboundWarning, stacklevel=2)
+    if len(split.triangles) == 0:
+        raise ReadError(f"mesh {path} has no triangles (every face repeats a vertex)")
+    return TriangleMesh(points, _without_repeats(points, split.triangles, path), path.name)
 
 
 def _without_repeats(points: np.ndarray, triangles: np.ndarray, path: Path) -> np.ndarray:
@@ -118,11 +132,11 @@ def _without_repeats(points: np.ndarray, triangles: np.ndarray, path: Path) -> n
 
 
 def _face_indices(block: np.ndarray, count: int, path: Path) -> np.ndarray:
-    """The vertex indices of a block of triangles as int64, each checked to name one of the
+    """The vertex indices of a block of faces as int64, each checked to name one of the
     ``count`` vertices before any conversion (indices beyond int64 arrive as floats or
     Python integers)."""
-    if block.ndim != 2 or block.shape[1] != 3:
-        raise ReadError(f"mesh {path}: triangles must have 3 vertex indices each")
+    if block.ndim != 2 or block.shape[1] < 3:
+        raise ReadError(f"mesh {path}: faces must have at least 3 vertex indices each")
     if block.dtype.kind in "iu" and block.size:
         low, high = block.min(), block.max()
         if 0 <= low and high < count:
@@ -141,37 +155,24 @@ def _face_indices(block: np.ndarray, count: int, path: Path) -> np.ndarray:
             f"mesh {path}: a face refers to vertex index {bad} (0-based) but the mesh has "
             f"{count} vertices"
         )
-    return np.array(values, dtype=np.int64).reshape(-1, 3)
+    return np.array(values, dtype=np.int64).reshape(-1, block.shape[1])
 
 
 def read_sizing(path: str | Path, count: int) -> np.ndarray:
     """One positive, finite local feature size per vertex from a CSV (last column; a header
-    line is allowed)."""
-    path = Path(path)
-    if path.exists() and not path.is_file():
-        raise ReadError(f"cannot read sizing file {path}: not a regular file")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError:
-        raise ReadError(f"sizing file {path} is not UTF-8 text") from None
-    except OSError as exc:
-        raise ReadError(f"cannot read sizing file {path}: {exc.strerror or exc}") from None
-    lines = [line.strip() for line in text.splitlines() if line.strip()]
-    values = []
-    for index, line in enumerate(lines):
-        try:
-            values.append(float(line.split(",")[-1]))
-        except ValueError:
-            if index == 0:
-                continue  # a header
-            raise ReadError(f"sizing file {path}, line {index + 1}: not a number") from None
-    data = np.array(values, dtype=float)
+    line is allowed; commas, semicolons or tabs between columns, :mod:`.tables`)."""
+    from .tables import read_number_table
+
+    table = read_number_table(path, "sizing file")
+    data = table.values[:, -1]
     if len(data) != count:
         raise ReadError(f"sizing file {path} has {len(data)} values for {count} vertices")
     low, high = LFS_RANGE
-    if not (np.isfinite(data).all() and (data >= low).all() and (data <= high).all()):
+    bad = np.flatnonzero(~(np.isfinite(data) & (data >= low) & (data <= high)))
+    if len(bad):
         raise ReadError(
-            f"sizing file {path}: every value must be a local feature size in "
-            f"[{low:g}, {high:g}] (positive, finite, supported range)"
+            f"sizing file {path}, line {table.lines[bad[0]]}: {float(data[bad[0]])!r} is not a "
+            f"local feature size in [{low:g}, {high:g}] (positive, finite, supported range; "
+            f"{len(bad)} such rows)"
         )
     return data
