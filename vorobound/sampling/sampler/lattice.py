@@ -69,9 +69,14 @@ def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):
     return (1 - s) * eps * np.asarray(lfs_min, dtype=float) / (1 + lipschitz * s * eps)
 
 
-def candidate_limit_error(count: float, eps: float, at_least: bool = False) -> InputError:
-    """The one refusal for lattices that do not fit in memory."""
-    amount = f"at least {count:.3g}" if at_least else f"{count:.3g}"
+def candidate_limit_error(
+    count: float, eps: float, at_least: bool = False, about: bool = False
+) -> InputError:
+    """The one refusal for lattices that do not fit in memory (``count`` a lower bound, an
+    estimate, or exact)."""
+    amount = (
+        f"at least {count:.3g}" if at_least else f"about {count:.3g}" if about else f"{count:.3g}"
+    )
     return InputError(
         f"eps={eps:g} needs {amount} lattice candidates, more than the "
         f"{MAX_CANDIDATES:.0e} that fit in memory (the count grows like area/(eps·L)² and with "

@@ -73,6 +73,11 @@ def mesh_candidates(shape, eps: float, sigma: float, rng: np.random.Generator) -
     if not s < 1:
         raise InputError(f"sigma must be below 1 for a maximal sparse set to cover, got {sigma}")
     lam = np.asarray(shape.triangle_lipschitz, dtype=float)
+    # The size the advice predicts (the same estimate): refuse before evaluating L on millions
+    # of cells, and exactly where `vorobound advise` says the sample cannot be made.
+    expected = expected_candidates(shape.counts().inv_lfs_sq_integral, eps, sigma, float(lam.max()))
+    if not expected <= MAX_CANDIDATES:
+        raise candidate_limit_error(expected, eps, about=True)
     k = (1 - s) * eps / (1 + lam * s * eps)
     frames = _Frames(shape.corners)
     by_range = np.maximum(np.asarray(shape.range_reach(eps, sigma), dtype=float), 0.0)

@@ -40,6 +40,16 @@ class MeshShape:
         self.triangle_lipschitz = _gradient_norm(self.corners, self.corner_lfs)
         self.lipschitz = float(self.triangle_lipschitz.max())
 
+    def counts(self):
+        """Area and ∫ dA/L² (each triangle with the mean L of its corners), for the advice and
+        the sampler's size check."""
+        from dataclasses import replace
+
+        from .analytic import surface_from_mesh_areas
+
+        counts = surface_from_mesh_areas(self.name, self.areas, self.corner_lfs.mean(axis=1))
+        return replace(counts, mesh_lattice=True)
+
     def lfs_at(self, triangle: np.ndarray, bary: np.ndarray, points=None) -> np.ndarray:
         """L at barycentric coordinates ``bary`` (n, 3) of the given triangles."""
         return (self.corner_lfs[triangle] * bary).sum(axis=1)
@@ -93,6 +103,13 @@ class FieldMeshShape:
         self.triangle_lipschitz = np.full(len(self.areas), self.lipschitz)
         self.feature_segments = mesh.points[estimate.feature_segments]
         self.corner_points = mesh.points[estimate.feature_corners]
+
+    def counts(self):
+        """Area and ∫ dA/L² of the estimate (its face sites), for the advice and the sampler's
+        size check."""
+        from dataclasses import replace
+
+        return replace(self.estimate.surface(), mesh_lattice=True)
 
     def lfs_of_points(self, points: np.ndarray) -> np.ndarray:
         return self.estimate.at(points)
