@@ -1,0 +1,434 @@
+"""M̂: the Voronoi facets between an inside and an outside seed, as a polygon surface.
+
+The Voronoi facet of two seeds is dual to their Delaunay edge: its vertices are the
+circumcentres of the Delaunay tetrahedra around that edge, in the order the tetrahedra turn
+around it. Only edges whose two seeds carry different labels are kept, so only those facets are
+built. The Delaunay tetrahedralization comes from qhull (:class:`scipy.spatial.Delaunay`), whose
+``neighbors`` array gives the turn around each edge without any geometry; docs/reconstruct.md
+says why this is preferred to :class:`scipy.spatial.Voronoi` (which builds every facet of the
+diagram as Python lists).
+
+VoroCrust's seeds are cospherical by construction: every seed of a ball lies on its sphere and
+no seed lies inside it, so the ball's centre is one Voronoi vertex shared by many seeds. qhull's
+triangulated output splits such a vertex into many tetrahedra whose circumcentres agree up to
+rounding, and some of these tetrahedra are flat (four cocircular seeds), with no circumcentre of
+their own. A flat tetrahedron takes the circumcentre of a face neighbour that is equidistant
+from its four seeds (the same empty sphere), and the polygon vertices are then welded: those
+within ``WELD_RTOL`` times their circumradius of each other become one vertex (single linkage).
+A facet left with fewer than three distinct vertices has no area and is dropped (counted as
+collapsed). A Delaunay edge on the convex hull has a facet that reaches infinity (unbounded):
+it is listed, and M̂ is then not closed.
+
+References
+----------
+The surface M̂ of VoroCrust (the Voronoi facets between inside and outside seeds), built on the
+guide triangles' seeds of Section 4.1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError
+from ...progress import Counter, Progress
+
+WELD_RTOL = 1e-9
+"""Voronoi vertices closer than WELD_RTOL times their circumradius are one vertex. The
+circumcentres of one degenerate vertex agree to about 1e-13 of the radius on VoroCrust seeds,
+and distinct vertices are a sizeable fraction of the radius apart (docs/reconstruct.md)."""
+FLAT_RTOL = 1e-10
+"""A tetrahedron is flat when its volume is below FLAT_RTOL·|u||v||w|/6 (u, v, w its edges
+from one vertex): its circumcentre is then not computed but borrowed from a neighbour."""
+FLAT_ROUNDS = 8
+"""Rounds of borrowing through chains of flat tetrahedra."""
+EDGE_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+"""The six edges of a tetrahedron as pairs of local vertex indices."""
+
+
+@dataclass(frozen=True)
+class PolygonSurface:
+    """Convex polygons on shared vertices (M̂), each oriented by its outward normal.
+
+    Polygon f has the vertex indices ``corners[offsets[f]:offsets[f + 1]]``, counter-clockwise
+    seen from outside (the side of its outside seed).
+    """
+
+    vertices: np.ndarray
+    """(V, 3) vertex coordinates."""
+    corners: np.ndarray
+    """(K,) vertex index of every polygon corner, polygon after polygon."""
+    offsets: np.ndarray
+    """(F + 1,) start of each polygon in ``corners``."""
+    seed_pairs: np.ndarray
+    """(F, 2) the inside and the outside seed of each facet."""
+    normals: np.ndarray
+    """(F, 3) unit normal of each facet, from its inside seed towards its outside seed (the
+    facet lies in their bisector plane)."""
+
+    @property
+    def n_facets(self) -> int:
+        return len(self.offsets) - 1
+
+    @property
+    def sizes(self) -> np.ndarray:
+        """Corners per polygon."""
+        return np.diff(self.offsets)
+
+    def facet_of_corner(self) -> np.ndarray:
+        """(K,) the polygon each corner belongs to."""
+        return np.repeat(np.arange(self.n_facets), self.sizes)
+
+    def next_corner(self) -> np.ndarray:
+        """(K,) index in ``corners`` of the next corner of the same polygon (cyclically)."""
+        index = np.arange(len(self.corners)) + 1
+        ends = self.offsets[1:]
+        index[ends - 1] = self.offsets[:-1]
+        return index
+
+    def fan_triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(T, 3) triangles fanning each polygon from its first corner, and (T,) their polygon.
+
+        The polygons are convex, so the fan covers each exactly, with the same orientation.
+        """
+        sizes = self.sizes
+        facet = np.repeat(np.arange(self.n_facets), sizes - 2)
+        step = np.arange(len(facet)) - np.repeat(np.cumsum(sizes - 2) - (sizes - 2), sizes - 2)
+        first = self.offsets[:-1][facet]
+        triangles = np.column_stack(
+            [self.corners[first], self.corners[first + step + 1], self.corners[first + step + 2]]
+        )
+        return triangles, facet
+
+    def centroids(self) -> np.ndarray:
+        """(F, 3) area centroid of each polygon (of its fan triangles)."""
+        triangles, facet = self.fan_triangles()
+        corners = self.vertices[triangles]
+        area = 0.5 * np.linalg.norm(
+            np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+        )
+        weighted = corners.mean(axis=1) * area[:, None]
+        total = np.bincount(facet, area, self.n_facets)
+        sums = np.stack(
+            [np.bincount(facet, weighted[:, k], self.n_facets) for k in range(3)], axis=1
+        )
+        with np.errstate(all="ignore"):
+            return sums / total[:, None]
+
+
+@dataclass(frozen=True)
+class InOutFacets:
+    """M̂ and what was left out of it, with the counts of the construction."""
+
+    surface: PolygonSurface
+    unbounded: np.ndarray
+    """(U, 2) inside and outside seed of each facet that reaches infinity (its Delaunay edge is
+    on the convex hull of the seeds)."""
+    collapsed: int
+    """In/out Delaunay edges whose facet has fewer than three distinct vertices after welding
+    (no area: a degenerate Voronoi vertex seen from two seeds)."""
+    unresolved: int
+    """Facets dropped because a flat tetrahedron around them found no circumcentre."""
+    non_simple: int
+    """Facets whose welded polygon visits a vertex twice (kept; counted for the record)."""
+    skipped_seeds: int
+    """Seeds qhull left out of the triangulation (coincident or nearly so with another)."""
+    delaunay_edges: int
+    """Delaunay edges between an inside and an outside seed."""
+    tetrahedra: int
+    """Tetrahedra of the Delaunay triangulation of the seeds."""
+
+
+def inout_facets(
+    points: np.ndarray, inside: np.ndarray, progress: Progress | None = None
+) -> InOutFacets:
+    """The Voronoi facets between seeds labelled inside and seeds labelled outside.
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, 3)
+        The seeds (finite, distinct; at least five, not all in a plane).
+    inside : numpy.ndarray, shape (n,)
+        True for a seed inside the surface.
+    progress : Progress, optional
+        Reports the stages.
+
+    Returns
+    -------
+    InOutFacets
+        M̂ as welded, oriented polygons, and the facets left out of it.
+
+    References
+    ----------
+    The surface M̂ of VoroCrust (module docstring).
+    """
+    from scipy.spatial import Delaunay, QhullError
+
+    points = np.ascontiguousarray(points, dtype=float)
+    inside = np.asarray(inside, dtype=bool)
+    Counter(progress, "Delaunay (qhull)", None)
+    try:
+        triangulation = Delaunay(points)
+    except (QhullError, ValueError) as exc:
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"seeds: qhull cannot triangulate them ({reason})") from None
+    simplices = triangulation.simplices.astype(np.int64)
+    neighbors = triangulation.neighbors.astype(np.int64)
+    skipped = len(points) - len(np.unique(simplices))
+    del triangulation
+    counter = Counter(progress, "in/out facets", 3)
+    centres, radius = circumcentres(points, simplices, neighbors)
+    counter.step()
+    cycles = _edge_cycles(simplices, neighbors, inside)
+    counter.step()
+    surface, collapsed, unresolved, non_simple = _weld(points, inside, centres, radius, cycles)
+    counter.step()
+    return InOutFacets(
+        surface=surface,
+        unbounded=cycles.unbounded,
+        collapsed=collapsed,
+        unresolved=unresolved,
+        non_simple=non_simple,
+        skipped_seeds=skipped,
+        delaunay_edges=cycles.edge_count,
+        tetrahedra=len(simplices),
+    )
+
+
+def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray]:
+    """Circumcentre and circumradius of every tetrahedron; a flat one borrows the circumcentre
+    of a face neighbour equidistant from its four vertices (NaN where none is found)."""
+    corner = points[simplices]
+    origin = corner[:, 0]
+    u, v, w = (corner[:, k] - origin for k in (1, 2, 3))
+    vw, wu, uv = np.cross(v, w), np.cross(w, u), np.cross(u, v)
+    det = np.einsum("ij,ij->i", u, vw)
+    scale = np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1) * np.linalg.norm(w, axis=1)
+    flat = ~(np.abs(det) > FLAT_RTOL * scale)
+    numerator = (
+        (u * u).sum(1)[:, None] * vw + (v * v).sum(1)[:, None] * wu + (w * w).sum(1)[:, None] * uv
+    )
+    with np.errstate(all="ignore"):
+        centres = origin + numerator / (2 * det[:, None])
+    centres[flat] = np.nan
+    del u, v, w, vw, wu, uv, numerator
+    todo = np.flatnonzero(flat)
+    for _ in range(FLAT_ROUNDS):
+        if len(todo) == 0:
+            break
+        found = np.zeros(len(todo), dtype=bool)
+        seeds = points[simplices[todo]]
+        for k in range(4):
+            other = neighbors[todo, k]
+            candidate = centres[np.maximum(other, 0)]
+            distance = np.linalg.norm(seeds - candidate[:, None, :], axis=2)
+            with np.errstate(invalid="ignore"):
+                spread = distance.max(axis=1) - distance.min(axis=1)
+                fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
+            centres[todo[fits]] = candidate[fits]
+            found |= fits
+        todo = todo[~found]
+    radius = np.linalg.norm(centres - origin, axis=1)
+    return centres, radius
+
+
+@dataclass(frozen=True)
+class _Cycles:
+    """The tetrahedra around each bounded in/out Delaunay edge, in turning order."""
+
+    pairs: np.ndarray
+    """(E, 2) the two seeds of each bounded edge."""
+    tets: np.ndarray
+    """Tetrahedra around the edges, edge after edge, in order."""
+    offsets: np.ndarray
+    """(E + 1,) start of each edge in ``tets``."""
+    unbounded: np.ndarray
+    """(U, 2) the two seeds of each edge on the convex hull."""
+    edge_count: int
+
+
+def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
+    """Every Delaunay edge between differently labelled seeds, with its tetrahedra in order.
+
+    Around an edge ab, tetrahedron (a, b, c, d) touches the next ones through its faces abc and
+    abd: the neighbours opposite d and opposite c. Walking from one tetrahedron and never back
+    visits them all in turning order; a neighbour -1 (the hull) makes the facet unbounded.
+    """
+    count = len(simplices)
+    label = inside[simplices]
+    parts = []
+    for p, q in EDGE_PAIRS:
+        tet = np.flatnonzero(label[:, p] != label[:, q])
+        c, d = (k for k in range(4) if k not in (p, q))
+        a, b = simplices[tet, p], simplices[tet, q]
+        parts.append(
+            np.column_stack(
+                [
+                    np.minimum(a, b),
+                    np.maximum(a, b),
+                    tet,
+                    np.full_like(tet, c),
+                    np.full_like(tet, d),
+                ]
+            )
+        )
+    rows = np.concatenate(parts)
+    seeds_n = int(simplices.max()) + 1 if len(simplices) else 0
+    edge_key = rows[:, 0] * seeds_n + rows[:, 1]
+    order = np.lexsort((rows[:, 2], edge_key))
+    rows, edge_key = rows[order], edge_key[order]
+    keys, start, sizes = np.unique(edge_key, return_index=True, return_counts=True)
+    edge = np.repeat(np.arange(len(keys)), sizes)
+    lookup = edge * count + rows[:, 2]
+    tet = rows[:, 2]
+    across = [neighbors[tet, rows[:, 3]], neighbors[tet, rows[:, 4]]]
+    adjacent = []
+    open_edge = np.zeros(len(keys), dtype=bool)
+    for nb in across:
+        spot = np.searchsorted(lookup, edge * count + np.maximum(nb, 0))
+        spot = np.minimum(spot, len(lookup) - 1)
+        missing = (nb < 0) | (lookup[spot] != edge * count + nb)
+        open_edge[edge[missing]] = True
+        adjacent.append(np.where(missing, -1, spot))
+    pairs = np.column_stack([keys // max(seeds_n, 1), keys % max(seeds_n, 1)])
+    bounded = np.flatnonzero(~open_edge)
+    first, length = start[bounded], sizes[bounded]
+    out_offsets = np.concatenate([[0], np.cumsum(length)])
+    walked = np.empty(int(out_offsets[-1]), dtype=np.int64)
+    current, previous = first.copy(), adjacent[1][first]
+    alive = np.arange(len(bounded))
+    for step in range(int(length.max()) if len(length) else 0):
+        alive = alive[length[alive] > step]
+        cur, prev = current[alive], previous[alive]
+        walked[out_offsets[alive] + step] = tet[cur]
+        one, two = adjacent[0][cur], adjacent[1][cur]
+        current[alive] = np.where(one != prev, one, two)
+        previous[alive] = cur
+    if not np.array_equal(current, first):  # a walk that did not close: a broken triangulation
+        raise InputError("seeds: qhull's triangulation is inconsistent around an edge")
+    return _Cycles(
+        pairs=pairs[bounded],
+        tets=walked,
+        offsets=out_offsets,
+        unbounded=_inside_first(pairs[open_edge], inside),
+        edge_count=len(keys),
+    )
+
+
+def _inside_first(pairs: np.ndarray, inside: np.ndarray) -> np.ndarray:
+    """Each pair ordered (inside seed, outside seed)."""
+    swap = ~inside[pairs[:, 0]]
+    return np.where(swap[:, None], pairs[:, ::-1], pairs)
+
+
+def _weld(points, inside, centres, radius, cycles: _Cycles):
+    """Polygons on welded vertices: (surface, collapsed, unresolved, non-simple)."""
+    used, corner_vertex = np.unique(cycles.tets, return_inverse=True)
+    position, tolerance = centres[used], WELD_RTOL * radius[used]
+    known = np.isfinite(position).all(axis=1)
+    cluster = _clusters(position, tolerance, known)
+    sizes = np.diff(cycles.offsets)
+    polygon = np.repeat(np.arange(len(sizes)), sizes)
+    vertex = cluster[corner_vertex]
+    previous = np.roll(vertex, 1)
+    previous[cycles.offsets[:-1]] = vertex[cycles.offsets[1:] - 1]
+    keep = vertex != previous
+    vertex, polygon = vertex[keep], polygon[keep]
+    distinct = np.bincount(polygon, minlength=len(sizes))
+    broken = np.bincount(polygon, vertex < 0, minlength=len(sizes)) > 0
+    collapsed_mask = (distinct < 3) & ~broken
+    good = (distinct >= 3) & ~broken
+    keep = good[polygon]
+    vertex, polygon = vertex[keep], polygon[keep]
+    facet_sizes = distinct[good]
+    offsets = np.concatenate([[0], np.cumsum(facet_sizes)])
+    # Renumber the vertices that polygons use.
+    used_vertices, vertex = np.unique(vertex, return_inverse=True)
+    vertices = _cluster_means(position, cluster, used_vertices)
+    pairs = _inside_first(cycles.pairs[good], inside)
+    normals = points[pairs[:, 1]] - points[pairs[:, 0]]
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    vertex = _oriented(vertices, vertex, offsets, normals)
+    non_simple = _non_simple(vertex, offsets)
+    surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
+    return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
+
+
+def _clusters(position, tolerance, known) -> np.ndarray:
+    """Cluster index of each point (single linkage within the larger of the two tolerances);
+    -1 for points without a position.
+
+    Points of one degenerate vertex are nearly identical, so in lexicographic order they are
+    neighbours: consecutive points within tolerance are joined first, and the remaining
+    representatives are joined through a k-d tree.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    index = np.flatnonzero(known)
+    cluster = np.full(len(position), -1, dtype=np.int64)
+    if len(index) == 0:
+        return cluster
+    pts, tol = position[index], tolerance[index]
+    order = np.lexsort(pts.T[::-1])
+    gap = np.linalg.norm(np.diff(pts[order], axis=0), axis=1)
+    join = gap <= np.maximum(tol[order[1:]], tol[order[:-1]])
+    run = np.concatenate([[0], np.cumsum(~join)])
+    first = np.flatnonzero(np.concatenate([[True], ~join]))
+    reps = order[first]
+    tree = cKDTree(pts[reps])
+    pairs = tree.query_pairs(float(tol.max()), output_type="ndarray")
+    if len(pairs):
+        a, b = reps[pairs[:, 0]], reps[pairs[:, 1]]
+        near = np.linalg.norm(pts[a] - pts[b], axis=1) <= np.maximum(tol[a], tol[b])
+        pairs = pairs[near]
+    n = len(reps)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, rep_label = connected_components(graph, directed=False)
+    label = np.empty(len(pts), dtype=np.int64)
+    label[order] = rep_label[run]
+    cluster[index] = label
+    return cluster
+
+
+def _cluster_means(position, cluster, wanted) -> np.ndarray:
+    """Mean position of each wanted cluster."""
+    rows = np.flatnonzero(cluster >= 0)
+    slot = np.searchsorted(wanted, cluster[rows])
+    hit = (slot < len(wanted)) & (wanted[np.minimum(slot, len(wanted) - 1)] == cluster[rows])
+    rows, slot = rows[hit], slot[hit]
+    count = np.bincount(slot, minlength=len(wanted))
+    return np.stack(
+        [np.bincount(slot, position[rows, k], len(wanted)) / count for k in range(3)], axis=1
+    )
+
+
+def _oriented(vertices, corners, offsets, normals) -> np.ndarray:
+    """Corners reordered so that each polygon turns counter-clockwise about its normal."""
+    count = len(offsets) - 1
+    if count == 0:
+        return corners
+    polygon = np.repeat(np.arange(count), np.diff(offsets))
+    nxt = np.arange(len(corners)) + 1
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    cross = np.cross(vertices[corners], vertices[corners[nxt]])
+    newell = np.stack([np.bincount(polygon, cross[:, k], count) for k in range(3)], axis=1)
+    flip = np.einsum("ij,ij->i", newell, normals) < 0
+    if not flip.any():
+        return corners
+    index = np.arange(len(corners))
+    mirrored = offsets[polygon] + offsets[polygon + 1] - 1 - index
+    return corners[np.where(flip[polygon], mirrored, index)]
+
+
+def _non_simple(corners, offsets) -> int:
+    """Polygons that visit a vertex more than once."""
+    count = len(offsets) - 1
+    if count == 0:
+        return 0
+    polygon = np.repeat(np.arange(count), np.diff(offsets))
+    key = polygon * (int(corners.max()) + 1) + corners
+    distinct = np.bincount(polygon[np.unique(key, return_index=True)[1]], minlength=count)
+    return int((distinct < np.diff(offsets)).sum())
