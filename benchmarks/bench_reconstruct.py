@@ -11,6 +11,10 @@ the target, and the machine's load average before and after (the machine is shar
 seconds are the steadier measure). With two cases, the growth exponent
 log(t₂/t₁)/log(n₂/n₁) of the total (wall and CPU) in the number of seeds.
 
+With ``--voronoi`` it times, on the seeds of the torus (3, 1) at ε = 0.03, qhull's Delaunay
+tetrahedralization (what ``reconstruct`` uses) against ``scipy.spatial.Voronoi`` (the whole
+diagram, the alternative docs/reconstruct.md discusses), each in its own process.
+
 Target (the issue): torus (3, 1) at ε = 0.03 (about 1.4·10⁵ samples, 5·10⁵ seeds) in ≤ 2 min
 on 2 cores and ≤ 4 GB.
 """
@@ -85,15 +89,73 @@ def run_case(name: str) -> dict:
     }
 
 
+def run_qhull(kind: str) -> dict:
+    """Delaunay or Voronoi of the seeds of the torus (3, 1) at ε = 0.03, timed alone."""
+    from scipy.spatial import Delaunay, Voronoi
+
+    from vorobound.sampling.balls import make_balls
+    from vorobound.sampling.guides.triangles import find_guide_triangles
+    from vorobound.sampling.sampler.maximal import sample_surface
+    from vorobound.sampling.surfaces.analytic import TorusShape
+
+    sample = sample_surface(TorusShape(3.0, 1.0), 0.03, 0.75, seed=0)
+    balls = make_balls(sample.points, 0.06 * sample.lfs)
+    seeded = find_guide_triangles(balls).seeded
+    seeds = seeded.seeds[seeded.guide].reshape(-1, 3)
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+    cpu0, start = _cpu_seconds(), time.perf_counter()
+    if kind == "delaunay":
+        parts = len(Delaunay(seeds).simplices)
+    else:
+        parts = len(Voronoi(seeds).ridge_points)
+    return {
+        "kind": kind,
+        "seeds": len(seeds),
+        "parts": parts,
+        "wall": time.perf_counter() - start,
+        "cpu": _cpu_seconds() - cpu0,
+        "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
+        "peak_before_gb": before,
+        "load": os.getloadavg()[0],
+    }
+
+
+def compare_voronoi() -> None:
+    for kind in ("delaunay", "voronoi"):
+        done = subprocess.run(
+            [sys.executable, __file__, "--child", f"qhull-{kind}"],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        what = "tetrahedra" if kind == "delaunay" else "facets (ridges)"
+        print(
+            f"{kind:9s} of {r['seeds']:,} seeds: {r['parts']:,} {what}, {r['wall']:.1f} s wall, "
+            f"{r['cpu']:.1f} s CPU, peak {r['peak_gb']:.2f} GB (before: "
+            f"{r['peak_before_gb']:.2f} GB), load average {r['load']:.2f}"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
         "--cases", default="torus-0.06,torus-0.03", help="comma list of " + ", ".join(CASES)
     )
     parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--voronoi", action="store_true", help="qhull's Delaunay against scipy's Voronoi"
+    )
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(run_case(args.child)))
+        if args.child.startswith("qhull-"):
+            result = run_qhull(args.child.removeprefix("qhull-"))
+        else:
+            result = run_case(args.child)
+        print(json.dumps(result))
+        return
+    if args.voronoi:
+        compare_voronoi()
         return
     print(f"{os.cpu_count()} cores; each case in its own process")
     results = []

@@ -149,3 +149,18 @@ def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):
     assert code == 2
     assert stderr.startswith("error:") and len(stderr.strip().splitlines()) == 1
     assert message in stderr
+
+
+def test_a_mesh_is_measured_through_closest_points(run_cli, tmp_path):
+    from vorobound.sampling.surfaces.demo_meshes import icosphere
+
+    mesh = icosphere()
+    path = tmp_path / "ico.obj"
+    meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
+    code, stdout, stderr = run_cli(
+        "reconstruct", "--mesh", str(path), "--lfs", "1", "--eps", "0.15", "--json"
+    )
+    assert code == 0, stderr
+    s = json.loads(stdout)
+    assert s["expected_euler_characteristic"] == 2 and s["topology_correct"]
+    assert 0 < s["hausdorff_over_eps_lfs"] < 1 and s["flipped_facets"] == 0

@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -78,7 +78,9 @@ class ReconstructReport:
     """M̂ against the surface (None without a surface)."""
     sheet_disagreements: int | None
     """Seeds whose label from the union's sheets differs from their label by the surface
-    (None: not compared)."""
+    (None: not compared, or the union's boundary is not two sheets)."""
+    sheet_note: str | None = None
+    """Why the sheets gave no labels, when they did not."""
     note: str | None = None
     """Why M̂ is empty, when it is."""
     timings: dict[str, float] = field(default_factory=dict)
@@ -121,6 +123,7 @@ class ReconstructReport:
             "labels": self.seeds.labels,
             "half_covered_seeds": self.half_covered_seeds,
             "sheet_label_disagreements": self.sheet_disagreements,
+            "sheet_label_note": self.sheet_note,
             "n_facets": surface.n_facets,
             "n_vertices": top.vertices,
             "n_edges": top.edges,
@@ -291,7 +294,7 @@ def reconstruct_balls(
 def _from_balls(
     balls, params, shape, seed, half_covered, engine, compare_sheets, clock, source, progress
 ) -> ReconstructReport:
-    from ..sampling.reconstruct.labels import sheet_labels
+    from ..sampling.reconstruct.labels import NotTwoSheets, sheet_labels
 
     reference = None if shape is None else reference_surface(shape)
     cospherical = bool(getattr(shape, "equal_radii_on_sphere", False)) and equal_radii_on_sphere(
@@ -306,23 +309,28 @@ def _from_balls(
         )
     clock.lap("guide triangles")
     found = triangle_seeds(balls, search.seeded, half_covered)
-    disagreements = None
-    if reference is None or compare_sheets:
+    disagreements = sheet_note = None
+    if reference is None:
         Counter(progress, "labels from the union's sheets", None)
-        by_sheets = sheet_labels(balls, search.seeded)[found.rows, found.side]
-    if reference is not None:
-        inside = reference.inside(found.points)
-        labels = "surface"
-        if compare_sheets:
-            disagreements = int((by_sheets != inside).sum())
+        inside = sheet_labels(balls, search.seeded)[found.rows, found.side]
+        labels = "sheets"
     else:
-        inside, labels = by_sheets, "sheets"
+        inside, labels = reference.inside(found.points), "surface"
+        if compare_sheets:
+            Counter(progress, "labels from the union's sheets", None)
+            try:
+                by_sheets = sheet_labels(balls, search.seeded)[found.rows, found.side]
+            except NotTwoSheets as exc:
+                sheet_note = str(exc)
+            else:
+                disagreements = int((by_sheets != inside).sum())
     clock.lap("labels")
     seeds = found.labelled(inside, labels, source)
     info = SampleInfo(len(balls), guides, search.half_covered, search.engine)
-    return _finish(
+    report = _finish(
         seeds, reference, params, seed, info, half_covered, disagreements, clock, source, progress
     )
+    return replace(report, sheet_note=sheet_note)
 
 
 def reconstruct_seeds(
@@ -425,6 +433,7 @@ class SweepRow:
     min_angle_min: float | None
     """Degrees."""
     sheet_disagreements: int | None
+    sheet_note: str | None = None
     note: str | None = None
 
     @classmethod
@@ -443,13 +452,14 @@ class SweepRow:
             edge_ratio_min=s["edge_ratio_min"],
             min_angle_min=s["min_angle_min_deg"],
             sheet_disagreements=s["sheet_label_disagreements"],
+            sheet_note=s["sheet_label_note"],
             note=s.get("note"),
         )
 
     @classmethod
     def failed(cls, eps: float, note: str) -> SweepRow:
         """A row without M̂ (no guide triangle at this ε)."""
-        return cls(eps, None, 0, False, 0, 0, False, None, None, None, None, None, note)
+        return cls(eps, None, 0, False, 0, 0, False, None, None, None, None, None, None, note)
 
 
 @dataclass(frozen=True)
@@ -561,6 +571,7 @@ SWEEP_COLUMNS = (
     "edge_ratio_min",
     "min_angle_min",
     "sheet_disagreements",
+    "sheet_note",
     "note",
 )
 """Columns of sweep.csv."""

@@ -13,11 +13,16 @@ no seed lies inside it, so the ball's centre is one Voronoi vertex shared by man
 triangulated output splits such a vertex into many tetrahedra whose circumcentres agree up to
 rounding, and some of these tetrahedra are flat (four cocircular seeds), with no circumcentre of
 their own. A flat tetrahedron takes the circumcentre of a face neighbour that is equidistant
-from its four seeds (the same empty sphere), and the polygon vertices are then welded: those
-within ``WELD_RTOL`` times their circumradius of each other become one vertex (single linkage).
-A facet left with fewer than three distinct vertices has no area and is dropped (counted as
-collapsed). A Delaunay edge on the convex hull has a facet that reaches infinity (unbounded):
-it is listed, and M̂ is then not closed.
+from its four seeds (the same empty sphere). Then the Voronoi edges of M̂ that are too short to
+tell from zero are contracted: two tetrahedra next to each other around an in/out edge become
+one vertex when their circumcentres are closer than ``WELD_RTOL`` times the circumradius plus
+the rounding error of both (which grows as a tetrahedron flattens). A facet left with fewer
+than three distinct vertices has no area and is dropped (counted as collapsed). Each polygon is
+oriented combinatorially: the tetrahedra around the edge from the inside seed a to the outside
+seed b turn counter-clockwise about ab when the signed volumes of (a, b, entry, exit) add up to
+a positive number, so no polygon's orientation rests on its own (possibly tiny) area. A
+Delaunay edge on the convex hull has a facet that reaches infinity (unbounded): it is listed,
+and M̂ is then not closed.
 
 References
 ----------
@@ -27,7 +32,7 @@ guide triangles' seeds of Section 4.1.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -35,9 +40,13 @@ from ...errors import InputError
 from ...progress import Counter, Progress
 
 WELD_RTOL = 1e-9
-"""Voronoi vertices closer than WELD_RTOL times their circumradius are one vertex. The
-circumcentres of one degenerate vertex agree to about 1e-13 of the radius on VoroCrust seeds,
-and distinct vertices are a sizeable fraction of the radius apart (docs/reconstruct.md)."""
+"""Neighbouring Voronoi vertices closer than WELD_RTOL times their circumradius (plus their
+rounding errors) are one vertex. The circumcentres of one degenerate vertex agree to about
+1e-13 of the radius on VoroCrust seeds (docs/reconstruct.md)."""
+ROUNDING_FACTOR = 64.0
+"""The rounding error of a circumcentre is taken as ROUNDING_FACTOR·u·(R + |a|)/flatness
+(u the unit roundoff, a the first vertex, flatness = |det(u, v, w)|/(|u||v||w|)): a generous
+multiple of the error of the formula, which grows as the tetrahedron flattens."""
 FLAT_RTOL = 1e-10
 """A tetrahedron is flat when its volume is below FLAT_RTOL·|u||v||w|/6 (u, v, w its edges
 from one vertex): its circumcentre is then not computed but borrowed from a neighbour."""
@@ -102,19 +111,28 @@ class PolygonSurface:
         return triangles, facet
 
     def centroids(self) -> np.ndarray:
-        """(F, 3) area centroid of each polygon (of its fan triangles)."""
+        """(F, 3) area centroid of each polygon (of its fan triangles; the mean of its
+        vertices where it has no area)."""
         triangles, facet = self.fan_triangles()
         corners = self.vertices[triangles]
         area = 0.5 * np.linalg.norm(
             np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
         )
+        count = self.n_facets
         weighted = corners.mean(axis=1) * area[:, None]
-        total = np.bincount(facet, area, self.n_facets)
-        sums = np.stack(
-            [np.bincount(facet, weighted[:, k], self.n_facets) for k in range(3)], axis=1
+        total = np.bincount(facet, area, count)
+        sums = np.stack([np.bincount(facet, weighted[:, k], count) for k in range(3)], axis=1)
+        owner = self.facet_of_corner()
+        plain = (
+            np.stack(
+                [np.bincount(owner, self.vertices[self.corners, k], count) for k in range(3)],
+                axis=1,
+            )
+            / np.maximum(self.sizes, 1)[:, None]
         )
+        flat = ~(total > 0)
         with np.errstate(all="ignore"):
-            return sums / total[:, None]
+            return np.where(flat[:, None], plain, sums / total[:, None])
 
 
 @dataclass(frozen=True)
@@ -178,11 +196,13 @@ def inout_facets(
     skipped = len(points) - len(np.unique(simplices))
     del triangulation
     counter = Counter(progress, "in/out facets", 3)
-    centres, radius = circumcentres(points, simplices, neighbors)
+    centres, radius, error = circumcentres(points, simplices, neighbors)
     counter.step()
-    cycles = _edge_cycles(simplices, neighbors, inside)
+    cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
     counter.step()
-    surface, collapsed, unresolved, non_simple = _weld(points, inside, centres, radius, cycles)
+    surface, collapsed, unresolved, non_simple = _weld(
+        points, inside, centres, radius, error, cycles
+    )
     counter.step()
     return InOutFacets(
         surface=surface,
@@ -196,9 +216,10 @@ def inout_facets(
     )
 
 
-def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray]:
-    """Circumcentre and circumradius of every tetrahedron; a flat one borrows the circumcentre
-    of a face neighbour equidistant from its four vertices (NaN where none is found)."""
+def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Circumcentre, circumradius and rounding error of the circumcentre of every tetrahedron;
+    a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
+    (and that neighbour's error; NaN where none is found)."""
     corner = points[simplices]
     origin = corner[:, 0]
     u, v, w = (corner[:, k] - origin for k in (1, 2, 3))
@@ -211,7 +232,16 @@ def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray]
     )
     with np.errstate(all="ignore"):
         centres = origin + numerator / (2 * det[:, None])
+        offset = np.linalg.norm(numerator, axis=1) / (2 * np.abs(det))
+        error = (
+            ROUNDING_FACTOR
+            * np.finfo(float).eps
+            * (offset + np.linalg.norm(origin, axis=1))
+            * scale
+            / np.abs(det)
+        )
     centres[flat] = np.nan
+    error[flat] = np.nan
     del u, v, w, vw, wu, uv, numerator
     todo = np.flatnonzero(flat)
     for _ in range(FLAT_ROUNDS):
@@ -227,10 +257,11 @@ def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray]
                 spread = distance.max(axis=1) - distance.min(axis=1)
                 fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
             centres[todo[fits]] = candidate[fits]
+            error[todo[fits]] = error[np.maximum(other, 0)][fits]
             found |= fits
         todo = todo[~found]
     radius = np.linalg.norm(centres - origin, axis=1)
-    return centres, radius
+    return centres, radius, error
 
 
 @dataclass(frozen=True)
@@ -322,18 +353,67 @@ def _inside_first(pairs: np.ndarray, inside: np.ndarray) -> np.ndarray:
     return np.where(swap[:, None], pairs[:, ::-1], pairs)
 
 
-def _weld(points, inside, centres, radius, cycles: _Cycles):
+def _oriented(points, simplices, inside, cycles: _Cycles) -> _Cycles:
+    """The cycles turned counter-clockwise about the edge from the inside seed to the outside
+    seed, and their pairs ordered (inside, outside).
+
+    Consecutive tetrahedra around edge ab share a face abx; tetrahedron k is entered through
+    x_{k−1} and left through x_k, and det(b − a, x_{k−1} − a, x_k − a) is positive when the
+    walk turns counter-clockwise about a → b. The sum over the cycle decides (flat tetrahedra
+    add next to nothing).
+    """
+    pairs = _inside_first(cycles.pairs, inside)
+    sizes = np.diff(cycles.offsets)
+    edge = np.repeat(np.arange(len(sizes)), sizes)
+    nxt = np.arange(len(cycles.tets)) + 1
+    nxt[cycles.offsets[1:] - 1] = cycles.offsets[:-1]
+    here, there = simplices[cycles.tets], simplices[cycles.tets[nxt]]
+    a, b = pairs[edge, 0], pairs[edge, 1]
+    shared = (here[:, :, None] == there[:, None, :]).any(axis=2)
+    shared &= (here != a[:, None]) & (here != b[:, None])
+    exit_ = here[np.arange(len(here)), np.argmax(shared, axis=1)]
+    prv = np.empty_like(nxt)
+    prv[nxt] = np.arange(len(nxt))
+    entry = exit_[prv]
+    base = points[a]
+    det = np.einsum(
+        "ij,ij->i", points[b] - base, np.cross(points[entry] - base, points[exit_] - base)
+    )
+    turn = np.bincount(edge, det, len(sizes))
+    index = np.arange(len(cycles.tets))
+    mirrored = cycles.offsets[edge] + cycles.offsets[edge + 1] - 1 - index
+    tets = cycles.tets[np.where((turn < 0)[edge], mirrored, index)]
+    return replace(cycles, pairs=pairs, tets=tets)
+
+
+def _weld(points, inside, centres, radius, error, cycles: _Cycles):
     """Polygons on welded vertices: (surface, collapsed, unresolved, non-simple)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
     used, corner_vertex = np.unique(cycles.tets, return_inverse=True)
-    position, tolerance = centres[used], WELD_RTOL * radius[used]
-    known = np.isfinite(position).all(axis=1)
-    cluster = _clusters(position, tolerance, known)
+    corner_vertex = corner_vertex.reshape(-1)
+    position = centres[used]
+    slack = WELD_RTOL * radius[used] + error[used]
     sizes = np.diff(cycles.offsets)
     polygon = np.repeat(np.arange(len(sizes)), sizes)
+    previous = np.roll(corner_vertex, 1)
+    previous[cycles.offsets[:-1]] = corner_vertex[cycles.offsets[1:] - 1]
+    # Contract the Voronoi edges of M̂ shorter than their vertices' slack.
+    gap = np.linalg.norm(position[corner_vertex] - position[previous], axis=1)
+    with np.errstate(invalid="ignore"):
+        short = gap <= np.maximum(slack[corner_vertex], slack[previous])
+    count = len(used)
+    graph = coo_matrix(
+        (np.ones(int(short.sum())), (corner_vertex[short], previous[short])), shape=(count, count)
+    )
+    _, cluster = connected_components(graph, directed=False)
+    known = np.isfinite(position).all(axis=1)
+    cluster = np.where(known, cluster, -1)
     vertex = cluster[corner_vertex]
-    previous = np.roll(vertex, 1)
-    previous[cycles.offsets[:-1]] = vertex[cycles.offsets[1:] - 1]
-    keep = vertex != previous
+    before = np.roll(vertex, 1)
+    before[cycles.offsets[:-1]] = vertex[cycles.offsets[1:] - 1]
+    keep = vertex != before
     vertex, polygon = vertex[keep], polygon[keep]
     distinct = np.bincount(polygon, minlength=len(sizes))
     broken = np.bincount(polygon, vertex < 0, minlength=len(sizes)) > 0
@@ -341,86 +421,22 @@ def _weld(points, inside, centres, radius, cycles: _Cycles):
     good = (distinct >= 3) & ~broken
     keep = good[polygon]
     vertex, polygon = vertex[keep], polygon[keep]
-    facet_sizes = distinct[good]
-    offsets = np.concatenate([[0], np.cumsum(facet_sizes)])
-    # Renumber the vertices that polygons use.
-    used_vertices, vertex = np.unique(vertex, return_inverse=True)
-    vertices = _cluster_means(position, cluster, used_vertices)
-    pairs = _inside_first(cycles.pairs[good], inside)
+    offsets = np.concatenate([[0], np.cumsum(distinct[good])])
+    # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
+    used_clusters, vertex = np.unique(vertex, return_inverse=True)
+    member = np.flatnonzero(known & np.isin(cluster, used_clusters))
+    slot = np.searchsorted(used_clusters, cluster[member])
+    total = np.bincount(slot, minlength=len(used_clusters))
+    vertices = np.stack(
+        [np.bincount(slot, position[member, k], len(used_clusters)) / total for k in range(3)],
+        axis=1,
+    )
+    pairs = cycles.pairs[good]
     normals = points[pairs[:, 1]] - points[pairs[:, 0]]
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    vertex = _oriented(vertices, vertex, offsets, normals)
     non_simple = _non_simple(vertex, offsets)
     surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
     return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
-
-
-def _clusters(position, tolerance, known) -> np.ndarray:
-    """Cluster index of each point (single linkage within the larger of the two tolerances);
-    -1 for points without a position.
-
-    Points of one degenerate vertex are nearly identical, so in lexicographic order they are
-    neighbours: consecutive points within tolerance are joined first, and the remaining
-    representatives are joined through a k-d tree.
-    """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
-
-    index = np.flatnonzero(known)
-    cluster = np.full(len(position), -1, dtype=np.int64)
-    if len(index) == 0:
-        return cluster
-    pts, tol = position[index], tolerance[index]
-    order = np.lexsort(pts.T[::-1])
-    gap = np.linalg.norm(np.diff(pts[order], axis=0), axis=1)
-    join = gap <= np.maximum(tol[order[1:]], tol[order[:-1]])
-    run = np.concatenate([[0], np.cumsum(~join)])
-    first = np.flatnonzero(np.concatenate([[True], ~join]))
-    reps = order[first]
-    tree = cKDTree(pts[reps])
-    pairs = tree.query_pairs(float(tol.max()), output_type="ndarray")
-    if len(pairs):
-        a, b = reps[pairs[:, 0]], reps[pairs[:, 1]]
-        near = np.linalg.norm(pts[a] - pts[b], axis=1) <= np.maximum(tol[a], tol[b])
-        pairs = pairs[near]
-    n = len(reps)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, rep_label = connected_components(graph, directed=False)
-    label = np.empty(len(pts), dtype=np.int64)
-    label[order] = rep_label[run]
-    cluster[index] = label
-    return cluster
-
-
-def _cluster_means(position, cluster, wanted) -> np.ndarray:
-    """Mean position of each wanted cluster."""
-    rows = np.flatnonzero(cluster >= 0)
-    slot = np.searchsorted(wanted, cluster[rows])
-    hit = (slot < len(wanted)) & (wanted[np.minimum(slot, len(wanted) - 1)] == cluster[rows])
-    rows, slot = rows[hit], slot[hit]
-    count = np.bincount(slot, minlength=len(wanted))
-    return np.stack(
-        [np.bincount(slot, position[rows, k], len(wanted)) / count for k in range(3)], axis=1
-    )
-
-
-def _oriented(vertices, corners, offsets, normals) -> np.ndarray:
-    """Corners reordered so that each polygon turns counter-clockwise about its normal."""
-    count = len(offsets) - 1
-    if count == 0:
-        return corners
-    polygon = np.repeat(np.arange(count), np.diff(offsets))
-    nxt = np.arange(len(corners)) + 1
-    nxt[offsets[1:] - 1] = offsets[:-1]
-    cross = np.cross(vertices[corners], vertices[corners[nxt]])
-    newell = np.stack([np.bincount(polygon, cross[:, k], count) for k in range(3)], axis=1)
-    flip = np.einsum("ij,ij->i", newell, normals) < 0
-    if not flip.any():
-        return corners
-    index = np.arange(len(corners))
-    mirrored = offsets[polygon] + offsets[polygon + 1] - 1 - index
-    return corners[np.where(flip[polygon], mirrored, index)]
 
 
 def _non_simple(corners, offsets) -> int:
