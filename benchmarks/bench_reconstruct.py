@@ -72,6 +72,8 @@ def run_case(name: str) -> dict:
         for (task, begin), end in zip(order, ends, strict=True)
     }
     summary = report.summary()
+    pairs = report.facets.surface.seed_pairs
+    triangle = report.seeds.triangle
     return {
         "case": name,
         "eps": eps,
@@ -79,6 +81,9 @@ def run_case(name: str) -> dict:
         "n_seeds": summary["n_seeds"],
         "n_facets": summary["n_facets"],
         "tetrahedra": report.facets.tetrahedra,
+        "delaunay_edges": report.facets.delaunay_edges,
+        "collapsed": report.facets.collapsed,
+        "guide_facets": int((triangle[pairs[:, 0]] == triangle[pairs[:, 1]]).sum()),
         "topology_correct": summary["topology_correct"],
         "stages": stages,
         "total": total,
@@ -176,6 +181,11 @@ def main() -> None:
             f"\n{name}: {r['n_samples']:,} samples, {r['n_seeds']:,} seeds, "
             f"{r['tetrahedra']:,} tetrahedra, {r['n_facets']:,} facets of M̂, ε = {r['eps']}, "
             f"topology {'right' if r['topology_correct'] else 'WRONG'}"
+        )
+        print(
+            f"  {r['delaunay_edges']:,} in/out Delaunay edges, {r['collapsed']:,} of them "
+            f"without area; {r['guide_facets']:,} facets are the two seeds of one guide "
+            f"triangle ({100 * r['guide_facets'] / r['n_facets']:.1f} %)"
         )
         for stage, (wall, cpu) in r["stages"].items():
             share = 100 * wall / r["total"]

@@ -350,7 +350,7 @@ def test_mhat_and_seeds_round_trip_through_meshio(tmp_path):
     import meshio
 
     from vorobound.files import write_set
-    from vorobound.reports.reconstruct import output_writers
+    from vorobound.reports.reconstruct_files import output_writers
 
     report = reconstruct_surface(TorusShape(3, 1), 0.2, QUALITY)
     write_set(output_writers(report, tmp_path))

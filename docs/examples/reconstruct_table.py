@@ -8,7 +8,7 @@ The test recomputes one row (the sphere at ε = 0.45, under a second) and the ε
 """
 
 from vorobound.bounds.params import QualityParams
-from vorobound.reports.reconstruct import bound_marks, reconstruct_sweep
+from vorobound.reports.reconstruct_sweep import bound_marks, reconstruct_sweep
 from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
 SURFACES = (SphereShape(1.0), TorusShape(3.0, 1.0), TorusShape(1.5, 1.0))

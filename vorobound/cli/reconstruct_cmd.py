@@ -191,7 +191,7 @@ def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compa
 def _sweep(
     shape, values, quality, seed, half_covered, engine, compare, out, fmt_, as_json, progress
 ):
-    from ..reports.reconstruct import reconstruct_sweep
+    from ..reports.reconstruct_sweep import reconstruct_sweep
 
     sweep = reconstruct_sweep(
         shape, values, quality, seed, half_covered, engine.value, compare, progress
@@ -211,7 +211,11 @@ def _sweep(
 def _write_outputs(report, out, fmt_: str) -> list:
     from ..files import ensure_folder, write_set
     from ..plotting import figure_writer, plot_reconstruct_quality
-    from ..reports.reconstruct import QUALITY_FIGURE_STEM, output_writers, quality_distributions
+    from ..reports.reconstruct_files import (
+        QUALITY_FIGURE_STEM,
+        output_writers,
+        quality_distributions,
+    )
 
     folder = ensure_folder(out)
     writers = output_writers(report, folder)
@@ -223,7 +227,7 @@ def _write_outputs(report, out, fmt_: str) -> list:
 def _write_sweep(sweep, out, fmt_: str) -> list:
     from ..files import ensure_folder, write_set
     from ..plotting import figure_writer, plot_reconstruct_sweep
-    from ..reports.reconstruct import SWEEP_FIGURE_STEM, sweep_writers
+    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM, sweep_writers
 
     folder = ensure_folder(out)
     writers = sweep_writers(sweep, folder)
