@@ -24,8 +24,9 @@ def reconstruct(
         str | None,
         typer.Option(
             "--eps",
-            help="Sampling density ε; A:B:N (or a comma list) reconstructs at each ε (a sweep). "
-            "With --balls or --seeds, the ε of the balls, for distances in units of ε·L.",
+            help="Sampling density ε; start:stop:num (or a comma list) reconstructs at each ε "
+            "(a sweep). With --balls or --seeds, the ε of the balls, for distances in units of "
+            "ε·L.",
         ),
     ] = None,
     sphere: SphereOpt = None,
@@ -116,7 +117,9 @@ def reconstruct(
     if sampled and values is None:
         raise InputError("give --eps (a sample of the surface needs it)")
     if values is not None and len(values) > 1 and not sampled:
-        raise InputError("an ε sweep samples a surface: --eps A:B:N goes without --balls/--seeds")
+        raise InputError(
+            "an ε sweep samples a surface: --eps start:stop:num goes without --balls/--seeds"
+        )
     with progress_bar(not as_json) as progress:
         shape = surface_shape(sphere, torus, mesh, lfs, sizing, sampled, progress)
         if shape is not None and not sampled and values is None:
