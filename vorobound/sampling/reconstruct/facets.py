@@ -52,6 +52,8 @@ FLAT_RTOL = 1e-10
 from one vertex): its circumcentre is then not computed but borrowed from a neighbour."""
 FLAT_ROUNDS = 8
 """Rounds of borrowing through chains of flat tetrahedra."""
+CHUNK = 1 << 20
+"""Tetrahedra, or corners of the cycles, handled at a time (bounds the memory)."""
 EDGE_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 """The six edges of a tetrahedron as pairs of local vertex indices."""
 
@@ -220,7 +222,38 @@ def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray,
     """Circumcentre, circumradius and rounding error of the circumcentre of every tetrahedron;
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
     (and that neighbour's error; NaN where none is found)."""
-    corner = points[simplices]
+    count = len(simplices)
+    centres, error = np.empty((count, 3)), np.empty(count)
+    flat = np.empty(count, dtype=bool)
+    for start in range(0, count, CHUNK):
+        part = slice(start, start + CHUNK)
+        centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
+    centres[flat] = np.nan
+    error[flat] = np.nan
+    todo = np.flatnonzero(flat)
+    for _ in range(FLAT_ROUNDS):
+        if len(todo) == 0:
+            break
+        found = np.zeros(len(todo), dtype=bool)
+        seeds = points[simplices[todo]]
+        for k in range(4):
+            other = neighbors[todo, k]
+            candidate = centres[np.maximum(other, 0)]
+            distance = np.linalg.norm(seeds - candidate[:, None, :], axis=2)
+            with np.errstate(invalid="ignore"):
+                spread = distance.max(axis=1) - distance.min(axis=1)
+                fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
+            centres[todo[fits]] = candidate[fits]
+            error[todo[fits]] = error[np.maximum(other, 0)][fits]
+            found |= fits
+        todo = todo[~found]
+    radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
+    return centres, radius, error
+
+
+def _circumcentres(corner: np.ndarray):
+    """Circumcentres (k, 3), their rounding errors (k,) and flatness (k,) of tetrahedra given
+    by their corners (k, 4, 3)."""
     origin = corner[:, 0]
     u, v, w = (corner[:, k] - origin for k in (1, 2, 3))
     vw, wu, uv = np.cross(v, w), np.cross(w, u), np.cross(u, v)
@@ -240,28 +273,7 @@ def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray,
             * scale
             / np.abs(det)
         )
-    centres[flat] = np.nan
-    error[flat] = np.nan
-    del u, v, w, vw, wu, uv, numerator
-    todo = np.flatnonzero(flat)
-    for _ in range(FLAT_ROUNDS):
-        if len(todo) == 0:
-            break
-        found = np.zeros(len(todo), dtype=bool)
-        seeds = points[simplices[todo]]
-        for k in range(4):
-            other = neighbors[todo, k]
-            candidate = centres[np.maximum(other, 0)]
-            distance = np.linalg.norm(seeds - candidate[:, None, :], axis=2)
-            with np.errstate(invalid="ignore"):
-                spread = distance.max(axis=1) - distance.min(axis=1)
-                fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
-            centres[todo[fits]] = candidate[fits]
-            error[todo[fits]] = error[np.maximum(other, 0)][fits]
-            found |= fits
-        todo = todo[~found]
-    radius = np.linalg.norm(centres - origin, axis=1)
-    return centres, radius, error
+    return centres, error, flat
 
 
 @dataclass(frozen=True)
@@ -367,19 +379,27 @@ def _oriented(points, simplices, inside, cycles: _Cycles) -> _Cycles:
     edge = np.repeat(np.arange(len(sizes)), sizes)
     nxt = np.arange(len(cycles.tets)) + 1
     nxt[cycles.offsets[1:] - 1] = cycles.offsets[:-1]
-    here, there = simplices[cycles.tets], simplices[cycles.tets[nxt]]
-    a, b = pairs[edge, 0], pairs[edge, 1]
-    shared = (here[:, :, None] == there[:, None, :]).any(axis=2)
-    shared &= (here != a[:, None]) & (here != b[:, None])
-    exit_ = here[np.arange(len(here)), np.argmax(shared, axis=1)]
+    exit_ = np.empty(len(cycles.tets), dtype=np.int64)
+    for start in range(0, len(cycles.tets), CHUNK):
+        part = slice(start, start + CHUNK)
+        here, there = simplices[cycles.tets[part]], simplices[cycles.tets[nxt[part]]]
+        a, b = pairs[edge[part], 0], pairs[edge[part], 1]
+        shared = (here[:, :, None] == there[:, None, :]).any(axis=2)
+        shared &= (here != a[:, None]) & (here != b[:, None])
+        exit_[part] = here[np.arange(len(here)), np.argmax(shared, axis=1)]
     prv = np.empty_like(nxt)
     prv[nxt] = np.arange(len(nxt))
-    entry = exit_[prv]
-    base = points[a]
-    det = np.einsum(
-        "ij,ij->i", points[b] - base, np.cross(points[entry] - base, points[exit_] - base)
-    )
-    turn = np.bincount(edge, det, len(sizes))
+    turn = np.zeros(len(sizes))
+    for start in range(0, len(cycles.tets), CHUNK):
+        part = slice(start, start + CHUNK)
+        a, b = pairs[edge[part], 0], pairs[edge[part], 1]
+        base = points[a]
+        det = np.einsum(
+            "ij,ij->i",
+            points[b] - base,
+            np.cross(points[exit_[prv[part]]] - base, points[exit_[part]] - base),
+        )
+        turn += np.bincount(edge[part], det, len(sizes))
     index = np.arange(len(cycles.tets))
     mirrored = cycles.offsets[edge] + cycles.offsets[edge + 1] - 1 - index
     tets = cycles.tets[np.where((turn < 0)[edge], mirrored, index)]
