@@ -164,3 +164,22 @@ def test_a_mesh_is_measured_through_closest_points(run_cli, tmp_path):
     s = json.loads(stdout)
     assert s["expected_euler_characteristic"] == 2 and s["topology_correct"]
     assert 0 < s["hausdorff_over_eps_lfs"] < 1 and s["flipped_facets"] == 0
+
+
+def test_the_sweep_figure_plots_the_rows_and_every_eps_star():
+    from vorobound.plotting import plot_reconstruct_sweep
+
+    eps = [0.1, 0.2, 0.5]
+    panels = {"Hausdorff": [0.03, 0.07, None], "angle": [27.0, 29.0, None]}
+    marks = [("tight", "ratio", 0.0095), ("tight", "additive", 0.0248), ("H3 alone", "(55)", 0.64)]
+    figure = plot_reconstruct_sweep(eps, panels, [True, True, False], marks, "test")
+    top = figure.axes[0]
+    lines = {tuple(line.get_xdata()): line for line in top.get_lines()}
+    assert list(lines[(0.1, 0.2)].get_ydata()) == [0.03, 0.07]  # right topology: dots
+    assert lines[(0.5,)].get_marker() == "x"  # wrong topology: a cross on the axis
+    verticals = sorted(
+        line.get_xdata()[0]
+        for line in top.get_lines()
+        if line.get_xdata()[0] == line.get_xdata()[-1] and len(line.get_xdata()) == 2
+    )
+    assert verticals == sorted(m[2] for m in marks)
