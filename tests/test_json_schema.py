@@ -38,6 +38,8 @@ RUNS = {
     "triangle-edges": ["triangle", "--edges", "5,4,3", "-w", "0,0.2,0.5"],
     "validate": ["validate", "--eps", "0.0047", "--samples", "500"],
     "cheng": ["cheng", "--alpha", "0.2"],
+    "reconstruct": ["reconstruct", "--sphere", "1", "--eps", "0.2"],
+    "reconstruct-sweep": ["reconstruct", "--torus", "3,1", "--eps", "0.2,0.3"],
 }
 
 

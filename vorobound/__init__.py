@@ -25,6 +25,7 @@ _LAZY = {
     "check_certificate": "vorobound.api.certify",
     "sample": "vorobound.api.sample",
     "check": "vorobound.api.check",
+    "reconstruct": "vorobound.api.reconstruct",
     "lfs": "vorobound.api.lfs",
     "triangle": "vorobound.api.triangle",
     "validate": "vorobound.api.validate",

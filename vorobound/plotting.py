@@ -252,3 +252,84 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
             _legend_outside(ax, columns=1, first=data.note)
         ax.grid(alpha=0.3)
     return fig
+
+
+def plot_reconstruct_quality(distributions: dict, title: str):
+    """Histograms of M̂'s facets: one panel per measured quantity (label ↦ per-facet values).
+
+    Returns the matplotlib Figure.
+    """
+    import matplotlib
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    with matplotlib.rc_context(_STYLE):
+        rows = (len(distributions) + 1) // 2
+        fig = Figure(figsize=(2 * COLUMN_WIDTH_IN, FIGURE_HEIGHT_IN * rows), layout="constrained")
+        axes = fig.subplots(rows, 2, squeeze=False).reshape(-1)
+        for ax, (label, values) in zip(axes, distributions.items(), strict=False):
+            values = np.asarray(values, dtype=float)
+            values = values[np.isfinite(values)]
+            if len(values):
+                ax.hist(values, bins=80, color="0.5", log=True)
+            ax.set_xlabel(label)
+            ax.set_ylabel("facets")
+            ax.grid(alpha=0.3)
+        for ax in axes[len(distributions) :]:
+            ax.set_visible(False)
+        fig.suptitle(title)
+    return fig
+
+
+def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
+    """M̂'s measurements against ε, one panel per quantity (label ↦ values per ε), filled
+    markers where M̂ has the right topology and crosses where it does not, and every bound's ε*
+    as a vertical line (``marks``: (label, target, ε*) triples).
+
+    Returns the matplotlib Figure.
+    """
+    import matplotlib
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    eps = np.asarray(eps, dtype=float)
+    correct = np.asarray(correct, dtype=bool)
+    with matplotlib.rc_context(_STYLE):
+        count = len(panels)
+        fig = Figure(
+            figsize=(2 * COLUMN_WIDTH_IN, 0.8 * FIGURE_HEIGHT_IN * count + 0.6),
+            layout="constrained",
+        )
+        axes = fig.subplots(count, 1, sharex=True, squeeze=False)[:, 0]
+        colours = {name: f"C{i}" for i, name in enumerate(dict.fromkeys(m[0] for m in marks))}
+        styles = {"additive": "--", "ratio": "-"}
+        for ax, (label, values) in zip(axes, panels.items(), strict=True):
+            values = np.array([np.nan if v is None else v for v in values], dtype=float)
+            ax.plot(eps, values, color="0.6", linewidth=0.8)
+            ax.plot(eps[correct], values[correct], "o", color="C0", markersize=3.5)
+            wrong = eps[~correct]  # crosses on the axis: a wrong M̂ may have no value to plot
+            ax.plot(
+                wrong,
+                np.full(len(wrong), 0.04),
+                "x",
+                color="C3",
+                markersize=6,
+                transform=ax.get_xaxis_transform(),
+            )
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3, which="both")
+            for name, target, star in marks:
+                ax.axvline(
+                    star,
+                    color=colours[name],
+                    linewidth=0.9,
+                    linestyle=styles.get(target, ":"),
+                    label=f"{name}, {target}: ε* = {star:.3g}",
+                )
+        axes[-1].set_xscale("log")
+        axes[-1].set_xlabel(r"sampling density $\epsilon$")
+        axes[0].set_title(f"{title}: o right topology, x wrong")
+        handles, labels = axes[0].get_legend_handles_labels()
+        if handles:
+            fig.legend(handles, labels, loc="outside right upper", fontsize=6)
+    return fig

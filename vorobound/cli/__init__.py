@@ -30,6 +30,7 @@ from .check_cmd import check
 from .cheng_cmd import cheng
 from .figure_cmd import figure
 from .lfs_cmd import lfs
+from .reconstruct_cmd import reconstruct
 from .reproduce_cmd import reproduce
 from .sample_cmd import sample
 from .solve_cmd import solve
@@ -103,6 +104,7 @@ app.command("certify")(certify)
 app.command("sample")(sample)
 app.command("check")(check)
 app.command("lfs")(lfs)
+app.command("reconstruct")(reconstruct)
 
 
 class Interrupted(BaseException):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
@@ -11,6 +10,8 @@ import typer
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from .options import (
     DeltaRatio,
+    EngineChoice,
+    EngineOpt,
     Eps,
     FigureFormat,
     FigureFormatOpt,
@@ -27,13 +28,6 @@ from .options import (
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
-
-
-class EngineChoice(str, Enum):
-    auto = "auto"
-    gudhi = "gudhi"
-    hull = "hull"
-    brute = "brute"
 
 
 def check(
@@ -66,15 +60,7 @@ def check(
             "(default 1, as for a local feature size); a sampled surface uses its own λ.",
         ),
     ] = None,
-    engine: Annotated[
-        EngineChoice,
-        typer.Option(
-            "--engine",
-            help="Candidate triples: gudhi (weighted alpha complex, CGAL), hull (equal radii "
-            "on a sphere), brute (all overlapping triples; small inputs), auto (hull for a "
-            "sphere, else gudhi if installed, else brute).",
-        ),
-    ] = EngineChoice.auto,
+    engine: EngineOpt = EngineChoice.auto,
     out: Annotated[
         Path | None,
         typer.Option(

@@ -147,6 +147,24 @@ NoTight = Annotated[
 ]
 
 
+class EngineChoice(str, Enum):
+    auto = "auto"
+    gudhi = "gudhi"
+    hull = "hull"
+    brute = "brute"
+
+
+EngineOpt = Annotated[
+    EngineChoice,
+    typer.Option(
+        "--engine",
+        help="Candidate triples: gudhi (regular triangulation, CGAL), hull (equal radii on a "
+        "sphere), brute (all overlapping triples; small inputs), auto (hull for a sphere, else "
+        "gudhi if installed, else brute).",
+    ),
+]
+
+
 class FigureFormat(str, Enum):
     png = "png"
     pdf = "pdf"

@@ -119,7 +119,7 @@ def classify(
     from scipy.spatial import cKDTree
 
     triples = np.asarray(triples, dtype=np.int64).reshape(-1, 3)
-    tree = cKDTree(_lifted(balls))
+    tree = cKDTree(lifted_balls(balls))
     top = float(balls.weights.max())
     counter = Counter(progress, "seeds", len(triples))
     parts = []
@@ -131,21 +131,21 @@ def classify(
         if has.any():
             floor = COVER_RTOL * balls.weights[rows[has]].min(axis=1)
             for side in range(2):
-                power = _other_power(tree, top, seeds[has, side], rows[has])
+                power = other_power(tree, top, seeds[has, side], rows[has])
                 uncovered[has, side] = power >= floor
         parts.append((rows, geometry, seeds, uncovered))
         counter.step(len(rows))
     return _concat(parts)
 
 
-def _lifted(balls: Balls) -> np.ndarray:
+def lifted_balls(balls: Balls) -> np.ndarray:
     """The balls as 4-D points whose squared distance to (s, 0) is the power of s plus W."""
     weights = balls.weights
     height = np.sqrt(np.maximum(weights.max() - weights, 0.0))
     return np.column_stack([balls.centers, height])
 
 
-def _other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
+def other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """Smallest power of each point to a ball outside its own triple."""
     query = np.column_stack([points, np.zeros(len(points))])
     count = min(4, tree.n)

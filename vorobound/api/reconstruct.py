@@ -1,0 +1,319 @@
+"""``vorobound reconstruct``: VoroCrust's surface M̂ built from the seeds and measured, at one ε
+or over an ε sweep."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from ..bounds.params import QualityParams
+from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
+from ..errors import InputError
+from ..progress import Progress
+from .result import Result, frame, params_json
+
+FIGURE_FORMATS = ("png", "pdf", "svg")
+
+
+@dataclass(frozen=True, repr=False)
+class ReconstructResult(Result):
+    """M̂ of one seed set: its topology against the surface's, and how close and how well
+    shaped it is."""
+
+    command = "reconstruct"
+    source: str
+    closed_manifold: bool
+    euler_characteristic: int
+    n_facets: int
+    topology_correct: bool
+    """A closed 2-manifold with the surface's Euler characteristic and components."""
+    hausdorff_over_eps_lfs: float | None
+    """Largest two-sided distance between M̂ and the surface over ε·L (None: no surface)."""
+    normal_deviation_max_deg: float | None
+    report: object = field(repr=False)
+    """:class:`vorobound.reports.reconstruct.ReconstructReport`."""
+    written: tuple[str, ...] = field(repr=False, default=())
+    quality: QualityParams | None = field(repr=False, default=None)
+    asked: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.topology_correct
+
+    @property
+    def verdict(self) -> str:
+        if not self.closed_manifold:
+            return "M̂ is not a closed 2-manifold (see the boundary and non-manifold counts)"
+        return f"M̂ has the wrong topology (Euler characteristic {self.euler_characteristic})"
+
+    def payload(self) -> dict:
+        summary = self.report.summary()
+        eps = summary.pop("eps")
+        summary.pop("seed", None)
+        summary["params"] = params_json(self.quality, eps, **self.asked)
+        for key in ("rho_f", "lipschitz", "target"):
+            summary["params"].pop(key, None)
+        return summary | {"ok": self.ok, "written": list(self.written)}
+
+
+@dataclass(frozen=True, repr=False)
+class ReconstructSweepResult(Result):
+    """M̂ over several ε of one surface, beside every bound's ε*."""
+
+    command = "reconstruct"
+    source: str
+    n_eps: int
+    all_correct: bool
+    largest_correct_eps: float | None
+    """The largest ε of the sweep at which M̂ had the surface's topology."""
+    sweep: object = field(repr=False)
+    """:class:`vorobound.reports.reconstruct_sweep.ReconstructSweep`."""
+    written: tuple[str, ...] = field(repr=False, default=())
+    asked: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.all_correct
+
+    @property
+    def verdict(self) -> str:
+        wrong = [r.eps for r in self.sweep.rows if not r.topology_correct]
+        return f"M̂ is wrong at {len(wrong)} of {self.n_eps} eps values (first {wrong[0]:g})"
+
+    def payload(self) -> dict:
+        summary = self.sweep.summary()
+        summary.pop("seed", None)
+        params = params_json(self.sweep.quality, [r.eps for r in self.sweep.rows], **self.asked)
+        for key in ("rho_f", "lipschitz", "target"):
+            params.pop(key, None)
+        summary["params"] = params
+        return summary | {"ok": self.ok, "written": list(self.written)}
+
+    def to_frame(self):
+        """One row per ε (pandas optional)."""
+        return frame([vars(row) for row in self.sweep.rows])
+
+
+def _eps_values(eps) -> list[float] | None:
+    if eps is None:
+        return None
+    if isinstance(eps, str | int | float):
+        return [eps]
+    values = list(eps)
+    if not values:
+        raise InputError("eps: give at least one value")
+    return values
+
+
+def reconstruct(
+    *,
+    eps: float | Sequence[float] | None = None,
+    sphere: float | None = None,
+    torus: Sequence[float] | None = None,
+    mesh: str | os.PathLike | None = None,
+    lfs: float | None = None,
+    sizing: str | os.PathLike | None = None,
+    balls: str | os.PathLike | None = None,
+    seeds: str | os.PathLike | None = None,
+    half_covered: bool = False,
+    compare_sheets: bool = False,
+    sigma: float = PAPER_SIGMA,
+    delta_ratio: float = PAPER_DELTA_RATIO,
+    seed: int = 0,
+    engine: str = "auto",
+    out: str | os.PathLike | None = None,
+    figure_format: str = "png",
+    progress: Progress | None = None,
+) -> ReconstructResult | ReconstructSweepResult:
+    """Build VoroCrust's surface M̂ (the Voronoi facets between inside and outside seeds) and
+    measure it.
+
+    Seeds are both seeds of every guide triangle of a sample (``sphere``, ``torus`` or ``mesh``
+    with ``eps``), of ``balls``, or read from ``seeds`` (VoroCrust's CSV: x, y, z, sizing,
+    region id, 0 outside and 1 inside). Several ``eps`` values reconstruct a sampled surface at
+    each and return a :class:`ReconstructSweepResult` beside every bound's ε*. Measured:
+    whether M̂ is a closed 2-manifold, its components, Euler characteristic and genus against
+    the surface's, the two-sided Hausdorff distance to the surface over ε·L, the facet
+    normals' deviation and the facets' quality. ``ok`` is True when M̂ is a closed manifold
+    with the surface's topology (at every ε of a sweep). ``out``: mhat.vtu, mhat.ply,
+    seeds.vtu, seeds.csv, summary.json and the quality figure (a sweep: sweep.csv,
+    summary.json and its figure), written as one set.
+
+    References
+    ----------
+    Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
+    """
+    from ..checks import checked_seed
+    from ..files import checked_folder
+    from .surfaces import sample_shape
+
+    if figure_format not in FIGURE_FORMATS:
+        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    if balls is not None and seeds is not None:
+        raise InputError("give balls or seeds, not both")
+    seed = checked_seed(seed)
+    if out is not None:
+        checked_folder(out)
+    quality = QualityParams(sigma, delta_ratio)
+    values = _eps_values(eps)
+    sampled = balls is None and seeds is None
+    if sampled and values is None:
+        raise InputError("give eps (a sample of the surface needs it)")
+    if values is not None and len(values) > 1 and not sampled:
+        raise InputError("an eps sweep samples a surface: several eps go without balls/seeds")
+    shape = sample_shape(
+        sphere=sphere,
+        torus=torus,
+        mesh=mesh,
+        lfs=lfs,
+        sizing=sizing,
+        required=sampled,
+        progress=progress,
+    )
+    if shape is not None and not sampled and values is None:
+        raise InputError("give eps to measure against the surface (distances over ε·L)")
+    asked = {"seed": seed if sampled else None, "engine": engine}
+    if values is not None and len(values) > 1:
+        return _sweep(
+            shape,
+            values,
+            quality,
+            seed,
+            half_covered,
+            engine,
+            compare_sheets,
+            out,
+            figure_format,
+            asked,
+            progress,
+        )
+    params = None if values is None else quality.at(values[0])
+    report = _one(
+        shape, params, quality, seed, balls, seeds, half_covered, engine, compare_sheets, progress
+    )
+    top = report.topology
+    measures = report.summary()
+    result = ReconstructResult(
+        source=report.source,
+        closed_manifold=top.closed_manifold,
+        euler_characteristic=top.euler_characteristic,
+        n_facets=report.facets.surface.n_facets,
+        topology_correct=report.topology_correct,
+        hausdorff_over_eps_lfs=measures.get("hausdorff_over_eps_lfs"),
+        normal_deviation_max_deg=measures.get("normal_deviation_max_deg"),
+        report=report,
+        quality=quality,
+        asked=asked,
+    )
+    if out is not None:
+        result = _write_outputs(result, out, figure_format)
+    return result
+
+
+def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compare, progress):
+    """The report of one reconstruction, from a sample, balls or seeds."""
+    from ..reports import reconstruct as workflow
+
+    if seeds is not None:
+        from ..sampling.reconstruct.seeds import read_seed_file
+
+        if half_covered or compare:
+            raise InputError("half_covered and compare_sheets need balls, not seeds")
+        return workflow.reconstruct_seeds(read_seed_file(seeds), shape, params, seed, progress)
+    if balls is not None:
+        from ..sampling.io.balls import read_balls
+
+        return workflow.reconstruct_balls(
+            read_balls(balls),
+            params,
+            shape,
+            half_covered,
+            engine,
+            os.path.basename(os.fspath(balls)),
+            compare,
+            progress,
+        )
+    return workflow.reconstruct_surface(
+        shape, params.eps, quality, seed, half_covered, engine, compare, progress
+    )
+
+
+def _write_outputs(result: ReconstructResult, out, figure_format: str) -> ReconstructResult:
+    """M̂ (VTU, PLY), the seeds (VTU, CSV), summary.json (the result's JSON) and the quality
+    figure, written as one set."""
+    from ..files import ensure_folder, write_set
+    from ..plotting import figure_writer, plot_reconstruct_quality
+    from ..reports.reconstruct_files import (
+        QUALITY_FIGURE_STEM,
+        output_writers,
+        quality_distributions,
+    )
+
+    report = result.report
+    folder = ensure_folder(out)
+    writers = output_writers(report, folder)
+    figure = plot_reconstruct_quality(quality_distributions(report), f"M̂ of {report.source}")
+    writers[folder / f"{QUALITY_FIGURE_STEM}.{figure_format}"] = figure_writer(
+        figure, figure_format
+    )
+    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
+    _summary_writer(writers, folder, result)
+    write_set(writers)
+    return result
+
+
+def _summary_writer(writers: dict, folder, result: Result) -> None:
+    text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
+    writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
+
+
+def _sweep(
+    shape, values, quality, seed, half_covered, engine, compare, out, figure_format, asked, progress
+) -> ReconstructSweepResult:
+    from ..reports.reconstruct_sweep import reconstruct_sweep
+
+    sweep = reconstruct_sweep(shape, values, quality, seed, half_covered, engine, compare, progress)
+    correct = [r.eps for r in sweep.rows if r.topology_correct]
+    result = ReconstructSweepResult(
+        source=sweep.source,
+        n_eps=len(sweep.rows),
+        all_correct=all(r.topology_correct for r in sweep.rows),
+        largest_correct_eps=max(correct) if correct else None,
+        sweep=sweep,
+        asked=asked,
+    )
+    if out is not None:
+        result = _write_sweep(result, out, figure_format)
+    return result
+
+
+def _write_sweep(result: ReconstructSweepResult, out, figure_format: str):
+    from ..files import ensure_folder, write_set
+    from ..plotting import figure_writer, plot_reconstruct_sweep
+    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM, sweep_writers
+
+    sweep = result.sweep
+    folder = ensure_folder(out)
+    writers = sweep_writers(sweep, folder)
+    rows = sweep.rows
+    panels = {
+        "Hausdorff / (εL)": [r.hausdorff for r in rows],
+        "max normal dev. (°)": [r.normal_deviation_max for r in rows],
+        "min angle (°)": [r.min_angle_min for r in rows],
+    }
+    marks = [(m.label, m.target, m.eps_star) for m in sweep.marks]
+    figure = plot_reconstruct_sweep(
+        [r.eps for r in rows],
+        panels,
+        [r.topology_correct for r in rows],
+        marks,
+        f"M̂ of {sweep.source}",
+    )
+    writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
+    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
+    _summary_writer(writers, folder, result)
+    write_set(writers)
+    return result

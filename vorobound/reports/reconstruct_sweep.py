@@ -1,0 +1,230 @@
+"""M̂ over several ε of one surface, with every bound's ε* beside it.
+
+References
+----------
+The ε* of every mode and target, eq. (33)–(55), and property H3.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..bounds.params import Mode, QualityParams, SamplingParams
+from ..errors import NoAdmissibleEps, NoGuideTriangles
+from ..progress import Counter, Progress
+from ..sampling.guides.triangles import Engine
+from ..sampling.reconstruct.reference import ExpectedTopology, reference_surface
+from .reconstruct import ReconstructReport, reconstruct_surface
+
+SWEEP_FIGURE_STEM = "sweep"
+"""File name (without extension) of the sweep's figure."""
+
+
+@dataclass(frozen=True)
+class EpsMark:
+    """One bound's ε*: the largest ε at which it guarantees its target."""
+
+    label: str
+    """Mode (and λ) as printed, e.g. "tight, λ = 1"."""
+    target: str
+    """additive, ratio, or (55) for H3 alone."""
+    eps_star: float
+    claim: str
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """What the sweep keeps of one reconstruction."""
+
+    eps: float
+    samples: int | None
+    facets: int
+    closed_manifold: bool
+    euler_characteristic: int
+    components: int
+    topology_correct: bool
+    hausdorff: float | None
+    """Two-sided Hausdorff distance over ε·L (measured)."""
+    normal_deviation_max: float | None
+    """Degrees."""
+    edge_ratio_min: float | None
+    min_angle_min: float | None
+    """Degrees."""
+    sheet_disagreements: int | None
+    sheet_note: str | None = None
+    note: str | None = None
+
+    @classmethod
+    def of(cls, report: ReconstructReport) -> SweepRow:
+        s = report.summary()
+        return cls(
+            eps=report.eps,
+            samples=s["n_samples"],
+            facets=s["n_facets"],
+            closed_manifold=s["closed_manifold"],
+            euler_characteristic=s["euler_characteristic"],
+            components=s["components"],
+            topology_correct=s["topology_correct"],
+            hausdorff=s.get("hausdorff_over_eps_lfs"),
+            normal_deviation_max=s.get("normal_deviation_max_deg"),
+            edge_ratio_min=s["edge_ratio_min"],
+            min_angle_min=s["min_angle_min_deg"],
+            sheet_disagreements=s["sheet_label_disagreements"],
+            sheet_note=s["sheet_label_note"],
+            note=s.get("note"),
+        )
+
+    @classmethod
+    def failed(cls, eps: float, note: str) -> SweepRow:
+        """A row without M̂ (no guide triangle at this ε)."""
+        return cls(eps, None, 0, False, 0, 0, False, None, None, None, None, None, None, note)
+
+
+@dataclass(frozen=True)
+class ReconstructSweep:
+    """M̂ over several ε of one surface, and every bound's ε*."""
+
+    source: str
+    quality: QualityParams
+    seed: int
+    expected: ExpectedTopology | None
+    rows: list[SweepRow]
+    marks: list[EpsMark]
+
+    def summary(self) -> dict:
+        return {
+            "source": self.source,
+            "params": {"sigma": self.quality.sigma, "delta_ratio": self.quality.delta_ratio},
+            "seed": self.seed,
+            "expected_euler_characteristic": None
+            if self.expected is None
+            else self.expected.euler_characteristic,
+            "expected_components": None if self.expected is None else self.expected.components,
+            "rows": [vars(row) for row in self.rows],
+            "eps_star": [vars(mark) for mark in self.marks],
+            "all_correct": all(row.topology_correct for row in self.rows),
+        }
+
+
+MARKED_MODES = (
+    ("paper", None, "paper"),
+    ("rigorous", None, "rigorous"),
+    ("tight", None, "tight"),
+    ("tight", 1.0, "tight, λ = 1"),
+)
+"""(mode, λ, label) of the bounds whose ε* the sweep marks, for each target."""
+
+
+def bound_marks(quality: QualityParams) -> list[EpsMark]:
+    """ε* of every mode for both targets (R − R̂ ≤ (ρ_f − 1)δL_i and R ≤ ρ_f·R̂, eq. (54)),
+    and the ε up to which H3 alone gives (55); bounds without an ε* are left out.
+
+    References
+    ----------
+    Eq. (33)–(55), property H3.
+    """
+    from ..bounds.guarantee import eps_star
+    from ..bounds.targets import Target, h3_route
+
+    marks = []
+    for target in (Target.additive, Target.ratio):
+        for mode, lam, label in MARKED_MODES:
+            try:
+                star = eps_star(quality.but(target=target, lipschitz=lam), Mode(mode))
+            except NoAdmissibleEps:
+                continue
+            marks.append(EpsMark(label, target.value, star.eps_star, star.claim))
+    try:
+        route = h3_route(quality)
+        marks.append(EpsMark("H3 alone", "(55)", route.eps_star, "given H3"))
+    except NoAdmissibleEps:
+        pass
+    return marks
+
+
+def reconstruct_sweep(
+    shape,
+    eps_values: list[float],
+    quality: QualityParams,
+    seed: int = 0,
+    half_covered: bool = False,
+    engine: Engine | str = Engine.auto,
+    compare_sheets: bool = False,
+    progress: Progress | None = None,
+) -> ReconstructSweep:
+    """:func:`reconstruct_surface` at each ε (a row per ε; an ε without guide triangles is a
+    row without M̂), and every bound's ε* (:func:`bound_marks`)."""
+    counter = Counter(progress, "ε values", len(eps_values))
+    rows = []
+    for eps in eps_values:
+        try:
+            report = reconstruct_surface(
+                shape, eps, quality, seed, half_covered, engine, compare_sheets, progress
+            )
+        except NoGuideTriangles as exc:
+            rows.append(SweepRow.failed(SamplingParams(eps, quality).eps, str(exc)))
+        else:
+            rows.append(SweepRow.of(report))
+        counter.step()
+    return ReconstructSweep(
+        source=shape.name,
+        quality=quality,
+        seed=seed,
+        expected=reference_surface(shape).expected,
+        rows=rows,
+        marks=bound_marks(quality),
+    )
+
+
+SWEEP_COLUMNS = (
+    "eps",
+    "samples",
+    "facets",
+    "closed_manifold",
+    "euler_characteristic",
+    "components",
+    "topology_correct",
+    "hausdorff",
+    "normal_deviation_max",
+    "edge_ratio_min",
+    "min_angle_min",
+    "sheet_disagreements",
+    "sheet_note",
+    "note",
+)
+"""Columns of sweep.csv."""
+
+
+def sweep_csv(sweep: ReconstructSweep) -> str:
+    """The sweep's rows as CSV text (empty cells where a value is missing)."""
+    lines = [",".join(SWEEP_COLUMNS)]
+    for row in sweep.rows:
+        cells = []
+        for name in SWEEP_COLUMNS:
+            value = getattr(row, name)
+            if value is None:
+                cells.append("")
+            elif isinstance(value, bool):
+                cells.append(str(int(value)))
+            elif isinstance(value, float):
+                cells.append(repr(value))
+            elif isinstance(value, str):
+                cells.append('"' + value.replace('"', "'") + '"')
+            else:
+                cells.append(str(value))
+        lines.append(",".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+def sweep_writers(sweep: ReconstructSweep, out_dir: str | Path) -> dict[Path, Callable]:
+    """Writers of sweep.csv and summary.json (the figure joins them in the command line)."""
+    out = Path(out_dir)
+    text = sweep_csv(sweep)
+    summary = json.dumps(sweep.summary(), indent=2, allow_nan=False) + "\n"
+    return {
+        out / "sweep.csv": lambda path: path.write_text(text, encoding="utf-8"),
+        out / "summary.json": lambda path: path.write_text(summary, encoding="utf-8"),
+    }

@@ -1,0 +1,470 @@
+"""M̂: the Voronoi facets between an inside and an outside seed, as a polygon surface.
+
+The Voronoi facet of two seeds is dual to their Delaunay edge: its vertices are the
+circumcentres of the Delaunay tetrahedra around that edge, in the order the tetrahedra turn
+around it. Only edges whose two seeds carry different labels are kept, so only those facets are
+built. The Delaunay tetrahedralization comes from qhull (:class:`scipy.spatial.Delaunay`), whose
+``neighbors`` array gives the turn around each edge without any geometry; docs/reconstruct.md
+says why this is preferred to :class:`scipy.spatial.Voronoi` (which builds every facet of the
+diagram as Python lists).
+
+VoroCrust's seeds are cospherical by construction: every seed of a ball lies on its sphere and
+no seed lies inside it, so the ball's centre is one Voronoi vertex shared by many seeds. qhull's
+triangulated output splits such a vertex into many tetrahedra whose circumcentres agree up to
+rounding, and some of these tetrahedra are flat (four cocircular seeds), with no circumcentre of
+their own. A flat tetrahedron takes the circumcentre of a face neighbour that is equidistant
+from its four seeds (the same empty sphere). Then the Voronoi edges of M̂ that are too short to
+tell from zero are contracted: two tetrahedra next to each other around an in/out edge become
+one vertex when their circumcentres are closer than ``WELD_RTOL`` times the circumradius plus
+the rounding error of both (which grows as a tetrahedron flattens). A facet left with fewer
+than three distinct vertices has no area and is dropped (counted as collapsed). Each polygon is
+oriented combinatorially: the tetrahedra around the edge from the inside seed a to the outside
+seed b turn counter-clockwise about ab when the signed volumes of (a, b, entry, exit) add up to
+a positive number, so no polygon's orientation rests on its own (possibly tiny) area. A
+Delaunay edge on the convex hull has a facet that reaches infinity (unbounded): it is listed,
+and M̂ is then not closed.
+
+References
+----------
+The surface M̂ of VoroCrust (the Voronoi facets between inside and outside seeds), built on the
+guide triangles' seeds of Section 4.1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ...errors import InputError
+from ...progress import Counter, Progress
+
+WELD_RTOL = 1e-9
+"""Neighbouring Voronoi vertices closer than WELD_RTOL times their circumradius (plus their
+rounding errors) are one vertex. The circumcentres of one degenerate vertex agree to about
+1e-13 of the radius on VoroCrust seeds (docs/reconstruct.md)."""
+ROUNDING_FACTOR = 64.0
+"""The rounding error of a circumcentre is taken as ROUNDING_FACTOR·u·(R + |a|)/flatness
+(u the unit roundoff, a the first vertex, flatness = |det(u, v, w)|/(|u||v||w|)): a generous
+multiple of the error of the formula, which grows as the tetrahedron flattens."""
+FLAT_RTOL = 1e-10
+"""A tetrahedron is flat when its volume is below FLAT_RTOL·|u||v||w|/6 (u, v, w its edges
+from one vertex): its circumcentre is then not computed but borrowed from a neighbour."""
+FLAT_ROUNDS = 8
+"""Rounds of borrowing through chains of flat tetrahedra."""
+CHUNK = 1 << 20
+"""Tetrahedra, or corners of the cycles, handled at a time (bounds the memory)."""
+EDGE_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+"""The six edges of a tetrahedron as pairs of local vertex indices."""
+
+
+@dataclass(frozen=True)
+class PolygonSurface:
+    """Convex polygons on shared vertices (M̂), each oriented by its outward normal.
+
+    Polygon f has the vertex indices ``corners[offsets[f]:offsets[f + 1]]``, counter-clockwise
+    seen from outside (the side of its outside seed).
+    """
+
+    vertices: np.ndarray
+    """(V, 3) vertex coordinates."""
+    corners: np.ndarray
+    """(K,) vertex index of every polygon corner, polygon after polygon."""
+    offsets: np.ndarray
+    """(F + 1,) start of each polygon in ``corners``."""
+    seed_pairs: np.ndarray
+    """(F, 2) the inside and the outside seed of each facet."""
+    normals: np.ndarray
+    """(F, 3) unit normal of each facet, from its inside seed towards its outside seed (the
+    facet lies in their bisector plane)."""
+
+    @property
+    def n_facets(self) -> int:
+        return len(self.offsets) - 1
+
+    @property
+    def sizes(self) -> np.ndarray:
+        """Corners per polygon."""
+        return np.diff(self.offsets)
+
+    def facet_of_corner(self) -> np.ndarray:
+        """(K,) the polygon each corner belongs to."""
+        return np.repeat(np.arange(self.n_facets), self.sizes)
+
+    def next_corner(self) -> np.ndarray:
+        """(K,) index in ``corners`` of the next corner of the same polygon (cyclically)."""
+        index = np.arange(len(self.corners)) + 1
+        ends = self.offsets[1:]
+        index[ends - 1] = self.offsets[:-1]
+        return index
+
+    def fan_triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(T, 3) triangles fanning each polygon from its first corner, and (T,) their polygon.
+
+        The polygons are convex, so the fan covers each exactly, with the same orientation.
+        """
+        sizes = self.sizes
+        facet = np.repeat(np.arange(self.n_facets), sizes - 2)
+        step = np.arange(len(facet)) - np.repeat(np.cumsum(sizes - 2) - (sizes - 2), sizes - 2)
+        first = self.offsets[:-1][facet]
+        triangles = np.column_stack(
+            [self.corners[first], self.corners[first + step + 1], self.corners[first + step + 2]]
+        )
+        return triangles, facet
+
+    def centroids(self) -> np.ndarray:
+        """(F, 3) area centroid of each polygon (of its fan triangles; the mean of its
+        vertices where it has no area)."""
+        triangles, facet = self.fan_triangles()
+        corners = self.vertices[triangles]
+        area = 0.5 * np.linalg.norm(
+            np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+        )
+        count = self.n_facets
+        weighted = corners.mean(axis=1) * area[:, None]
+        total = np.bincount(facet, area, count)
+        sums = np.stack([np.bincount(facet, weighted[:, k], count) for k in range(3)], axis=1)
+        owner = self.facet_of_corner()
+        plain = (
+            np.stack(
+                [np.bincount(owner, self.vertices[self.corners, k], count) for k in range(3)],
+                axis=1,
+            )
+            / np.maximum(self.sizes, 1)[:, None]
+        )
+        flat = ~(total > 0)
+        with np.errstate(all="ignore"):
+            return np.where(flat[:, None], plain, sums / total[:, None])
+
+
+@dataclass(frozen=True)
+class InOutFacets:
+    """M̂ and what was left out of it, with the counts of the construction."""
+
+    surface: PolygonSurface
+    unbounded: np.ndarray
+    """(U, 2) inside and outside seed of each facet that reaches infinity (its Delaunay edge is
+    on the convex hull of the seeds)."""
+    collapsed: int
+    """In/out Delaunay edges whose facet has fewer than three distinct vertices after welding
+    (no area: a degenerate Voronoi vertex seen from two seeds)."""
+    unresolved: int
+    """Facets dropped because a flat tetrahedron around them found no circumcentre."""
+    non_simple: int
+    """Facets whose welded polygon visits a vertex twice (kept; counted for the record)."""
+    skipped_seeds: int
+    """Seeds qhull left out of the triangulation (coincident or nearly so with another)."""
+    delaunay_edges: int
+    """Delaunay edges between an inside and an outside seed."""
+    tetrahedra: int
+    """Tetrahedra of the Delaunay triangulation of the seeds."""
+
+
+def inout_facets(
+    points: np.ndarray, inside: np.ndarray, progress: Progress | None = None
+) -> InOutFacets:
+    """The Voronoi facets between seeds labelled inside and seeds labelled outside.
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, 3)
+        The seeds (finite, distinct; at least five, not all in a plane).
+    inside : numpy.ndarray, shape (n,)
+        True for a seed inside the surface.
+    progress : Progress, optional
+        Reports the stages.
+
+    Returns
+    -------
+    InOutFacets
+        M̂ as welded, oriented polygons, and the facets left out of it.
+
+    References
+    ----------
+    The surface M̂ of VoroCrust (module docstring).
+    """
+    from scipy.spatial import Delaunay, QhullError
+
+    points = np.ascontiguousarray(points, dtype=float)
+    inside = np.asarray(inside, dtype=bool)
+    Counter(progress, "Delaunay (qhull)", None)
+    try:
+        triangulation = Delaunay(points)
+    except (QhullError, ValueError) as exc:
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"seeds: qhull cannot triangulate them ({reason})") from None
+    simplices = triangulation.simplices.astype(np.int64)
+    neighbors = triangulation.neighbors.astype(np.int64)
+    skipped = len(points) - len(np.unique(simplices))
+    del triangulation
+    counter = Counter(progress, "in/out facets", 3)
+    centres, radius, error = circumcentres(points, simplices, neighbors)
+    counter.step()
+    cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
+    counter.step()
+    surface, collapsed, unresolved, non_simple = _weld(
+        points, inside, centres, radius, error, cycles
+    )
+    counter.step()
+    return InOutFacets(
+        surface=surface,
+        unbounded=cycles.unbounded,
+        collapsed=collapsed,
+        unresolved=unresolved,
+        non_simple=non_simple,
+        skipped_seeds=skipped,
+        delaunay_edges=cycles.edge_count,
+        tetrahedra=len(simplices),
+    )
+
+
+def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Circumcentre, circumradius and rounding error of the circumcentre of every tetrahedron;
+    a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
+    (and that neighbour's error; NaN where none is found)."""
+    count = len(simplices)
+    centres, error = np.empty((count, 3)), np.empty(count)
+    flat = np.empty(count, dtype=bool)
+    for start in range(0, count, CHUNK):
+        part = slice(start, start + CHUNK)
+        centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
+    centres[flat] = np.nan
+    error[flat] = np.nan
+    todo = np.flatnonzero(flat)
+    for _ in range(FLAT_ROUNDS):
+        if len(todo) == 0:
+            break
+        found = np.zeros(len(todo), dtype=bool)
+        seeds = points[simplices[todo]]
+        for k in range(4):
+            other = neighbors[todo, k]
+            candidate = centres[np.maximum(other, 0)]
+            distance = np.linalg.norm(seeds - candidate[:, None, :], axis=2)
+            with np.errstate(invalid="ignore"):
+                spread = distance.max(axis=1) - distance.min(axis=1)
+                fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
+            centres[todo[fits]] = candidate[fits]
+            error[todo[fits]] = error[np.maximum(other, 0)][fits]
+            found |= fits
+        todo = todo[~found]
+    radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
+    return centres, radius, error
+
+
+def _circumcentres(corner: np.ndarray):
+    """Circumcentres (k, 3), their rounding errors (k,) and flatness (k,) of tetrahedra given
+    by their corners (k, 4, 3)."""
+    origin = corner[:, 0]
+    u, v, w = (corner[:, k] - origin for k in (1, 2, 3))
+    vw, wu, uv = np.cross(v, w), np.cross(w, u), np.cross(u, v)
+    det = np.einsum("ij,ij->i", u, vw)
+    scale = np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1) * np.linalg.norm(w, axis=1)
+    flat = ~(np.abs(det) > FLAT_RTOL * scale)
+    numerator = (
+        (u * u).sum(1)[:, None] * vw + (v * v).sum(1)[:, None] * wu + (w * w).sum(1)[:, None] * uv
+    )
+    with np.errstate(all="ignore"):
+        centres = origin + numerator / (2 * det[:, None])
+        offset = np.linalg.norm(numerator, axis=1) / (2 * np.abs(det))
+        error = (
+            ROUNDING_FACTOR
+            * np.finfo(float).eps
+            * (offset + np.linalg.norm(origin, axis=1))
+            * scale
+            / np.abs(det)
+        )
+    return centres, error, flat
+
+
+@dataclass(frozen=True)
+class _Cycles:
+    """The tetrahedra around each bounded in/out Delaunay edge, in turning order."""
+
+    pairs: np.ndarray
+    """(E, 2) the two seeds of each bounded edge."""
+    tets: np.ndarray
+    """Tetrahedra around the edges, edge after edge, in order."""
+    offsets: np.ndarray
+    """(E + 1,) start of each edge in ``tets``."""
+    unbounded: np.ndarray
+    """(U, 2) the two seeds of each edge on the convex hull."""
+    edge_count: int
+
+
+def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
+    """Every Delaunay edge between differently labelled seeds, with its tetrahedra in order.
+
+    Around an edge ab, tetrahedron (a, b, c, d) touches the next ones through its faces abc and
+    abd: the neighbours opposite d and opposite c. Walking from one tetrahedron and never back
+    visits them all in turning order; a neighbour -1 (the hull) makes the facet unbounded.
+    """
+    count = len(simplices)
+    label = inside[simplices]
+    parts = []
+    for p, q in EDGE_PAIRS:
+        tet = np.flatnonzero(label[:, p] != label[:, q])
+        c, d = (k for k in range(4) if k not in (p, q))
+        a, b = simplices[tet, p], simplices[tet, q]
+        parts.append(
+            np.column_stack(
+                [
+                    np.minimum(a, b),
+                    np.maximum(a, b),
+                    tet,
+                    np.full_like(tet, c),
+                    np.full_like(tet, d),
+                ]
+            )
+        )
+    rows = np.concatenate(parts)
+    seeds_n = int(simplices.max()) + 1 if len(simplices) else 0
+    edge_key = rows[:, 0] * seeds_n + rows[:, 1]
+    order = np.lexsort((rows[:, 2], edge_key))
+    rows, edge_key = rows[order], edge_key[order]
+    keys, start, sizes = np.unique(edge_key, return_index=True, return_counts=True)
+    edge = np.repeat(np.arange(len(keys)), sizes)
+    lookup = edge * count + rows[:, 2]
+    tet = rows[:, 2]
+    across = [neighbors[tet, rows[:, 3]], neighbors[tet, rows[:, 4]]]
+    adjacent = []
+    open_edge = np.zeros(len(keys), dtype=bool)
+    for nb in across:
+        spot = np.searchsorted(lookup, edge * count + np.maximum(nb, 0))
+        spot = np.minimum(spot, len(lookup) - 1)
+        missing = (nb < 0) | (lookup[spot] != edge * count + nb)
+        open_edge[edge[missing]] = True
+        adjacent.append(np.where(missing, -1, spot))
+    pairs = np.column_stack([keys // max(seeds_n, 1), keys % max(seeds_n, 1)])
+    bounded = np.flatnonzero(~open_edge)
+    first, length = start[bounded], sizes[bounded]
+    out_offsets = np.concatenate([[0], np.cumsum(length)])
+    walked = np.empty(int(out_offsets[-1]), dtype=np.int64)
+    current, previous = first.copy(), adjacent[1][first]
+    alive = np.arange(len(bounded))
+    for step in range(int(length.max()) if len(length) else 0):
+        alive = alive[length[alive] > step]
+        cur, prev = current[alive], previous[alive]
+        walked[out_offsets[alive] + step] = tet[cur]
+        one, two = adjacent[0][cur], adjacent[1][cur]
+        current[alive] = np.where(one != prev, one, two)
+        previous[alive] = cur
+    if not np.array_equal(current, first):  # a walk that did not close: a broken triangulation
+        raise InputError("seeds: qhull's triangulation is inconsistent around an edge")
+    return _Cycles(
+        pairs=pairs[bounded],
+        tets=walked,
+        offsets=out_offsets,
+        unbounded=_inside_first(pairs[open_edge], inside),
+        edge_count=len(keys),
+    )
+
+
+def _inside_first(pairs: np.ndarray, inside: np.ndarray) -> np.ndarray:
+    """Each pair ordered (inside seed, outside seed)."""
+    swap = ~inside[pairs[:, 0]]
+    return np.where(swap[:, None], pairs[:, ::-1], pairs)
+
+
+def _oriented(points, simplices, inside, cycles: _Cycles) -> _Cycles:
+    """The cycles turned counter-clockwise about the edge from the inside seed to the outside
+    seed, and their pairs ordered (inside, outside).
+
+    Consecutive tetrahedra around edge ab share a face abx; tetrahedron k is entered through
+    x_{k−1} and left through x_k, and det(b − a, x_{k−1} − a, x_k − a) is positive when the
+    walk turns counter-clockwise about a → b. The sum over the cycle decides (flat tetrahedra
+    add next to nothing).
+    """
+    pairs = _inside_first(cycles.pairs, inside)
+    sizes = np.diff(cycles.offsets)
+    edge = np.repeat(np.arange(len(sizes)), sizes)
+    nxt = np.arange(len(cycles.tets)) + 1
+    nxt[cycles.offsets[1:] - 1] = cycles.offsets[:-1]
+    exit_ = np.empty(len(cycles.tets), dtype=np.int64)
+    for start in range(0, len(cycles.tets), CHUNK):
+        part = slice(start, start + CHUNK)
+        here, there = simplices[cycles.tets[part]], simplices[cycles.tets[nxt[part]]]
+        a, b = pairs[edge[part], 0], pairs[edge[part], 1]
+        shared = (here[:, :, None] == there[:, None, :]).any(axis=2)
+        shared &= (here != a[:, None]) & (here != b[:, None])
+        exit_[part] = here[np.arange(len(here)), np.argmax(shared, axis=1)]
+    prv = np.empty_like(nxt)
+    prv[nxt] = np.arange(len(nxt))
+    turn = np.zeros(len(sizes))
+    for start in range(0, len(cycles.tets), CHUNK):
+        part = slice(start, start + CHUNK)
+        a, b = pairs[edge[part], 0], pairs[edge[part], 1]
+        base = points[a]
+        det = np.einsum(
+            "ij,ij->i",
+            points[b] - base,
+            np.cross(points[exit_[prv[part]]] - base, points[exit_[part]] - base),
+        )
+        turn += np.bincount(edge[part], det, len(sizes))
+    index = np.arange(len(cycles.tets))
+    mirrored = cycles.offsets[edge] + cycles.offsets[edge + 1] - 1 - index
+    tets = cycles.tets[np.where((turn < 0)[edge], mirrored, index)]
+    return replace(cycles, pairs=pairs, tets=tets)
+
+
+def _weld(points, inside, centres, radius, error, cycles: _Cycles):
+    """Polygons on welded vertices: (surface, collapsed, unresolved, non-simple)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    used, corner_vertex = np.unique(cycles.tets, return_inverse=True)
+    corner_vertex = corner_vertex.reshape(-1)
+    position = centres[used]
+    slack = WELD_RTOL * radius[used] + error[used]
+    sizes = np.diff(cycles.offsets)
+    polygon = np.repeat(np.arange(len(sizes)), sizes)
+    previous = np.roll(corner_vertex, 1)
+    previous[cycles.offsets[:-1]] = corner_vertex[cycles.offsets[1:] - 1]
+    # Contract the Voronoi edges of M̂ shorter than their vertices' slack.
+    gap = np.linalg.norm(position[corner_vertex] - position[previous], axis=1)
+    with np.errstate(invalid="ignore"):
+        short = gap <= np.maximum(slack[corner_vertex], slack[previous])
+    count = len(used)
+    graph = coo_matrix(
+        (np.ones(int(short.sum())), (corner_vertex[short], previous[short])), shape=(count, count)
+    )
+    _, cluster = connected_components(graph, directed=False)
+    known = np.isfinite(position).all(axis=1)
+    cluster = np.where(known, cluster, -1)
+    vertex = cluster[corner_vertex]
+    before = np.roll(vertex, 1)
+    before[cycles.offsets[:-1]] = vertex[cycles.offsets[1:] - 1]
+    keep = vertex != before
+    vertex, polygon = vertex[keep], polygon[keep]
+    distinct = np.bincount(polygon, minlength=len(sizes))
+    broken = np.bincount(polygon, vertex < 0, minlength=len(sizes)) > 0
+    collapsed_mask = (distinct < 3) & ~broken
+    good = (distinct >= 3) & ~broken
+    keep = good[polygon]
+    vertex, polygon = vertex[keep], polygon[keep]
+    offsets = np.concatenate([[0], np.cumsum(distinct[good])])
+    # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
+    used_clusters, vertex = np.unique(vertex, return_inverse=True)
+    member = np.flatnonzero(known & np.isin(cluster, used_clusters))
+    slot = np.searchsorted(used_clusters, cluster[member])
+    total = np.bincount(slot, minlength=len(used_clusters))
+    vertices = np.stack(
+        [np.bincount(slot, position[member, k], len(used_clusters)) / total for k in range(3)],
+        axis=1,
+    )
+    pairs = cycles.pairs[good]
+    normals = points[pairs[:, 1]] - points[pairs[:, 0]]
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    non_simple = _non_simple(vertex, offsets)
+    surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
+    return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
+
+
+def _non_simple(corners, offsets) -> int:
+    """Polygons that visit a vertex more than once."""
+    count = len(offsets) - 1
+    if count == 0:
+        return 0
+    polygon = np.repeat(np.arange(count), np.diff(offsets))
+    key = polygon * (int(corners.max()) + 1) + corners
+    distinct = np.bincount(polygon[np.unique(key, return_index=True)[1]], minlength=count)
+    return int((distinct < np.diff(offsets)).sum())

@@ -1,0 +1,189 @@
+"""M̂ measured: facet quality, and distance and normals against the surface that was sampled.
+
+* **Quality** of each facet: shortest over longest edge, and smallest interior angle.
+* **M̂ → surface**: the distance from points of M̂ (its vertices, and seven points of each fan
+  triangle of each facet: the centroid, the edge midpoints and the points (4, 1, 1)/6) to the
+  surface, over ε·L at the closest surface point. Per facet, the largest over its points.
+* **surface → M̂**: the distance from random surface points (uniform by area) to M̂ (its fan
+  triangles, through libigl's AABB tree), over ε·L at the surface point.
+* **Hausdorff** (two-sided, in units of ε·L): the larger of the two maxima. Both are maxima
+  over finitely many points, so a measured Hausdorff distance is a lower bound of the true one
+  (numerical).
+* **Normal deviation** of each facet: the angle between its normal (from its inside seed to its
+  outside seed) and the surface's outward normal at the point closest to its centroid; above
+  90° the facet faces the wrong way.
+
+References
+----------
+VoroCrust's approximation guarantees for M̂ (distance and normals), which these measure.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .facets import PolygonSurface
+from .reference import ReferenceSurface
+
+FAN_SAMPLES = np.array(
+    [
+        [1 / 3, 1 / 3, 1 / 3],
+        [1 / 2, 1 / 2, 0.0],
+        [0.0, 1 / 2, 1 / 2],
+        [1 / 2, 0.0, 1 / 2],
+        [4 / 6, 1 / 6, 1 / 6],
+        [1 / 6, 4 / 6, 1 / 6],
+        [1 / 6, 1 / 6, 4 / 6],
+    ]
+)
+"""Barycentric points of each fan triangle at which M̂ → surface is measured (with the
+vertices)."""
+PROBES_PER_VERTEX = 4
+"""Surface points per vertex of M̂ for surface → M̂ (at least ``MIN_PROBES``)."""
+MIN_PROBES = 100_000
+CHUNK = 1 << 20
+"""Points measured at a time (bounds the memory of the closest-point queries)."""
+
+
+@dataclass(frozen=True)
+class FacetQuality:
+    """Shape of each facet."""
+
+    edge_ratio: np.ndarray
+    """(F,) shortest over longest edge."""
+    min_angle: np.ndarray
+    """(F,) smallest interior angle, degrees."""
+    area: np.ndarray
+    """(F,) area."""
+
+
+@dataclass(frozen=True)
+class Extreme:
+    """A largest measured value and where it was found."""
+
+    value: float
+    where: np.ndarray | None
+    """(3,) the point of M̂ or of the surface where it occurs."""
+
+
+@dataclass(frozen=True)
+class SurfaceMeasures:
+    """M̂ against the surface, per facet and in total."""
+
+    facet_distance: np.ndarray
+    """(F,) largest distance/(εL) from the facet's points to the surface."""
+    normal_deviation: np.ndarray
+    """(F,) angle between the facet's normal and the surface normal, degrees."""
+    to_surface: Extreme
+    """M̂ → surface: largest distance/(εL) over M̂'s points."""
+    from_surface: Extreme
+    """surface → M̂: largest distance/(εL) over the surface probes."""
+    points: int
+    """Points of M̂ measured."""
+    probes: int
+    """Surface points measured."""
+
+    @property
+    def hausdorff(self) -> float:
+        """Two-sided Hausdorff distance over ε·L (measured on finitely many points)."""
+        return max(self.to_surface.value, self.from_surface.value)
+
+
+def facet_quality(surface: PolygonSurface) -> FacetQuality:
+    """Edge ratio, smallest angle and area of every facet."""
+    corners = surface.corners
+    nxt = surface.next_corner()
+    prv = np.empty_like(nxt)
+    prv[nxt] = np.arange(len(nxt))
+    points = surface.vertices[corners]
+    ahead = surface.vertices[corners[nxt]] - points
+    behind = surface.vertices[corners[prv]] - points
+    length = np.linalg.norm(ahead, axis=1)
+    cosine = np.einsum("ij,ij->i", ahead, behind) / (length * np.linalg.norm(behind, axis=1))
+    angle = np.degrees(np.arccos(np.clip(cosine, -1, 1)))
+    starts = surface.offsets[:-1]
+    shortest = np.minimum.reduceat(length, starts) if len(starts) else length[:0]
+    longest = np.maximum.reduceat(length, starts) if len(starts) else length[:0]
+    smallest = np.minimum.reduceat(angle, starts) if len(starts) else angle[:0]
+    triangles, facet = surface.fan_triangles()
+    p = surface.vertices[triangles]
+    part = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    return FacetQuality(shortest / longest, smallest, np.bincount(facet, part, surface.n_facets))
+
+
+def measure_against(
+    surface: PolygonSurface,
+    reference: ReferenceSurface,
+    eps: float,
+    rng: np.random.Generator,
+) -> SurfaceMeasures:
+    """Distances (over ε·L) and normal deviations of M̂ against ``reference`` (module
+    docstring)."""
+    count = surface.n_facets
+    triangles, facet = surface.fan_triangles()
+    vertex_ratio = _to_surface(reference, surface.vertices, eps)
+    facet_distance = np.zeros(count)
+    np.maximum.at(facet_distance, surface.facet_of_corner(), vertex_ratio[surface.corners])
+    best = _argmax(vertex_ratio)
+    to_surface = Extreme(float(vertex_ratio[best]), surface.vertices[best]) if best >= 0 else None
+    corners = surface.vertices[triangles]
+    for weights in FAN_SAMPLES:
+        points = np.einsum("k,ikj->ij", weights, corners)
+        ratio = _to_surface(reference, points, eps)
+        np.maximum.at(facet_distance, facet, ratio)
+        top = _argmax(ratio)
+        if top >= 0 and (to_surface is None or ratio[top] > to_surface.value):
+            to_surface = Extreme(float(ratio[top]), points[top])
+    measured = len(surface.vertices) + len(FAN_SAMPLES) * len(triangles)
+    centroid = reference.closest(surface.centroids())
+    cosine = np.einsum("ij,ij->i", surface.normals, centroid.normal)
+    deviation = np.degrees(np.arccos(np.clip(cosine, -1, 1)))
+    probes = max(MIN_PROBES, PROBES_PER_VERTEX * len(surface.vertices))
+    from_surface = _from_surface(reference, surface, triangles, eps, probes, rng)
+    return SurfaceMeasures(
+        facet_distance=facet_distance,
+        normal_deviation=deviation,
+        to_surface=to_surface or Extreme(float("nan"), None),
+        from_surface=from_surface,
+        points=measured,
+        probes=probes,
+    )
+
+
+def _argmax(values: np.ndarray) -> int:
+    """Index of the largest value (NaN counts as largest: a point the surface cannot place);
+    -1 for no values."""
+    if len(values) == 0:
+        return -1
+    bad = np.flatnonzero(np.isnan(values))
+    return int(bad[0]) if len(bad) else int(np.argmax(values))
+
+
+def _to_surface(reference: ReferenceSurface, points: np.ndarray, eps: float) -> np.ndarray:
+    """distance/(εL) from each point to the surface, chunked."""
+    ratio = np.empty(len(points))
+    for start in range(0, len(points), CHUNK):
+        part = reference.closest(points[start : start + CHUNK])
+        ratio[start : start + CHUNK] = part.distance / (eps * part.lfs)
+    return ratio
+
+
+def _from_surface(reference, surface, triangles, eps, count, rng) -> Extreme:
+    """Largest distance/(εL) from random surface points to M̂."""
+    import igl
+
+    vertices = np.ascontiguousarray(surface.vertices, dtype=float)
+    faces = np.ascontiguousarray(triangles, dtype=np.int64)
+    best = Extreme(0.0, None)
+    for start in range(0, count, CHUNK):
+        probes, lfs = reference.random_points(min(CHUNK, count - start), rng)
+        squared, _, _ = igl.point_mesh_squared_distance(
+            np.ascontiguousarray(probes, dtype=float), vertices, faces
+        )
+        ratio = np.sqrt(squared) / (eps * lfs)
+        top = _argmax(ratio)
+        if ratio[top] > best.value or np.isnan(ratio[top]):
+            best = Extreme(float(ratio[top]), probes[top])
+    return best
