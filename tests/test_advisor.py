@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from vorobound import VoroboundError
+from vorobound.api.surfaces import count_surface
 from vorobound.reports.advisor import covering_count, packing_count
-from vorobound.sampling.surfaces.analytic import mesh_surface, planar_area, sphere, torus
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+from vorobound.sampling.surfaces.base import planar_area
 
 
 def maximal_sparse_sample(radius: float, spacing: float, rng, stall: int = 4000) -> np.ndarray:
@@ -33,7 +35,7 @@ def maximal_sparse_sample(radius: float, spacing: float, rng, stall: int = 4000)
 @pytest.mark.parametrize("eps", [0.2, 0.3])
 def test_sphere_counts_bracket_an_actual_sparse_eps_sample(eps):
     radius, sigma = 1.0, 0.75
-    surface = sphere(radius)  # L = R
+    surface = SphereShape(radius).counts()  # L = R
     sample = maximal_sparse_sample(radius, sigma * eps * radius, np.random.default_rng(1))
     # It is σ-sparse by construction and an ε-sample because σ < 1 (see the docstring).
     count = len(sample)
@@ -45,10 +47,10 @@ def test_sphere_counts_bracket_an_actual_sparse_eps_sample(eps):
 
 def test_torus_integral_matches_closed_forms():
     # R ≥ 2r: L = r everywhere, ∫ dA / L² = area / r².
-    fat = torus(3.0, 1.0)
+    fat = TorusShape(3.0, 1.0).counts()
     assert fat.inv_lfs_sq_integral == pytest.approx(4 * math.pi**2 * 3.0, rel=1e-10)
     # R < 2r: on the inner side L = distance to the axis; compare with a fine midpoint rule.
-    thin = torus(1.5, 1.0)
+    thin = TorusShape(1.5, 1.0).counts()
     phi = (np.arange(200_000) + 0.5) * (2 * math.pi / 200_000)
     rho = 1.5 + np.cos(phi)
     midpoint = 2 * math.pi * np.sum(rho / np.minimum(1.0, rho) ** 2) * (2 * math.pi / 200_000)
@@ -62,22 +64,23 @@ def test_mesh_area_and_sizing(tmp_path):
     cells = [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]
     path = tmp_path / "square.vtk"
     meshio.write(path, meshio.Mesh(pts, cells))
-    constant = mesh_surface(path, lfs=0.5)
+    constant, source = count_surface(mesh=path, lfs=0.5)
+    assert source == "given (lfs)" and constant.mesh_lattice
     assert constant.area == pytest.approx(4.0)
     assert constant.inv_lfs_sq_integral == pytest.approx(16.0)
     sizing = tmp_path / "lfs.csv"
     sizing.write_text("lfs\n1\n1\n1\n1\n")
-    assert mesh_surface(path, sizing=sizing).inv_lfs_sq_integral == pytest.approx(4.0)
+    assert count_surface(mesh=path, sizing=sizing)[0].inv_lfs_sq_integral == pytest.approx(4.0)
     assert planar_area(4.0, 1.0).inv_lfs_sq_integral == pytest.approx(4.0)
 
 
 @pytest.mark.parametrize(
     "call",
     [
-        lambda: sphere(-1),
-        lambda: torus(1, 2),
+        lambda: SphereShape(-1),
+        lambda: TorusShape(1, 2),
         lambda: planar_area(1, 0),
-        lambda: mesh_surface("/no/such/file.stl", lfs=1.0),
+        lambda: count_surface(mesh="/no/such/file.stl", lfs=1.0),
     ],
 )
 def test_bad_surfaces_raise(call):

@@ -18,6 +18,7 @@ from vorobound.sampling.lfs.lipschitz import lipschitz_envelope
 from vorobound.sampling.lfs.mesh_quality import prepare_mesh, vertex_normals
 from vorobound.sampling.lfs.patches import find_patches
 from vorobound.sampling.surfaces import analytic as surfaces
+from vorobound.sampling.surfaces.base import mesh_counts
 from vorobound.sampling.surfaces.cad_meshes import capped_cylinder
 from vorobound.sampling.surfaces.demo_meshes import cube_mesh, icosphere, torus_mesh
 
@@ -335,12 +336,12 @@ def test_sharp_angle_is_a_threshold():
 
 
 def test_advise_surface_from_the_estimate_matches_the_analytic_torus(torus_estimates):
-    """The quantity advise uses, ∫ dA / L², from the estimate vs surfaces.torus."""
+    """The quantity advise uses, ∫ dA / L², from the estimate vs the analytic torus."""
     mesh, estimate, exact = torus_estimates[(1.5, 1.0)]
-    analytic = surfaces.torus(1.5, 1.0).inv_lfs_sq_integral
+    analytic = surfaces.TorusShape(1.5, 1.0).counts().inv_lfs_sq_integral
     from_estimate = estimate.surface().inv_lfs_sq_integral
     tri_exact = exact[mesh.triangles].mean(axis=1)
-    with_exact_l = surfaces.surface_from_mesh_areas("t", mesh.triangle_areas(), tri_exact)
+    with_exact_l = mesh_counts("t", mesh.triangle_areas(), tri_exact)
     quadrature = abs(with_exact_l.inv_lfs_sq_integral / analytic - 1)
     estimator = abs(from_estimate / with_exact_l.inv_lfs_sq_integral - 1)
     assert quadrature < 0.01  # flat triangles and the mean L per triangle

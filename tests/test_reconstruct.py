@@ -11,7 +11,6 @@ from vorobound.sampling.balls import make_balls
 from vorobound.sampling.guides.triangles import find_guide_triangles
 from vorobound.sampling.reconstruct.facets import PolygonSurface, inout_facets
 from vorobound.sampling.reconstruct.labels import sheet_labels
-from vorobound.sampling.reconstruct.reference import reference_surface
 from vorobound.sampling.reconstruct.seeds import read_seed_file, seed_table
 from vorobound.sampling.reconstruct.topology import surface_topology
 from vorobound.sampling.sampler.maximal import sample_surface
@@ -187,7 +186,7 @@ def test_hausdorff_is_bounded_by_the_ball_radii_inside_the_union():
     report = reconstruct_balls(balls, SamplingParams(eps, QUALITY), shape)
     surface = report.facets.surface
     points = np.concatenate([surface.vertices, surface.centroids()])
-    distance = reference_surface(shape).closest(points).distance
+    distance = shape.closest(points).distance
     # The ball of smallest power: a point inside the union lies inside it.
     tree = cKDTree(balls.centers)
     near, index = tree.query(points, k=16)
@@ -208,7 +207,7 @@ def test_labels_from_the_sheets_agree_with_the_surface(shape, eps):
     balls = _balls(shape, eps)
     seeded = find_guide_triangles(balls).seeded
     labels = sheet_labels(balls, seeded)
-    truth = reference_surface(shape).inside(seeded.seeds.reshape(-1, 3)).reshape(-1, 2)
+    truth = shape.inside(seeded.seeds.reshape(-1, 3)).reshape(-1, 2)
     assert np.array_equal(labels[seeded.uncovered], truth[seeded.uncovered])
 
 

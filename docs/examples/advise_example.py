@@ -3,13 +3,13 @@ the recommended ε."""
 
 from vorobound.bounds.params import QualityParams
 from vorobound.reports.advisor import advise
-from vorobound.sampling.surfaces.analytic import sphere
+from vorobound.sampling.surfaces.analytic import SphereShape
 
 COMMAND = "vorobound advise --sphere 1"
 
 
 def render() -> str:
-    advice = advise(QualityParams(), sphere(1.0), ["rigorous", "tight"])
+    advice = advise(QualityParams(), SphereShape(1.0).counts(), ["rigorous", "tight"])
     lines = [
         f"`{COMMAND}` (the table, condensed):",
         "",

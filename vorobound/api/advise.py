@@ -133,7 +133,7 @@ def advise(
     (as by :func:`vorobound.lfs`), and the result says so.
     """
     from ..reports.advisor import advise as run
-    from ..sampling.surfaces.analytic import planar_area
+    from ..sampling.surfaces.base import planar_area
     from .surfaces import count_surface
 
     modes = tuple(m.value for m in checked_modes(mode))

@@ -48,7 +48,8 @@ def sample_shape(
 ):
     """The surface to sample or measure against (None if none is given and none is
     required): a sphere, a torus, or a mesh with L constant (``lfs``), per vertex
-    (``sizing``) or estimated from the mesh as by ``vorobound lfs``."""
+    (``sizing``) or estimated from the mesh as by ``vorobound lfs``. A shape of the protocol
+    in :mod:`vorobound.sampling.surfaces.base`."""
     from ..sampling.surfaces.analytic import SphereShape, TorusShape
 
     _one_surface(sphere=sphere, torus=torus, mesh=mesh)
@@ -61,31 +62,39 @@ def sample_shape(
     if mesh is not None:
         if lfs is not None and sizing is not None:
             raise InputError("give lfs or sizing for the mesh, not both")
-        return _mesh_shape(
-            mesh, None if lfs is None else checked_length(lfs, "lfs"), sizing, progress
-        )
+        given = None if lfs is None else checked_length(lfs, "lfs")
+        return _mesh_shape(mesh, given, sizing, progress)
     if required:
         raise InputError("give a surface: sphere R, torus (R, r) or mesh FILE")
     return None
 
 
 def _mesh_shape(path, lfs: float | None, sizing, progress):
-    """The mesh with L constant, per vertex or estimated from the mesh."""
+    """The mesh with L constant, per vertex (a sizing file, warned about when it is steeper
+    than a local feature size can be) or estimated from the mesh."""
     import numpy as np
 
     from ..sampling.io.meshes import read_sizing, read_triangle_mesh
-    from ..sampling.surfaces.mesh import FieldMeshShape, MeshShape
+    from ..sampling.surfaces.mesh import FieldMeshShape, MeshShape, warn_if_steep
 
     mesh = read_triangle_mesh(path)
     if sizing is not None:
         name = os.path.basename(os.fspath(sizing))
-        return MeshShape(mesh, read_sizing(sizing, len(mesh.points)), f"sizing {name}")
+        vertex_lfs = read_sizing(sizing, len(mesh.points))
+        warn_if_steep(mesh, vertex_lfs, f"sizing file {name}")
+        return MeshShape(mesh, vertex_lfs, f"sizing {name}")
     if lfs is not None:
         return MeshShape(mesh, np.full(len(mesh.points), lfs), f"constant {lfs:g}")
     from ..sampling.lfs.estimate import estimate_lfs
 
     estimate = estimate_lfs(mesh, progress=progress)
     return FieldMeshShape(estimate, f"estimated, {estimate.lipschitz:g}-Lipschitz (docs/lfs.md)")
+
+
+ESTIMATED = (
+    "estimated from the mesh ({method}); numerical, the L that `vorobound lfs` reports and "
+    "`vorobound sample --mesh` uses (accuracy on the test meshes: docs/lfs.md)"
+)
 
 
 def count_surface(
@@ -98,9 +107,10 @@ def count_surface(
     sizing: str | os.PathLike | None = None,
     progress=None,
 ):
-    """The advisor's surface (area and ∫ dA/L²) and where its L comes from ("exact", "given",
-    "sizing file", "estimated ..."); (None, None) when no surface is given."""
-    from ..sampling.surfaces import analytic as surfaces
+    """The advisor's view of the surface, its :class:`~vorobound.sampling.surfaces.base.
+    SurfaceCounts` (area and ∫ dA/L²), and where its L comes from ("exact", "given", "sizing
+    file", "estimated ..."); (None, None) when no surface is given."""
+    from ..sampling.surfaces.base import planar_area
 
     _one_surface(area=area, sphere=sphere, torus=torus, mesh=mesh)
     if sizing is not None and mesh is None:
@@ -108,34 +118,27 @@ def count_surface(
     if area is not None:
         if lfs is None:
             raise InputError("area needs lfs (the local feature size)")
-        surface = surfaces.planar_area(
-            checked_number(area, "area", *AREA_RANGE), checked_length(lfs, "lfs")
-        )
-        return surface, "given (lfs)"
-    if sphere is not None:
-        return surfaces.sphere(checked_length(sphere, "sphere")), "exact"
-    if torus is not None:
-        return surfaces.torus(*torus_radii(torus)), "exact"
-    if mesh is not None and lfs is None and sizing is None:
-        return _estimated_surface(mesh, progress)
-    if mesh is not None:
-        given = None if lfs is None else checked_length(lfs, "lfs")
-        name = None if sizing is None else os.path.basename(os.fspath(sizing))
-        source = "given (lfs)" if sizing is None else f"sizing file {name}"
-        return surfaces.mesh_surface(mesh, given, sizing), source
-    if lfs is not None:
+        counts = planar_area(checked_number(area, "area", *AREA_RANGE), checked_length(lfs, "lfs"))
+        return counts, "given (lfs)"
+    if lfs is not None and mesh is None:
         raise InputError("lfs describes a surface: use it with area or mesh")
-    return None, None
-
-
-def _estimated_surface(mesh, progress):
-    """A mesh whose L nobody gave: estimate it (its warnings, e.g. about sharp edges, are
-    issued as warnings), and say so in the output."""
-    from ..sampling.io.meshes import read_triangle_mesh
-    from ..sampling.lfs.estimate import estimate_lfs
-
-    estimate = estimate_lfs(read_triangle_mesh(mesh), progress=progress)
-    return estimate.surface(), (
-        f"estimated from the mesh ({estimate.method}); numerical, the L that `vorobound lfs` "
-        "reports and `vorobound sample --mesh` uses (accuracy on the test meshes: docs/lfs.md)"
+    shape = sample_shape(
+        sphere=sphere,
+        torus=torus,
+        mesh=mesh,
+        lfs=lfs,
+        sizing=sizing,
+        required=False,
+        progress=progress,
     )
+    if shape is None:
+        return None, None
+    if mesh is None:
+        source = "exact"
+    elif sizing is not None:
+        source = f"sizing file {os.path.basename(os.fspath(sizing))}"
+    elif lfs is not None:
+        source = "given (lfs)"
+    else:
+        source = ESTIMATED.format(method=shape.estimate.method)
+    return shape.counts(), source

@@ -26,7 +26,7 @@ from ..constants import BASELINE_EPS
 from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
 from ..sampling.sampler.lattice import MAX_CANDIDATES
-from ..sampling.surfaces.analytic import Surface
+from ..sampling.surfaces.base import SurfaceCounts
 
 GUARANTEE = (
     "What eps <= eps_star gives, per target: every guide triangle of the mode's constraint set "
@@ -131,17 +131,17 @@ class Advice:
     h3_route: H3Route
 
 
-def covering_count(surface: Surface, eps: float) -> float:
+def covering_count(surface: SurfaceCounts, eps: float) -> float:
     """∫ dA / (π ε² L²): fewest samples an ε-sample can have (see the module docstring)."""
     return _finite_count(surface.inv_lfs_sq_integral / (math.pi * eps**2), surface)
 
 
-def packing_count(surface: Surface, eps: float, sigma: float) -> float:
+def packing_count(surface: SurfaceCounts, eps: float, sigma: float) -> float:
     """∫ dA / (π (σ ε L / 2)²): most samples a σ-sparse sample can have."""
     return _finite_count(surface.inv_lfs_sq_integral / (math.pi * (sigma * eps / 2) ** 2), surface)
 
 
-def feature_counts(surface: Surface, eps: float, sigma: float) -> tuple[float, float] | None:
+def feature_counts(surface: SurfaceCounts, eps: float, sigma: float) -> tuple[float, float] | None:
     """Samples on the sharp features: consecutive ones are σεL to 2σεL apart along a curve
     (σ-sparse; a maximal subset of dense candidates on it), so ∫ds/L/(2σε) to ∫ds/L/(σε)."""
     if not surface.feature_inv_lfs > 0:
@@ -150,7 +150,7 @@ def feature_counts(surface: Surface, eps: float, sigma: float) -> tuple[float, f
     return (high / 2, high)
 
 
-def lattice_candidates(surface: Surface, eps: float, sigma: float, lam: float | None):
+def lattice_candidates(surface: SurfaceCounts, eps: float, sigma: float, lam: float | None):
     """Expected size of the lattice ``vorobound sample`` builds on a mesh (None otherwise)."""
     if not surface.mesh_lattice:
         return None
@@ -159,7 +159,7 @@ def lattice_candidates(surface: Surface, eps: float, sigma: float, lam: float | 
     return expected_candidates(surface.inv_lfs_sq_integral, eps, sigma, 1.0 if lam is None else lam)
 
 
-def _finite_count(count: float, surface: Surface) -> float:
+def _finite_count(count: float, surface: SurfaceCounts) -> float:
     if not math.isfinite(count):
         raise InputError(f"the sample count for {surface.name} overflows: no advice possible")
     return count
@@ -167,7 +167,7 @@ def _finite_count(count: float, surface: Surface) -> float:
 
 def advise(
     quality: QualityParams,
-    surface: Surface,
+    surface: SurfaceCounts,
     modes: list[str],
     progress: Progress | None = None,
     targets: list[str] = ("additive", "ratio"),

@@ -31,9 +31,9 @@ from ..sampling.reconstruct.measure import (
     facet_quality,
     measure_against,
 )
-from ..sampling.reconstruct.reference import ExpectedTopology, reference_surface
 from ..sampling.reconstruct.seeds import MIN_SEEDS, Seeds, triangle_seeds
 from ..sampling.reconstruct.topology import Topology, surface_topology
+from ..sampling.surfaces.base import ExpectedTopology
 
 LISTED_FACETS = 20
 """Facets that make M̂ non-manifold listed in the summary (all are marked in the VTU)."""
@@ -289,7 +289,6 @@ def _from_balls(
 ) -> ReconstructReport:
     from ..sampling.reconstruct.labels import NotTwoSheets, sheet_labels
 
-    reference = None if shape is None else reference_surface(shape)
     cospherical = bool(getattr(shape, "equal_radii_on_sphere", False)) and equal_radii_on_sphere(
         balls, shape.radius
     )
@@ -303,12 +302,12 @@ def _from_balls(
     clock.lap("guide triangles")
     found = triangle_seeds(balls, search.seeded, half_covered)
     disagreements = sheet_note = None
-    if reference is None:
+    if shape is None:
         Counter(progress, "labels from the union's sheets", None)
         inside = sheet_labels(balls, search.seeded)[found.rows, found.side]
         labels = "sheets"
     else:
-        inside, labels = reference.inside(found.points), "surface"
+        inside, labels = shape.inside(found.points), "surface"
         if compare_sheets:
             Counter(progress, "labels from the union's sheets", None)
             try:
@@ -321,7 +320,7 @@ def _from_balls(
     seeds = found.labelled(inside, labels, source)
     info = SampleInfo(len(balls), guides, search.half_covered, search.engine)
     report = _finish(
-        seeds, reference, params, seed, info, half_covered, disagreements, clock, source, progress
+        seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress
     )
     return replace(report, sheet_note=sheet_note)
 
@@ -335,13 +334,12 @@ def reconstruct_seeds(
 ) -> ReconstructReport:
     """M̂ of labelled seeds (a VoroCrust seed file), measured against ``shape`` at ``params.eps``
     when both are given."""
-    reference = None if shape is None else reference_surface(shape)
     clock = _Clock()
-    return _finish(seeds, reference, params, seed, None, False, None, clock, seeds.source, progress)
+    return _finish(seeds, shape, params, seed, None, False, None, clock, seeds.source, progress)
 
 
 def _finish(
-    seeds, reference, params, seed, info, half_covered, disagreements, clock, source, progress
+    seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress
 ) -> ReconstructReport:
     note = None
     if len(seeds) < MIN_SEEDS or seeds.inside.all() or not seeds.inside.any():
@@ -357,10 +355,10 @@ def _finish(
     quality = facet_quality(facets.surface)
     clock.lap("topology, quality")
     measures = None
-    if reference is not None and params is not None and facets.surface.n_facets:
+    if shape is not None and params is not None and facets.surface.n_facets:
         Counter(progress, "distances to the surface", None)
         rng = np.random.default_rng([seed or 0, 2])
-        measures = measure_against(facets.surface, reference, params.eps, rng)
+        measures = measure_against(facets.surface, shape, params.eps, rng)
         clock.lap("distances")
     return ReconstructReport(
         source=source,
@@ -372,7 +370,7 @@ def _finish(
         half_covered_seeds=half_covered,
         facets=facets,
         topology=topology,
-        expected=None if reference is None else reference.expected,
+        expected=None if shape is None else shape.expected_topology,
         quality=quality,
         measures=measures,
         sheet_disagreements=disagreements,

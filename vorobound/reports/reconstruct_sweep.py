@@ -16,7 +16,7 @@ from ..bounds.params import Mode, QualityParams, SamplingParams
 from ..errors import NoAdmissibleEps, NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling.guides.triangles import Engine
-from ..sampling.reconstruct.reference import ExpectedTopology, reference_surface
+from ..sampling.surfaces.base import ExpectedTopology
 from .reconstruct import ReconstructReport, reconstruct_surface
 
 SWEEP_FIGURE_STEM = "sweep"
@@ -173,7 +173,7 @@ def reconstruct_sweep(
         source=shape.name,
         quality=quality,
         seed=seed,
-        expected=reference_surface(shape).expected,
+        expected=shape.expected_topology,
         rows=rows,
         marks=bound_marks(quality),
     )

@@ -38,7 +38,7 @@ from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
 from ...errors import InputError, VoroboundError, VoroboundWarning
 from ...progress import Counter, Progress
 from ..io.meshes import TriangleMesh
-from ..surfaces.analytic import Surface
+from ..surfaces.base import SurfaceCounts
 from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
 from .lipschitz import Envelope, lipschitz_envelope
@@ -182,8 +182,9 @@ class LfsEstimate:
         s = self.sites
         return Envelope(s.points, s.values, self.lipschitz, s.radii)
 
-    def surface(self) -> Surface:
-        """The advisor's :class:`Surface`: area and ∫ dA/L² from the face sites."""
+    def surface(self) -> SurfaceCounts:
+        """Area and ∫ dA/L² from the face sites (:class:`SurfaceCounts`, what the advice
+        needs)."""
         face = self.sites.kind == 1
         areas, lfs = self.sites.areas[face], self.sites.lfs[face]
         with np.errstate(all="ignore"):
@@ -191,7 +192,7 @@ class LfsEstimate:
             integral = float((areas / lfs**2).sum())
         if not (math.isfinite(area) and area > 0 and math.isfinite(integral)):
             raise InputError(f"mesh {self.mesh.name}: its faces have no (finite) area")
-        return Surface(
+        return SurfaceCounts(
             f"mesh {self.mesh.name}",
             area,
             integral,

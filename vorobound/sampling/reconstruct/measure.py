@@ -25,7 +25,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .facets import PolygonSurface
-from .reference import ReferenceSurface
 
 FAN_SAMPLES = np.array(
     [
@@ -115,11 +114,12 @@ def facet_quality(surface: PolygonSurface) -> FacetQuality:
 
 def measure_against(
     surface: PolygonSurface,
-    reference: ReferenceSurface,
+    reference,
     eps: float,
     rng: np.random.Generator,
 ) -> SurfaceMeasures:
-    """Distances (over ε·L) and normal deviations of M̂ against ``reference`` (module
+    """Distances (over ε·L) and normal deviations of M̂ against ``reference``, a shape of
+    :mod:`vorobound.sampling.surfaces` (its ``closest`` and ``random_points``; module
     docstring)."""
     count = surface.n_facets
     triangles, facet = surface.fan_triangles()
@@ -161,7 +161,7 @@ def _argmax(values: np.ndarray) -> int:
     return int(bad[0]) if len(bad) else int(np.argmax(values))
 
 
-def _to_surface(reference: ReferenceSurface, points: np.ndarray, eps: float) -> np.ndarray:
+def _to_surface(reference, points: np.ndarray, eps: float) -> np.ndarray:
     """distance/(εL) from each point to the surface, chunked."""
     ratio = np.empty(len(points))
     for start in range(0, len(points), CHUNK):

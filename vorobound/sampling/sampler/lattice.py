@@ -109,7 +109,7 @@ def revolution_candidates(
     # checked before any per-row array exists.
     lfs_top = float(shape.profile_lfs(fine).max())
     widest = float(cell_reach(eps, sigma, lfs_top, shape.lipschitz)) / spread
-    at_least = shape.surface().area / (side * widest)
+    at_least = shape.counts().area / (side * widest)
     if not at_least <= MAX_CANDIDATES:
         raise candidate_limit_error(at_least, eps, at_least=True)
     rows = math.ceil(length / side)

@@ -1,140 +1,19 @@
-"""Surfaces for the sample-count estimates: area and ∫ dA / L² (L the local feature size)."""
+"""Surfaces of revolution with their exact local feature size: the sphere and the ring torus.
+
+Each is a shape of the protocol in :mod:`.base`: counts, random points, closest points,
+inside test and topology, with L written once per shape (as a function of the distance to
+the axis for the torus).
+"""
 
 from __future__ import annotations
 
 import math
-import warnings
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, replace
-from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputError, VoroboundWarning
-from ..io.meshes import read_sizing, read_triangle_mesh
-
-LIPSCHITZ_SLACK = 1e-6
-"""A sizing may change by up to (1 + LIPSCHITZ_SLACK) per unit length before a warning."""
-
-
-@dataclass(frozen=True)
-class Surface:
-    """What the sample-count estimates need from a surface."""
-
-    name: str
-    area: float
-    inv_lfs_sq_integral: float
-    """∫ dA / L(x)²: dimensionless, the number of (L-sized) patches the surface holds."""
-    lfs_min: float
-    """Smallest local feature size on the surface (sets the smallest ball radius)."""
-    exact: bool
-    """True when the covering/packing counts are exact bounds (sphere), not estimates."""
-    feature_inv_lfs: float = 0.0
-    """∫ ds / L along the sharp features (0 for a smooth surface): sets the feature balls."""
-    mesh_lattice: bool = False
-    """True when ``vorobound sample`` samples it with the mesh lattice
-    (:mod:`vorobound.sampling.sampler.mesh_lattice`), whose size the advice then estimates."""
-
-
-def sphere(radius: float) -> Surface:
-    """Sphere: L = R everywhere (the medial axis is the center)."""
-    _positive(radius, "sphere radius")
-    return Surface(f"sphere R={radius:g}", 4 * math.pi * radius**2, 4 * math.pi, radius, True)
-
-
-def torus(major: float, minor: float) -> Surface:
-    """Ring torus (R > r): L(φ) = min(r, R + r cos φ).
-
-    The medial axis is the core circle (distance r) and the symmetry axis (distance
-    R + r cos φ, the distance of the point from the axis); φ is the angle around the tube.
-    """
-    _positive(minor, "torus minor radius")
-    if not major > minor:
-        raise InputError(f"a ring torus needs R > r, got R={major:g}, r={minor:g}")
-    from scipy.integrate import quad
-
-    def integrand(phi):
-        rho = major + minor * math.cos(phi)
-        return minor * rho / min(minor, rho) ** 2
-
-    # L switches from r to the axis distance where R + r cos φ = r.
-    c = (minor - major) / minor
-    breaks = [math.acos(c), 2 * math.pi - math.acos(c)] if c > -1 else []
-    total, _ = quad(
-        integrand, 0, 2 * math.pi, points=breaks or None, limit=200, epsabs=0, epsrel=1e-12
-    )
-    return Surface(
-        f"torus R={major:g}, r={minor:g}",
-        4 * math.pi**2 * major * minor,
-        2 * math.pi * total,
-        min(minor, major - minor),
-        False,
-    )
-
-
-def planar_area(area: float, lfs: float) -> Surface:
-    """A surface known only by its area, with constant local feature size."""
-    _positive(area, "area")
-    _positive(lfs, "lfs")
-    return Surface(f"area {area:g}, L={lfs:g}", area, area / lfs**2, lfs, False)
-
-
-def mesh_surface(path: Path, lfs: float | None = None, sizing: Path | None = None) -> Surface:
-    """A triangle mesh read with meshio; L constant (``lfs``) or per vertex (``sizing`` CSV).
-
-    With a sizing file each triangle uses the mean L of its vertices.
-    """
-    if (lfs is None) == (sizing is None):
-        raise InputError("a mesh needs either a constant L or a sizing file (one L per vertex)")
-    mesh = read_triangle_mesh(path)
-    areas = mesh.triangle_areas()
-    if sizing is not None:
-        vertex_lfs = read_sizing(sizing, len(mesh.points))
-        _warn_if_steep(mesh, vertex_lfs, sizing)
-        tri_lfs = vertex_lfs[mesh.triangles].mean(axis=1)
-    else:
-        _positive(lfs, "lfs")
-        tri_lfs = np.full(len(mesh.triangles), float(lfs))
-    return replace(surface_from_mesh_areas(mesh.name, areas, tri_lfs), mesh_lattice=True)
-
-
-def _warn_if_steep(mesh, vertex_lfs: np.ndarray, sizing: Path) -> None:
-    """Warn when the sizing changes faster than 1 per unit length along an edge: a local
-    feature size is 1-Lipschitz, and the sampling bounds assume it."""
-    ends = mesh.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    length = np.linalg.norm(mesh.points[ends[:, 0]] - mesh.points[ends[:, 1]], axis=1)
-    change = np.abs(vertex_lfs[ends[:, 0]] - vertex_lfs[ends[:, 1]])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        slope = np.where(length > 0, change / length, np.where(change > 0, np.inf, 0.0))
-    steepest = float(slope.max())
-    if steepest > 1 + LIPSCHITZ_SLACK:
-        warnings.warn(
-            f"sizing file {sizing.name}: L changes by up to {steepest:.3g} per unit length "
-            "along a mesh edge; a local feature size is 1-Lipschitz and the bounds assume it "
-            "(`vorobound lfs --lipschitz` gives such a sizing)",
-            VoroboundWarning,
-            stacklevel=3,
-        )
-
-
-def surface_from_mesh_areas(name: str, areas: np.ndarray, tri_lfs: np.ndarray) -> Surface:
-    """A :class:`Surface` from triangle areas and one L per triangle, refusing nonsense."""
-    with np.errstate(all="ignore"):
-        area = float(areas.sum())
-        integral = float((areas / tri_lfs**2).sum())
-    if not (math.isfinite(area) and area > 0):
-        raise InputError(f"mesh {name}: its triangles have no (finite) area")
-    if not (math.isfinite(integral) and integral > 0):
-        raise InputError(f"mesh {name}: the integral of 1/L² over the surface is not finite")
-    return Surface(f"mesh {name}", area, integral, float(tri_lfs.min()), False)
-
-
-def _positive(value, name: str) -> None:
-    if value is None or not (math.isfinite(value) and value > 0):
-        raise InputError(f"{name} must be positive and finite, got {value}")
-
-
-# --- Surfaces of revolution with their exact local feature size, for the sampler -------------
+from ...errors import InputError
+from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, positive
 
 
 class RevolutionShape(ABC):
@@ -176,12 +55,23 @@ class RevolutionShape(ABC):
         """The exact L at points (n, 3) of the surface."""
 
     @abstractmethod
-    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Nearest surface points of ``points`` (n, 3) and L there."""
+    def closest(self, points: np.ndarray) -> ClosestPoints:
+        """Nearest surface points of ``points`` (n, 3), distance, outward normal and L."""
 
     @abstractmethod
-    def surface(self) -> Surface:
-        """The advisor's description (area, ∫ dA/L²)."""
+    def inside(self, points: np.ndarray) -> np.ndarray:
+        """True for points (n, 3) the surface encloses."""
+
+    @abstractmethod
+    def counts(self) -> SurfaceCounts:
+        """Area and ∫ dA/L² (the advisor's and the sampler's size estimates)."""
+
+    expected_topology: ExpectedTopology
+
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Nearest surface points of ``points`` (n, 3) and L there."""
+        found = self.closest(points)
+        return found.points, found.lfs
 
     def embed(self, t, angle) -> np.ndarray:
         """Points (n, 3) at profile parameter ``t`` and rotation angle ``angle``."""
@@ -223,10 +113,11 @@ class SphereShape(RevolutionShape):
     t_range = (0.0, math.pi)
 
     def __init__(self, radius: float):
-        _positive(radius, "sphere radius")
+        positive(radius, "sphere radius")
         self.radius = float(radius)
         self.name = f"sphere R={radius:g}"
         self.profile_speed = self.radius
+        self.expected_topology = ExpectedTopology(2, 1, "a sphere")
 
     def profile(self, t):
         return self.radius * np.sin(t), self.radius * np.cos(t)
@@ -244,12 +135,23 @@ class SphereShape(RevolutionShape):
     def lfs_at(self, points):
         return np.full(len(points), self.radius)
 
-    def project(self, points):
-        norm = np.linalg.norm(points, axis=1, keepdims=True)
-        return self.radius * points / norm, np.full(len(points), self.radius)
+    def closest(self, points):
+        norm = np.linalg.norm(points, axis=1)
+        with np.errstate(all="ignore"):
+            normal = points / norm[:, None]
+        radius = self.radius
+        return ClosestPoints(
+            radius * normal, np.abs(norm - radius), normal, np.full(len(points), radius)
+        )
 
-    def surface(self) -> Surface:
-        return sphere(self.radius)
+    def inside(self, points):
+        return np.linalg.norm(points, axis=1) < self.radius
+
+    def counts(self) -> SurfaceCounts:
+        """L = R everywhere: area 4πR², ∫ dA/L² = 4π (the counts are exact bounds)."""
+        return SurfaceCounts(
+            self.name, 4 * math.pi * self.radius**2, 4 * math.pi, self.radius, True
+        )
 
 
 class TorusShape(RevolutionShape):
@@ -262,32 +164,71 @@ class TorusShape(RevolutionShape):
     t_range = (0.0, 2 * math.pi)
 
     def __init__(self, major: float, minor: float):
-        _positive(minor, "torus minor radius")
+        positive(minor, "torus minor radius")
         if not (math.isfinite(major) and major > minor):
             raise InputError(f"a ring torus needs R > r, got R={major:g}, r={minor:g}")
         self.major, self.minor = float(major), float(minor)
         self.name = f"torus R={major:g}, r={minor:g}"
         self.profile_speed = self.minor
+        self.expected_topology = ExpectedTopology(0, 1, "a torus")
+
+    def lfs_of_rho(self, rho):
+        """L at distance ρ from the axis: min(r, ρ), the distance to the nearer part of the
+        medial axis (the core circle, at r, or the z axis, at ρ). The one formula of L."""
+        return np.minimum(self.minor, rho)
 
     def profile(self, t):
         return self.major + self.minor * np.cos(t), self.minor * np.sin(t)
 
     def profile_lfs(self, t):
-        return np.minimum(self.minor, self.major + self.minor * np.cos(t))
+        return self.lfs_of_rho(self.profile(t)[0])
 
     def rho_max(self, t0, t1):
         return self.major + self.minor * _interval_max_cos(t0, t1)
 
     def lfs_min(self, t0, t1):
-        return np.minimum(self.minor, self.major + self.minor * _interval_min_cos(t0, t1))
+        return self.lfs_of_rho(self.major + self.minor * _interval_min_cos(t0, t1))
 
     def lfs_at(self, points):
-        return np.minimum(self.minor, np.hypot(points[:, 0], points[:, 1]))
+        return self.lfs_of_rho(np.hypot(points[:, 0], points[:, 1]))
 
-    def project(self, points):
-        rho = np.hypot(points[:, 0], points[:, 1])
-        tube = np.arctan2(points[:, 2], rho - self.major)
-        return self.embed(tube, np.arctan2(points[:, 1], points[:, 0])), self.profile_lfs(tube)
+    def _tube(self, points):
+        """Nearest point of the core circle, the offset from it, and its length."""
+        angle = np.arctan2(points[:, 1], points[:, 0])
+        core = self.major * np.column_stack([np.cos(angle), np.sin(angle), 0 * angle])
+        offset = points - core
+        return core, offset, np.linalg.norm(offset, axis=1)
 
-    def surface(self) -> Surface:
-        return torus(self.major, self.minor)
+    def closest(self, points):
+        core, offset, length = self._tube(points)
+        with np.errstate(all="ignore"):
+            normal = offset / length[:, None]
+        nearest = core + self.minor * normal
+        return ClosestPoints(nearest, np.abs(length - self.minor), normal, self.lfs_at(nearest))
+
+    def inside(self, points):
+        return self._tube(points)[2] < self.minor
+
+    def counts(self) -> SurfaceCounts:
+        """Area 4π²Rr and ∫ dA/L² = 2π ∫ r·ρ(φ)/L(φ)² dφ (quadrature, split where L switches
+        from r to the axis distance, R + r cos φ = r)."""
+        from scipy.integrate import quad
+
+        major, minor = self.major, self.minor
+
+        def integrand(phi):
+            rho = major + minor * math.cos(phi)
+            return minor * rho / float(self.lfs_of_rho(rho)) ** 2
+
+        c = (minor - major) / minor
+        breaks = [math.acos(c), 2 * math.pi - math.acos(c)] if c > -1 else []
+        total, _ = quad(
+            integrand, 0, 2 * math.pi, points=breaks or None, limit=200, epsabs=0, epsrel=1e-12
+        )
+        return SurfaceCounts(
+            self.name,
+            4 * math.pi**2 * major * minor,
+            2 * math.pi * total,
+            float(self.lfs_min(0.0, 2 * math.pi)),
+            False,
+        )

@@ -1,18 +1,100 @@
-"""A triangle mesh as a surface to sample: L given per vertex, linear on each triangle."""
+"""Triangle meshes as surfaces to sample and to measure against: L given per vertex (linear on
+each triangle) or estimated from the mesh; shapes of the protocol in :mod:`.base`.
+
+Closest points come from libigl's AABB tree (``point_mesh_squared_distance``), the inside test
+from the generalized winding number, normals from the closest triangle (oriented so that the
+mesh encloses a positive volume).
+"""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, VoroboundWarning
 from ..io.meshes import TriangleMesh
 from ..sampler.lattice import SPARSITY_SLACK
+from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
 MIN_AREA_RTOL = 1e-14
 """Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area: skipped."""
+WINDING_INSIDE = 0.5
+"""A point is inside a mesh where its generalized winding number exceeds this."""
+LIPSCHITZ_SLACK = 1e-6
+"""A sizing may change by up to (1 + LIPSCHITZ_SLACK) per unit length before a warning."""
 
 
-class MeshShape:
+class _TriangleSurface:
+    """What both mesh shapes share: the triangles with area, random points, closest points,
+    the inside test and the topology. Subclasses give ``lfs_on(triangle, points)`` (L at
+    points of the given triangles) and ``counts()``."""
+
+    equal_radii_on_sphere = False
+
+    def _set_triangles(self, mesh: TriangleMesh) -> np.ndarray:
+        """Keep the triangles with area; return which ones were kept."""
+        corners, area2, longest, keep = _triangles_with_area(mesh)
+        self.mesh_name = mesh.name
+        self.corners = corners[keep]
+        self.areas = 0.5 * area2[keep]
+        self.longest = longest[keep]
+        self.vertices, index = np.unique(self.corners.reshape(-1, 3), axis=0, return_inverse=True)
+        self.triangles = index.reshape(-1, 3).astype(np.int64)
+        c = self.corners
+        normal = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
+        volume = float(np.einsum("ij,ij->i", c[:, 0], normal).sum()) / 6
+        self.normals = normal / np.linalg.norm(normal, axis=1, keepdims=True)
+        if volume < 0:  # the triangles face inwards: outward normals point the other way
+            self.normals = -self.normals
+        return keep
+
+    @property
+    def expected_topology(self) -> ExpectedTopology | None:
+        """The mesh's own topology, if it is a closed 2-manifold (else None)."""
+        from ..reconstruct.topology import triangle_topology
+
+        top = triangle_topology(self.vertices, self.triangles)
+        if not top.closed_manifold:
+            return None
+        return ExpectedTopology(top.euler_characteristic, top.components, "the mesh")
+
+    def random_points(self, count: int, rng: np.random.Generator):
+        """``count`` points uniform by area, and L there."""
+        cumulative = np.cumsum(self.areas)
+        triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
+        triangle = np.minimum(triangle, len(self.areas) - 1)
+        u, v = uniform_in_triangle(rng, count)
+        c = self.corners[triangle]
+        points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
+        return points, self.lfs_on(triangle, points)
+
+    def closest(self, points: np.ndarray) -> ClosestPoints:
+        """Nearest points of the mesh (libigl's AABB tree), distance, normal and L there."""
+        import igl
+
+        query = np.ascontiguousarray(points, dtype=float)
+        squared, triangle, nearest = igl.point_mesh_squared_distance(
+            query, self.vertices, self.triangles
+        )
+        return ClosestPoints(
+            nearest, np.sqrt(squared), self.normals[triangle], self.lfs_on(triangle, nearest)
+        )
+
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Nearest mesh points of ``points`` and L there."""
+        found = self.closest(points)
+        return found.points, found.lfs
+
+    def inside(self, points: np.ndarray) -> np.ndarray:
+        """True where the generalized winding number of the mesh exceeds 1/2."""
+        import igl
+
+        query = np.ascontiguousarray(points, dtype=float)
+        return igl.fast_winding_number(self.vertices, self.triangles, query) > WINDING_INSIDE
+
+
+class MeshShape(_TriangleSurface):
     """The piecewise-linear surface of a triangle mesh with a local feature size per vertex.
 
     L is interpolated linearly on each triangle; ``lipschitz`` is the largest gradient of that
@@ -21,7 +103,6 @@ class MeshShape:
     measures the λ its sample has instead.
     """
 
-    equal_radii_on_sphere = False
     lipschitz_exact = False
 
     def __init__(self, mesh: TriangleMesh, vertex_lfs: np.ndarray, lfs_source: str):
@@ -30,81 +111,56 @@ class MeshShape:
             raise InputError(f"mesh {mesh.name}: need one L per vertex, got {vertex_lfs.shape}")
         if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
             raise InputError(f"mesh {mesh.name}: L must be positive and finite at every vertex")
-        corners, area2, longest, keep = _triangles_with_area(mesh)
+        keep = self._set_triangles(mesh)
         self.name = f"mesh {mesh.name} (L: {lfs_source})"
         self.lfs_source = lfs_source
-        self.corners = corners[keep]
         self.corner_lfs = vertex_lfs[mesh.triangles[keep]]
-        self.areas = 0.5 * area2[keep]
-        self.longest = longest[keep]
         self.triangle_lipschitz = _gradient_norm(self.corners, self.corner_lfs)
         self.lipschitz = float(self.triangle_lipschitz.max())
 
-    def counts(self):
+    def counts(self) -> SurfaceCounts:
         """Area and ∫ dA/L² (each triangle with the mean L of its corners), for the advice and
         the sampler's size check."""
-        from dataclasses import replace
-
-        from .analytic import surface_from_mesh_areas
-
-        counts = surface_from_mesh_areas(self.name, self.areas, self.corner_lfs.mean(axis=1))
-        return replace(counts, mesh_lattice=True)
+        return mesh_counts(self.mesh_name, self.areas, self.corner_lfs.mean(axis=1))
 
     def lfs_at(self, triangle: np.ndarray, bary: np.ndarray, points=None) -> np.ndarray:
         """L at barycentric coordinates ``bary`` (n, 3) of the given triangles."""
         return (self.corner_lfs[triangle] * bary).sum(axis=1)
+
+    def lfs_on(self, triangle: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """L at points of the given triangles (linear interpolation of the corners)."""
+        return self.lfs_at(triangle, _barycentric(self.corners[triangle], points))
 
     def range_reach(self, eps: float, sigma: float) -> np.ndarray:
         """The lattice's alternative bound ε(L_min − σ'L_max) per triangle (may be ≤ 0)."""
         lo, hi = self.corner_lfs.min(axis=1), self.corner_lfs.max(axis=1)
         return eps * (lo - sigma * (1 + SPARSITY_SLACK) * hi)
 
-    def at(self, triangle: np.ndarray, u: np.ndarray, v: np.ndarray):
-        """Points and L at barycentric (1 − u − v, u, v) of the given triangles."""
-        c, f = self.corners[triangle], self.corner_lfs[triangle]
-        points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
-        return points, f[:, 0] + u * (f[:, 1] - f[:, 0]) + v * (f[:, 2] - f[:, 0])
 
-    def random_points(self, count: int, rng: np.random.Generator):
-        """``count`` points uniform by area, and L there."""
-        cumulative = np.cumsum(self.areas)
-        triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
-        triangle = np.minimum(triangle, len(self.areas) - 1)
-        u, v = uniform_in_triangle(rng, count)
-        return self.at(triangle, u, v)
-
-    def project(self, points):
-        """Not available for meshes (coverage then uses random probes only)."""
-        return None
-
-
-class FieldMeshShape:
+class FieldMeshShape(_TriangleSurface):
     """The piecewise-linear surface of a triangle mesh with L a λ-Lipschitz function of space
-    (the estimate of :func:`vorobound.sampling.lfs.estimate.estimate_lfs`, evaluated where needed).
+    (the estimate of :func:`vorobound.sampling.lfs.estimate.estimate_lfs`, evaluated where
+    needed).
 
     λ holds between any two points of space, so the sampler's covering argument and a check's
     Lipschitz condition use the same λ (``lipschitz_exact``). The estimate's feature corners
     and edges are sampled first.
     """
 
-    equal_radii_on_sphere = False
     lipschitz_exact = True
 
     def __init__(self, estimate, lfs_source: str):
         mesh = estimate.mesh
-        corners, area2, longest, keep = _triangles_with_area(mesh)
+        self._set_triangles(mesh)
         self.estimate = estimate
         self.name = f"mesh {mesh.name} (L: {lfs_source})"
         self.lfs_source = lfs_source
-        self.corners = corners[keep]
-        self.areas = 0.5 * area2[keep]
-        self.longest = longest[keep]
         self.lipschitz = float(estimate.lipschitz)
         self.triangle_lipschitz = np.full(len(self.areas), self.lipschitz)
         self.feature_segments = mesh.points[estimate.feature_segments]
         self.corner_points = mesh.points[estimate.feature_corners]
 
-    def counts(self):
+    def counts(self) -> SurfaceCounts:
         """Area and ∫ dA/L² of the estimate (its face sites), for the advice and the sampler's
         size check."""
         from dataclasses import replace
@@ -117,22 +173,12 @@ class FieldMeshShape:
     def lfs_at(self, triangle, bary, points) -> np.ndarray:
         return self.estimate.at(points)
 
+    def lfs_on(self, triangle: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """L at points (the estimate is a function of space)."""
+        return self.estimate.at(points)
+
     def range_reach(self, eps: float, sigma: float) -> np.ndarray:
         return np.zeros(len(self.areas))
-
-    def random_points(self, count: int, rng: np.random.Generator):
-        """``count`` points uniform by area, and L there."""
-        cumulative = np.cumsum(self.areas)
-        triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
-        triangle = np.minimum(triangle, len(self.areas) - 1)
-        u, v = uniform_in_triangle(rng, count)
-        c = self.corners[triangle]
-        points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
-        return points, self.estimate.at(points)
-
-    def project(self, points):
-        """Not available for meshes (coverage then uses random probes only)."""
-        return None
 
 
 def _triangles_with_area(mesh: TriangleMesh):
@@ -175,3 +221,35 @@ def _gradient_norm(corners: np.ndarray, values: np.ndarray) -> np.ndarray:
     alpha = (g22 * d1 - g12 * d2) / det
     beta = (g11 * d2 - g12 * d1) / det
     return np.sqrt(np.maximum(alpha * d1 + beta * d2, 0.0))
+
+
+def _barycentric(corners: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Barycentric coordinates of points in their triangles (clipped to the triangle)."""
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    d = points - corners[:, 0]
+    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    r1, r2 = (d * e1).sum(1), (d * e2).sum(1)
+    det = g11 * g22 - g12 * g12
+    u = (g22 * r1 - g12 * r2) / det
+    v = (g11 * r2 - g12 * r1) / det
+    bary = np.clip(np.column_stack([1 - u - v, u, v]), 0, 1)
+    return bary / bary.sum(axis=1, keepdims=True)
+
+
+def warn_if_steep(mesh: TriangleMesh, vertex_lfs: np.ndarray, source: str) -> None:
+    """Warn when a per-vertex L changes faster than 1 per unit length along an edge: a local
+    feature size is 1-Lipschitz, and the bounds assume it."""
+    ends = mesh.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    length = np.linalg.norm(mesh.points[ends[:, 0]] - mesh.points[ends[:, 1]], axis=1)
+    change = np.abs(vertex_lfs[ends[:, 0]] - vertex_lfs[ends[:, 1]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.where(length > 0, change / length, np.where(change > 0, np.inf, 0.0))
+    steepest = float(slope.max())
+    if steepest > 1 + LIPSCHITZ_SLACK:
+        warnings.warn(
+            f"{source}: L changes by up to {steepest:.3g} per unit length along a mesh edge; a "
+            "local feature size is 1-Lipschitz and the bounds assume it (`vorobound lfs "
+            "--lipschitz` gives such a sizing)",
+            VoroboundWarning,
+            stacklevel=3,
+        )
