@@ -10,9 +10,8 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
-from .result import Result, frame, params_json
+from .result import Result, checked_outputs, frame, params_json
 
-FIGURE_FORMATS = ("png", "pdf", "svg")
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
 so exceeding it is a finding about the paper, not about the sample)."""
@@ -133,15 +132,11 @@ def check(
     """
     from ..checks import checked_lipschitz, checked_seed
     from ..errors import InputError
-    from ..files import checked_folder
     from ..reports.check import check_balls, check_surface
     from .surfaces import sample_shape
 
-    if figure_format not in FIGURE_FORMATS:
-        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    checked_outputs(out, figure_format)
     seed = checked_seed(seed)
-    if out is not None:
-        checked_folder(out)
     quality = QualityParams(sigma, delta_ratio, rho_f)
     params = quality.at(eps)
     shape = sample_shape(

@@ -10,11 +10,10 @@ from pathlib import Path
 from ..bounds.params import QualityParams, Target
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
-from .result import Result, params_json
+from .result import Result, checked_outputs, params_json
 
 DEFAULT_OUT = Path("vorobound-figures")
 """Default output folder (not the repository's committed figures/)."""
-FIGURE_FORMATS = ("png", "pdf", "svg")
 
 
 def tight_stars(quality: QualityParams, progress: Progress | None = None) -> list:
@@ -33,12 +32,10 @@ def write_figures(
     quality: QualityParams, out, figure_format: str, stars: list, progress=None
 ) -> list[Path]:
     """Figure 3 and the comparison of modes, written as one set (all files or none)."""
-    from ..errors import InputError
     from ..plotting import plot_comparison, plot_figure3, save_set
     from ..reports.figure_data import figure_set_data
 
-    if figure_format not in FIGURE_FORMATS:
-        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    checked_outputs(out, figure_format)
     figure3, comparison = figure_set_data(quality, stars, progress)
     figures = {"figure3": plot_figure3(figure3), "comparison": plot_comparison(comparison)}
     return save_set(figures, out, figure_format)

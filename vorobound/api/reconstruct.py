@@ -13,9 +13,7 @@ from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
-from .result import Result, frame, params_json
-
-FIGURE_FORMATS = ("png", "pdf", "svg")
+from .result import Result, checked_outputs, frame, params_json
 
 
 @dataclass(frozen=True, repr=False)
@@ -147,16 +145,12 @@ def reconstruct(
     Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
     """
     from ..checks import checked_seed
-    from ..files import checked_folder
     from .surfaces import sample_shape
 
-    if figure_format not in FIGURE_FORMATS:
-        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    checked_outputs(out, figure_format)
     if balls is not None and seeds is not None:
         raise InputError("give balls or seeds, not both")
     seed = checked_seed(seed)
-    if out is not None:
-        checked_folder(out)
     quality = QualityParams(sigma, delta_ratio)
     values = _eps_values(eps)
     sampled = balls is None and seeds is None

@@ -101,6 +101,21 @@ def _short(value) -> str:
     return text if len(text) <= 40 else text[:37] + "...'"
 
 
+FIGURE_FORMATS = ("png", "pdf", "svg")
+"""File formats of the figures (``figure_format``)."""
+
+
+def checked_outputs(out, figure_format: str) -> None:
+    """Refuse an unknown figure format, or an output folder that is a file, before any work."""
+    from ..errors import InputError
+    from ..files import checked_folder
+
+    if figure_format not in FIGURE_FORMATS:
+        raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
+    if out is not None:
+        checked_folder(out)
+
+
 def as_float(value) -> float | None:
     """A numpy or Python scalar as a plain float (None stays None)."""
     return None if value is None else float(value)

@@ -16,8 +16,8 @@ from .options import (
     Sigma,
     TargetsOpt,
     parse_modes,
-    parse_numbers,
     parse_targets,
+    surface_args,
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
@@ -83,11 +83,7 @@ def advise(
             mode=parse_modes(mode),
             target=parse_targets(target),
             area=area,
-            lfs=lfs,
-            sphere=sphere,
-            torus=None if torus is None else parse_numbers(torus, "--torus", 2),
-            mesh=mesh,
-            sizing=sizing,
+            **surface_args(sphere, torus, mesh, lfs, sizing),
             progress=progress,
         )
     return emit(result, as_json, _show)

@@ -24,7 +24,7 @@ from .options import (
     SizingOpt,
     SphereOpt,
     TorusOpt,
-    parse_numbers,
+    surface_args,
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
@@ -87,11 +87,7 @@ def check(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=eps,
-            sphere=sphere,
-            torus=None if torus is None else parse_numbers(torus, "--torus", 2),
-            mesh=mesh,
-            lfs=lfs,
-            sizing=sizing,
+            **surface_args(sphere, torus, mesh, lfs, sizing),
             balls=balls,
             sigma=sigma,
             delta_ratio=delta_ratio,

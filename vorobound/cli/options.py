@@ -147,6 +147,17 @@ NoTight = Annotated[
 ]
 
 
+def surface_args(sphere=None, torus=None, mesh=None, lfs=None, sizing=None) -> dict:
+    """The surface options as the API's keyword arguments (``--torus R,r`` parsed)."""
+    return {
+        "sphere": sphere,
+        "torus": None if torus is None else parse_numbers(torus, "--torus", 2),
+        "mesh": mesh,
+        "lfs": lfs,
+        "sizing": sizing,
+    }
+
+
 class EngineChoice(str, Enum):
     auto = "auto"
     gudhi = "gudhi"

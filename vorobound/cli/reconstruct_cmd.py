@@ -22,8 +22,8 @@ from .options import (
     SizingOpt,
     SphereOpt,
     TorusOpt,
-    parse_numbers,
     parse_values,
+    surface_args,
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
@@ -113,11 +113,7 @@ def reconstruct(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=None if eps is None else parse_values(eps, "--eps"),
-            sphere=sphere,
-            torus=None if torus is None else parse_numbers(torus, "--torus", 2),
-            mesh=mesh,
-            lfs=lfs,
-            sizing=sizing,
+            **surface_args(sphere, torus, mesh, lfs, sizing),
             balls=balls,
             seeds=seeds,
             half_covered=half_covered,

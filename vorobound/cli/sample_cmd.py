@@ -19,7 +19,7 @@ from .options import (
     SizingOpt,
     SphereOpt,
     TorusOpt,
-    parse_numbers,
+    surface_args,
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
@@ -61,11 +61,7 @@ def sample(
         result = run(
             eps=eps,
             output=output,
-            sphere=sphere,
-            torus=None if torus is None else parse_numbers(torus, "--torus", 2),
-            mesh=mesh,
-            lfs=lfs,
-            sizing=sizing,
+            **surface_args(sphere, torus, mesh, lfs, sizing),
             sigma=sigma,
             delta_ratio=delta_ratio,
             seed=seed,
