@@ -19,6 +19,28 @@ import numpy as np
 from ...checks import LFS_RANGE
 from ...errors import ReadError, VoroboundWarning
 
+MIN_AREA_RTOL = 1e-14
+"""Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area."""
+
+
+def triangle_shapes(points: np.ndarray, faces: np.ndarray):
+    """(twice the area, longest edge) of each triangle ``faces`` (m, 3) of ``points``."""
+    corners = points[faces]
+    first, second = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    third = corners[:, 2] - corners[:, 1]
+    double_area = np.linalg.norm(np.cross(first, second), axis=1)
+    longest_sq = np.max([(e * e).sum(axis=1) for e in (first, second, third)], axis=0)
+    return double_area, np.sqrt(longest_sq)
+
+
+def has_area(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """True for triangles with three distinct vertices and an area above MIN_AREA_RTOL·(longest
+    edge)²: the one definition of a degenerate triangle."""
+    double_area, longest = triangle_shapes(points, faces)
+    repeated = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2])
+    repeated |= faces[:, 0] == faces[:, 2]
+    return ~repeated & (double_area > MIN_AREA_RTOL * longest**2)
+
 
 @dataclass(frozen=True)
 class TriangleMesh:
@@ -30,8 +52,7 @@ class TriangleMesh:
 
     def triangle_areas(self) -> np.ndarray:
         """Area of each triangle (cross product of two edges)."""
-        p = self.points[self.triangles]
-        return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+        return 0.5 * triangle_shapes(self.points, self.triangles)[0]
 
 
 def quiet_meshio(call, path: Path, what: str):

@@ -14,8 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh
-from ..surfaces.mesh import MIN_AREA_RTOL
+from ..io.meshes import TriangleMesh, has_area
 
 
 @dataclass(frozen=True)
@@ -117,7 +116,7 @@ def prepare_mesh(mesh: TriangleMesh) -> PreparedMesh:
     unique = unique / scale - centre / scale
     merged = merged.reshape(-1)
     faces = merged[faces]
-    keep = _has_area(unique, faces)
+    keep = has_area(unique, faces)
     if not keep.any():
         raise InputError(f"mesh {name}: every triangle is degenerate (no area)")
     good = faces[keep]
@@ -202,17 +201,6 @@ def dihedral_angles(prepared: PreparedMesh) -> np.ndarray:
     cosine = (first * second).sum(axis=1) * np.where(prepared.edge_consistent[two], 1.0, -1.0)
     angles[two] = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
     return angles
-
-
-def _has_area(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    corners = points[faces]
-    first, second = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    third = corners[:, 2] - corners[:, 1]
-    double_area = np.linalg.norm(np.cross(first, second), axis=1)
-    longest_sq = np.max([(e * e).sum(axis=1) for e in (first, second, third)], axis=0)
-    repeated = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2])
-    repeated |= faces[:, 0] == faces[:, 2]
-    return ~repeated & (double_area > MIN_AREA_RTOL * longest_sq)
 
 
 def _edge_topology(faces: np.ndarray):

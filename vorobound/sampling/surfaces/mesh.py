@@ -13,12 +13,10 @@ import warnings
 import numpy as np
 
 from ...errors import InputError, VoroboundWarning
-from ..io.meshes import TriangleMesh
+from ..io.meshes import TriangleMesh, has_area, triangle_shapes
 from ..sampler.lattice import SPARSITY_SLACK
 from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
-MIN_AREA_RTOL = 1e-14
-"""Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area: skipped."""
 WINDING_INSIDE = 0.5
 """A point is inside a mesh where its generalized winding number exceeds this."""
 LIPSCHITZ_SLACK = 1e-6
@@ -184,12 +182,9 @@ class FieldMeshShape(_TriangleSurface):
 def _triangles_with_area(mesh: TriangleMesh):
     """(corners, twice the areas, longest edges, mask of triangles with area) of a mesh;
     refuses a mesh whose every triangle is degenerate."""
+    area2, longest = triangle_shapes(mesh.points, mesh.triangles)
+    keep = has_area(mesh.points, mesh.triangles)
     corners = mesh.points[mesh.triangles]
-    edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    area2 = np.linalg.norm(np.cross(edge1, edge2), axis=1)
-    third = ((corners[:, 2] - corners[:, 1]) ** 2).sum(1)
-    longest = np.sqrt(np.max([(edge1**2).sum(1), (edge2**2).sum(1), third], axis=0))
-    keep = area2 > MIN_AREA_RTOL * longest**2
     if not keep.any():
         raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
     return corners, area2, longest, keep
