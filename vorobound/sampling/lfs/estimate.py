@@ -293,7 +293,7 @@ def estimate_lfs(
         progress,
         caster,
     )
-    sites = poles = None
+    sites = poles = field = None
     previous = None
     rounds = 0
     for done in range(1, ROUNDS + 1):
@@ -307,7 +307,7 @@ def estimate_lfs(
                 return np.full(len(x), FIRST_SPACING)
 
         else:
-            face_spacing, edge_spacing = _spacings(sites, slope, factor, face_floor, edge_floor)
+            face_spacing, edge_spacing = _spacings(field, factor, face_floor, edge_floor)
         on_faces = face_sites(points, faces, patches.corner_normals, curved_face, face_spacing)
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
         sites, poles = _evaluate(
@@ -325,19 +325,19 @@ def estimate_lfs(
             slope,
             progress,
         )
-        current = Envelope(sites.points, sites.values, slope, sites.radii)(points[surface_ids])
+        field = Envelope(sites.points, sites.values, slope, sites.radii)
+        current = field(points[surface_ids])
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
     return _result(
-        mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points
+        mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field
     )
 
 
-def _spacings(sites: Sites, slope: float, factor: np.ndarray, face_floor, edge_floor):
+def _spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor):
     """The next round's spacing: SITE_SPACING (per face) times L of the last round, at least
     the floors (:data:`MIN_PIECES`)."""
-    field = Envelope(sites.points, sites.values, slope, sites.radii)
 
     def face_spacing(x, face):
         return np.maximum(factor[face] * field(x), face_floor[face])
@@ -859,9 +859,10 @@ def _feature_cap(site_points, raw, feature_points, feature_lfs, half) -> np.ndar
     return cap
 
 
-def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points):
-    """The :class:`LfsEstimate` in the input's units, with its warnings."""
-    scale, centre = prepared.scale, prepared.centre
+def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field):
+    """The :class:`LfsEstimate` in the input's units, with its warnings; ``field`` is the
+    envelope of the last round's sites."""
+    scale, centre, points = prepared.scale, prepared.centre, prepared.points
     lfs_sites = Sites(
         points=scale * sites.points + centre,
         raw=scale * sites.raw,
@@ -879,7 +880,7 @@ def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle
     # A vertex is a site: its output is its own L (the envelope of the raw values there).
     # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower
     # where a neighbouring face site's value is; docs/lfs.md). Vertices of no face get `at`.
-    vertex_lfs = Envelope(sites.points, sites.values, slope, sites.radii)(points)
+    vertex_lfs = field(points)
     own = sites.vertex >= 0
     vertex_lfs[sites.vertex[own]] = sites.lfs[own]
     if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
@@ -917,7 +918,6 @@ def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle
     notes += _coarse(prepared, patches, vertex_lfs)
     for note in notes:
         warnings.warn(f"mesh {mesh.name}: {note}", VoroboundWarning, stacklevel=3)
-    field = Envelope(sites.points, sites.values, slope, sites.radii)
     feature_length, feature_inv = _feature_integrals(prepared.points, patches.feature_edges, field)
     feature_length *= scale
     medial_points = np.zeros((0, 3)) if poles is None else scale * poles + centre

@@ -4,7 +4,9 @@ The result is the largest λ-Lipschitz function that nowhere exceeds the given v
 computed exactly (up to rounding) by branch and bound on a k-d tree of the sites: a node
 holding sites with smallest value m and bounding box B cannot beat the best value found for
 a query x once m + λ·dist(x, B) is not smaller. All queries of a chunk descend the tree
-together, one level per numpy step.
+together, one level per numpy step. Each query starts from the cones of its nearest sites
+(scipy's k-d tree), an upper bound that is usually the answer or close to it, so that the
+descent prunes almost everything off the query's own path; chunks run on both cores.
 """
 
 from __future__ import annotations
@@ -14,12 +16,19 @@ import math
 import numpy as np
 
 from ...errors import InputError
+from ...geometry.threads import chunk_bounds, run_in_threads
 from ...progress import Counter, Progress
 
 LEAF_SIZE = 8
 """Sites per leaf of the tree."""
 QUERY_CHUNK = 4096
 """Queries that descend the tree together (bounds the number of live query-node pairs)."""
+CHUNKS_PER_STEP = 16
+"""Chunks run on the threads between two progress reports."""
+START_NEIGHBOURS = 4
+"""Nearest sites whose cones give each query its first upper bound."""
+START_BLOCK = 1 << 17
+"""Queries whose nearest sites are found together."""
 
 
 class _ConeTree:
@@ -40,8 +49,15 @@ class _ConeTree:
             placed = sites[order]
             low = np.minimum.reduceat(placed, bounds[:-1])
             high = np.maximum.reduceat(placed, bounds[:-1])
-            axis = np.argmax(high - low, axis=1)[segment]
-            order = order[np.lexsort((placed[np.arange(count), axis], segment))]
+            axis = np.argmax(high - low, axis=1)
+            # Sort every node by its widest coordinate, all nodes in one sort: the key is the
+            # node's index plus the coordinate mapped into [0, 1/2] (any split gives a valid
+            # tree; the branch and bound is exact for every tree).
+            rows = np.arange(len(axis))
+            lowest, extent = low[rows, axis], (high - low)[rows, axis]
+            offset = placed[np.arange(count), axis[segment]] - lowest[segment]
+            key = segment + 0.5 * offset / np.where(extent > 0, extent, 1.0)[segment]
+            order = order[np.argsort(key, kind="stable")]
         self.sites, self.values, self.order, self.radii = sites, values, order, radii
         self.low, self.high, self.best_value, self.best_site = [], [], [], []
         self.max_radius = []
@@ -54,8 +70,9 @@ class _ConeTree:
             self.best_value.append(np.minimum.reduceat(value, bounds[:-1]))
             self.max_radius.append(np.maximum.reduceat(radii[order], bounds[:-1]))
             segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
-            first = np.lexsort((value, segment))[bounds[:-1]]
-            self.best_site.append(order[first])
+            # The first site of each node that has the node's smallest value.
+            smallest = np.where(value == self.best_value[-1][segment], np.arange(count), count)
+            self.best_site.append(order[np.minimum.reduceat(smallest, bounds[:-1])])
         bounds = self._bounds(self.depth, count)
         width = int(np.diff(bounds).max())
         slots = bounds[:-1, None] + np.arange(width)
@@ -71,11 +88,10 @@ class _ConeTree:
     def _bounds(depth: int, count: int) -> np.ndarray:
         return (np.arange(2**depth + 1) * count) // 2**depth
 
-    def envelope(self, queries: np.ndarray, slope: float) -> np.ndarray:
-        """min over sites y of value(y) + slope·|x − y| for each query x."""
+    def envelope(self, queries: np.ndarray, slope: float, best: np.ndarray) -> np.ndarray:
+        """min over sites y of value(y) + slope·|x − y| for each query x, given upper bounds
+        ``best`` (the value of some cone at each query; updated in place)."""
         pair_query = np.arange(len(queries))
-        root = self.best_site[0][0]
-        best = self.values[root] + slope * self._beyond(queries, root)
         node = np.zeros(len(queries), dtype=np.int64)
         for depth in range(self.depth + 1):
             x = queries[pair_query]
@@ -115,16 +131,47 @@ class Envelope:
             if radii.shape != values.shape or not (np.isfinite(radii).all() and (radii >= 0).all()):
                 raise InputError("site radii must be finite, ≥ 0, one per site")
         self.tree, self.slope = _ConeTree(sites, values, radii), float(slope)
+        self._nearest = None
 
-    def __call__(self, queries: np.ndarray, progress: Progress | None = None) -> np.ndarray:
+    def __call__(
+        self,
+        queries: np.ndarray,
+        progress: Progress | None = None,
+        upper: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The envelope at ``queries`` (m, 3); ``upper``, if given, are values of some cone
+        at each query (at a site itself: its own value), used as first upper bounds."""
         queries = np.asarray(queries, dtype=float)
-        result = np.empty(len(queries))
+        result = self._start(queries) if upper is None else np.array(upper, dtype=float)
         counter = Counter(progress, "Lipschitz repair", len(queries))
-        for start in range(0, len(queries), QUERY_CHUNK):
-            stop = min(start + QUERY_CHUNK, len(queries))
-            result[start:stop] = self.tree.envelope(queries[start:stop], self.slope)
-            counter.step(stop - start)
+
+        def descend(chunk):
+            start, stop = chunk
+            self.tree.envelope(queries[start:stop], self.slope, result[start:stop])
+
+        chunks = chunk_bounds(len(queries), QUERY_CHUNK)
+        for first in range(0, len(chunks), CHUNKS_PER_STEP):
+            batch = chunks[first : first + CHUNKS_PER_STEP]
+            run_in_threads(descend, batch)
+            counter.step(batch[-1][1] - batch[0][0])
         return result
+
+    def _start(self, queries: np.ndarray) -> np.ndarray:
+        """The smallest cone value at each query among its nearest sites."""
+        from scipy.spatial import cKDTree
+
+        tree = self.tree
+        if self._nearest is None:
+            self._nearest = cKDTree(tree.sites)
+        k = min(START_NEIGHBOURS, len(tree.sites))
+        out = np.empty(len(queries))
+        for start in range(0, len(queries), START_BLOCK):
+            block = queries[start : start + START_BLOCK]
+            distance, index = self._nearest.query(block, k=k, workers=-1)
+            distance, index = distance.reshape(len(block), k), index.reshape(len(block), k)
+            beyond = np.maximum(distance - tree.radii[index], 0)
+            out[start : start + len(block)] = (tree.values[index] + self.slope * beyond).min(1)
+        return out
 
 
 def _checked(sites, values, slope):
@@ -173,4 +220,6 @@ def lipschitz_envelope(
         value (equal to it when the values already are λ-Lipschitz).
     """
     envelope = Envelope(sites, values, slope)
-    return envelope(envelope.tree.sites if queries is None else queries, progress)
+    if queries is None:  # at a site, its own cone gives its value
+        return envelope(envelope.tree.sites, progress, upper=envelope.tree.values)
+    return envelope(queries, progress)
