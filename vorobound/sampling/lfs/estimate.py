@@ -42,7 +42,7 @@ from ..io.meshes import TriangleMesh
 from ..surfaces.analytic import Surface
 from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
-from .lipschitz import Envelope, lipschitz_envelope
+from .lipschitz import DistanceCap, Envelope, lipschitz_envelope
 from .medial import vertex_poles
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
 from .patches import Patches, find_patches
@@ -497,9 +497,7 @@ def _evaluate(
     )
     raw[feature_site] = np.minimum(raw[feature_site], feature_lfs)
     half = np.concatenate([np.zeros(len(feature_vertices)), feature.lengths / 2])
-    raw = np.minimum(
-        raw, _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
-    )
+    raw = _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
     # The largest ball tangent at the site that no other non-adjacent patch enters: medial
     # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
     # outward only where a ray found a gap (a convex outside has no medial ball to find).
@@ -833,30 +831,13 @@ def _feature_lfs(query_points, query_curves, radius, patches: Patches, feature) 
 
 
 def _feature_cap(site_points, raw, feature_points, feature_lfs, half) -> np.ndarray:
-    """min over feature pieces P of max(dist(x, P), L_F(P)), with dist(x, P) taken as
-    |x − p| − (half the piece's length), p its centre (never above the distance). Searched
-    only within raw(x) (plus the longest half piece) of x: a farther or larger feature cannot
-    lower raw(x)."""
-    from scipy.spatial import cKDTree
-
-    cap = np.full(len(site_points), np.inf)
-    if len(feature_points) == 0:
-        return cap
-    tree = cKDTree(feature_points)
-    longest = float(half.max())
-    nearest, index = tree.query(site_points, workers=-1)
-    cap = np.maximum(np.maximum(nearest - half[index], 0.0), feature_lfs[index])
-    reach = np.minimum(np.where(np.isfinite(raw), raw, np.inf), cap) + longest
-    look = np.flatnonzero(reach > nearest)
-    if len(look):
-        lists = tree.query_ball_point(site_points[look], reach[look], workers=-1)
-        sizes = np.fromiter((len(x) for x in lists), dtype=np.int64, count=len(lists))
-        flat = np.fromiter((i for x in lists for i in x), dtype=np.int64, count=int(sizes.sum()))
-        owner = np.repeat(look, sizes)
-        gap = np.linalg.norm(site_points[owner] - feature_points[flat], axis=1) - half[flat]
-        value = np.maximum(np.maximum(gap, 0.0), feature_lfs[flat])
-        np.minimum.at(cap, owner, value)
-    return cap
+    """min(raw, min over feature pieces P of max(dist(x, P), L_F(P))), with dist(x, P) taken
+    as |x − p| − (half the piece's length), p its centre (never above the distance)."""
+    finite = np.isfinite(feature_lfs)  # an infinite L_F caps nothing
+    if not finite.any():
+        return raw
+    cap = DistanceCap(feature_points[finite], feature_lfs[finite], half[finite])
+    return cap(site_points, upper=raw)
 
 
 def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field):

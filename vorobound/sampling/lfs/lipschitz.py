@@ -88,9 +88,17 @@ class _ConeTree:
     def _bounds(depth: int, count: int) -> np.ndarray:
         return (np.arange(2**depth + 1) * count) // 2**depth
 
-    def envelope(self, queries: np.ndarray, slope: float, best: np.ndarray) -> np.ndarray:
-        """min over sites y of value(y) + slope·|x − y| for each query x, given upper bounds
-        ``best`` (the value of some cone at each query; updated in place)."""
+    @staticmethod
+    def combine(value, beyond, slope: float | None):
+        """A site's cone at a query: value + slope·beyond, or max(value, beyond) without a
+        slope (``beyond``: the distance past the site's radius)."""
+        return np.maximum(value, beyond) if slope is None else value + slope * beyond
+
+    def envelope(self, queries: np.ndarray, slope: float | None, best: np.ndarray) -> np.ndarray:
+        """min over sites y of their cones (:meth:`combine`) at each query x, given upper
+        bounds ``best`` (the value of some cone at each query; updated in place). A node's
+        cones are at least its smallest value combined with its distance beyond the largest
+        radius."""
         pair_query = np.arange(len(queries))
         node = np.zeros(len(queries), dtype=np.int64)
         for depth in range(self.depth + 1):
@@ -99,11 +107,11 @@ class _ConeTree:
                 x - self.high[depth][node], 0
             )
             reach = np.maximum(np.linalg.norm(gap, axis=1) - self.max_radius[depth][node], 0)
-            bound = self.best_value[depth][node] + slope * reach
+            bound = self.combine(self.best_value[depth][node], reach, slope)
             live = bound < best[pair_query]
             pair_query, node, x = pair_query[live], node[live], x[live]
             site = self.best_site[depth][node]
-            candidate = self.values[site] + slope * self._beyond(x, site)
+            candidate = self.combine(self.values[site], self._beyond(x, site), slope)
             np.minimum.at(best, pair_query, candidate)
             if depth < self.depth:
                 pair_query = np.repeat(pair_query, 2)
@@ -113,7 +121,8 @@ class _ConeTree:
         safe = np.where(valid, sites, 0)
         distance = np.linalg.norm(queries[pair_query][:, None, :] - self.sites[safe], axis=2)
         distance = np.maximum(distance - self.radii[safe], 0)
-        candidate = np.where(valid, self.values[safe] + slope * distance, np.inf).min(axis=1)
+        candidate = self.combine(self.values[safe], distance, slope)
+        candidate = np.where(valid, candidate, np.inf).min(axis=1)
         np.minimum.at(best, pair_query, candidate)
         return best
 
@@ -139,10 +148,11 @@ class Envelope:
         progress: Progress | None = None,
         upper: np.ndarray | None = None,
     ) -> np.ndarray:
-        """The envelope at ``queries`` (m, 3); ``upper``, if given, are values of some cone
-        at each query (at a site itself: its own value), used as first upper bounds."""
+        """The envelope at ``queries`` (m, 3), or its minimum with ``upper`` if given."""
         queries = np.asarray(queries, dtype=float)
-        result = self._start(queries) if upper is None else np.array(upper, dtype=float)
+        result = self._start(queries)
+        if upper is not None:
+            np.minimum(result, upper, out=result)
         counter = Counter(progress, "Lipschitz repair", len(queries))
 
         def descend(chunk):
@@ -167,11 +177,22 @@ class Envelope:
         out = np.empty(len(queries))
         for start in range(0, len(queries), START_BLOCK):
             block = queries[start : start + START_BLOCK]
-            distance, index = self._nearest.query(block, k=k, workers=-1)
-            distance, index = distance.reshape(len(block), k), index.reshape(len(block), k)
+            index = self._nearest.query(block, k=k, workers=-1)[1].reshape(len(block), k)
+            # The distances as the tree's own search computes them (the same rounding).
+            distance = np.linalg.norm(block[:, None] - tree.sites[index], axis=2)
             beyond = np.maximum(distance - tree.radii[index], 0)
-            out[start : start + len(block)] = (tree.values[index] + self.slope * beyond).min(1)
+            cones = tree.combine(tree.values[index], beyond, self.slope)
+            out[start : start + len(block)] = cones.min(axis=1)
         return out
+
+
+class DistanceCap(Envelope):
+    """x ↦ min over sites y of max(value(y), max(0, |x − y| − ρ(y))): the smallest v such
+    that a site of value at most v lies within v of x (beyond its radius)."""
+
+    def __init__(self, sites: np.ndarray, values: np.ndarray, radii: np.ndarray):
+        super().__init__(sites, values, 0.0, radii)
+        self.slope = None
 
 
 def _checked(sites, values, slope):
@@ -220,6 +241,4 @@ def lipschitz_envelope(
         value (equal to it when the values already are λ-Lipschitz).
     """
     envelope = Envelope(sites, values, slope)
-    if queries is None:  # at a site, its own cone gives its value
-        return envelope(envelope.tree.sites, progress, upper=envelope.tree.values)
-    return envelope(queries, progress)
+    return envelope(envelope.tree.sites if queries is None else queries, progress)
