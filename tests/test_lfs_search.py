@@ -71,3 +71,92 @@ def test_a_ball_tangent_to_a_flat_patch_stops_at_the_plane():
     allowed = np.array([[True, False, False]])
     got = largest_empty_radius(points, up, np.zeros(2, int), triangles, group, allowed, [5, 0.3])
     assert got == pytest.approx([0.5, 0.3], rel=1e-14)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_tangent_balls_taken_over_from_the_last_round_equal_new_ones(seed):
+    """The memo of the refinement rounds (vorobound/sampling/lfs/memo.py): a ball searched
+    from one cap gives the ball for another cap exactly, or is searched again."""
+    from types import SimpleNamespace
+
+    from vorobound.sampling.lfs.estimate import _last_balls, _tangent_balls
+    from vorobound.sampling.lfs.memo import RoundMemo, site_keys
+    from vorobound.sampling.lfs.tangent_ball import TangentBalls
+
+    rng = np.random.default_rng(seed)
+    triangles, group = _patches(rng)
+    count = 300
+    points = rng.uniform(-1.2, 1.2, (count, 3)) * [1, 1, 0.8]
+    normals = rng.normal(size=(count, 3))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    point_group = rng.integers(0, 4, count)
+    allowed = np.ones((4, 3), dtype=bool)
+    allowed[0, 0] = allowed[1, 1] = allowed[2, 2] = False
+    ray = SimpleNamespace(
+        inward_sign=rng.choice([-1, 0, 1], count),
+        outward=rng.choice([0.5, np.inf], count),
+    )
+    balls = TangentBalls(triangles, group, allowed)
+    memo, keys = RoundMemo(), site_keys(1, np.arange(count), points)
+    first_cap = rng.choice([0.05, 0.3, 1.0, 3.0], count)
+    none = _last_balls(memo, memo.match(keys))
+    _, remembered = _tangent_balls(balls, points, normals, ray, point_group, first_cap, none)
+    memo.remember(keys, **remembered)
+    cap = first_cap * rng.choice([0.5, 1.0, 2.0], count)  # lower, equal and higher caps
+    again, _ = _tangent_balls(
+        balls, points, normals, ray, point_group, cap, _last_balls(memo, memo.match(keys))
+    )
+    fresh, _ = _tangent_balls(balls, points, normals, ray, point_group, cap, none)
+    assert np.array_equal(again, fresh)
+    assert (fresh < cap).any()
+
+
+def test_repeated_crossings_are_dropped_in_order():
+    """A hit within the gap of the last kept hit of its ray is the same crossing (edges and
+    vertices are hit by every face around them); a chain of close hits keeps every one that is
+    past the gap from the last kept one."""
+    from vorobound.sampling.lfs.thickness import _distinct_crossings
+
+    rng = np.random.default_rng(0)
+    ray = np.sort(rng.integers(0, 200, 3000))
+    t = rng.uniform(0, 1, 3000)
+    t[::3] = t[1::3][: len(t[::3])]  # exact repeats
+    t[2::7] += 1e-9
+    gap = 1.5e-9
+    # A chain: the third hit is within the gap of the second, past it from the first.
+    ray = np.r_[ray, [500] * 4]
+    t = np.r_[t, 0.5 + gap * np.array([0.0, 0.9, 1.8, 2.0])]
+    order = np.lexsort((t, ray))
+    ray, t = ray[order], t[order]
+    expected = np.zeros(len(t), dtype=bool)
+    last = {}
+    for row in range(len(t)):
+        if t[row] - last.get(ray[row], -np.inf) > gap:
+            expected[row] = True
+            last[ray[row]] = t[row]
+    got = _distinct_crossings(ray, t, gap)
+    assert np.array_equal(got, expected)
+    assert got[ray == 500].tolist() == [True, False, True, False]
+    assert (~got).sum() > 100
+
+
+@pytest.mark.parametrize("kind", ["envelope", "cap"])
+def test_envelope_and_cap_with_radii_match_brute_force(kind):
+    """Several chunks of queries (run on threads), sites with radii, from the nearest sites'
+    cones as first bounds: the branch and bound gives the brute-force minimum."""
+    from vorobound.sampling.lfs.lipschitz import QUERY_CHUNK, DistanceCap, Envelope
+
+    rng = np.random.default_rng(3)
+    sites = rng.normal(size=(1500, 3)) * [3, 1, 0.2]
+    values = rng.uniform(0.1, 2, len(sites))
+    radii = rng.uniform(0, 0.3, len(sites))
+    queries = np.vstack([sites[:100], rng.normal(size=(2 * QUERY_CHUNK + 7, 3)) * 2])
+    beyond = np.maximum(np.linalg.norm(queries[:, None] - sites[None], axis=2) - radii, 0)
+    if kind == "envelope":
+        got = Envelope(sites, values, 0.7, radii)(queries)
+        brute = (values + 0.7 * beyond).min(axis=1)
+    else:
+        upper = rng.uniform(0.5, 3, len(queries))
+        got = DistanceCap(sites, values, radii)(queries, upper=upper)
+        brute = np.minimum(np.maximum(values, beyond).min(axis=1), upper)
+    assert np.array_equal(got, brute)

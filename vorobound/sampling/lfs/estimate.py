@@ -44,9 +44,10 @@ from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
 from .lipschitz import DistanceCap, Envelope, lipschitz_envelope
 from .medial import vertex_poles
+from .memo import RoundMemo, site_keys
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
 from .patches import Patches, find_patches
-from .tangent_ball import largest_empty_radius
+from .tangent_ball import TangentBalls
 from .thickness import RayCaster, thickness
 
 SHARP_ANGLE = 30.0
@@ -293,6 +294,7 @@ def estimate_lfs(
         progress,
         caster,
     )
+    fixed = _fixed(prepared, patches, vertex_sites, radius_face, allowed)
     sites = poles = field = None
     previous = None
     rounds = 0
@@ -324,6 +326,7 @@ def estimate_lfs(
             curved_face,
             slope,
             progress,
+            fixed,
         )
         field = Envelope(sites.points, sites.values, slope, sites.radii)
         current = field(points[surface_ids])
@@ -391,24 +394,35 @@ def _evaluate(
     curved_face,
     slope,
     progress,
+    fixed: _Fixed,
 ):
     """One round: estimators A and B, the feature terms and the envelope at every site.
 
     Sites, in this order: the vertices inside smooth patches, the face sites, the feature
-    vertices, the points on feature edges.
+    vertices, the points on feature edges. Values that depend on a site alone are taken over
+    from the last round where the site is the same (:mod:`.memo`).
     """
     points, faces = prepared.points, prepared.triangles
     face_patch = patches.face_patch
-    normals = vertex_normals(prepared)
+    normals = fixed.normals
     poles = labelled
-    feature_vertices = np.flatnonzero(patches.feature_vertex)
-    vertex_faces = _vertex_patch_table(faces, face_patch, len(points))
+    feature_vertices = fixed.feature_vertices
     groups = [
         (points[vertex_sites], 0, vertex_patch[vertex_sites][:, None]),
         (on_faces.points, 1, face_patch[on_faces.face][:, None]),
-        (points[feature_vertices], 2, vertex_faces[feature_vertices]),
-        (feature.points, 2, _edge_patches(prepared, patches)[feature.edge]),
+        (points[feature_vertices], 2, fixed.vertex_faces[feature_vertices]),
+        (feature.points, 2, fixed.edge_patches[feature.edge]),
     ]
+    keys = np.concatenate(
+        [
+            site_keys(0, vertex_sites, points[vertex_sites]),
+            site_keys(1, on_faces.face, on_faces.points),
+            site_keys(2, feature_vertices, points[feature_vertices]),
+            site_keys(3, feature.edge, feature.points),
+        ]
+    )
+    last = fixed.memo.match(keys)
+    seen = last >= 0
     site_points = np.vstack([g[0] for g in groups])
     kind = np.concatenate([np.full(len(g[0]), g[1]) for g in groups]).astype(np.int8)
     width = max(g[2].shape[1] for g in groups)
@@ -417,17 +431,18 @@ def _evaluate(
     )
     count = len(site_points)
     medial = np.full(count, np.inf)
+    medial[seen] = fixed.memo.get("medial", last[seen])
     if poles is not None:
         for column in range(width):
             lab = site_patches[:, column]
-            ok = np.flatnonzero(lab >= 0)
+            ok = np.flatnonzero((lab >= 0) & ~seen)
             if len(ok):
                 values = _nearest_allowed(*poles, site_points[ok], lab[ok], allowed)
                 medial[ok] = np.minimum(medial[ok], values)
     # --- B: thickness and curvature at the vertices inside patches and the face sites -------
     ray_sites = np.flatnonzero(kind < 2)
     n_vertex = len(vertex_sites)
-    origin_face = np.concatenate([_a_face(faces, vertex_sites), on_faces.face])
+    origin_face = np.concatenate([fixed.vertex_face, on_faces.face])
     ray_normals = np.vstack([normals[vertex_sites], on_faces.normals])
 
     def lift(hit_faces, bary):
@@ -450,11 +465,9 @@ def _evaluate(
         face_patch,
         site_patches[ray_sites, 0],
         lift,
-        RAY_NEAR * np.concatenate([_vertex_size(faces, points, vertex_sites), on_faces.sizes]),
+        RAY_NEAR * np.concatenate([fixed.vertex_size, on_faces.sizes]),
     )
-    curvature = np.concatenate(
-        [_vertex_radius(faces, radius_face, vertex_sites, len(points)), radius_face[on_faces.face]]
-    )
+    curvature = np.concatenate([fixed.vertex_radius, radius_face[on_faces.face]])
     across = np.full(count, np.inf)  # half the thickness, inward or across a gap
     across[ray_sites] = np.minimum(ray.inward, ray.outward) / 2
     bend = np.full(count, np.inf)  # radius of curvature from the vertex normals
@@ -463,7 +476,7 @@ def _evaluate(
     thick[ray_sites] = ray.inward
     # --- features ---------------------------------------------------------------------------
     feature_site = kind == 2
-    vertex_curves = _vertex_curves(patches, feature_vertices)
+    vertex_curves = fixed.vertex_curves
     edge_curves = patches.edge_curve[feature.edge][:, None]
     columns = max(vertex_curves.shape[1], 1)
     curves = np.concatenate(
@@ -482,11 +495,7 @@ def _evaluate(
     # along the medial axis are as far apart as the vertices (their distance overestimates L)
     # and the curvature caps it too; elsewhere B is the estimate.
     size = np.full(count, np.inf)
-    corners = points[faces]
-    longest = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
-    size[ray_sites] = np.concatenate(
-        [_vertex_size(faces, points, vertex_sites), longest[on_faces.face]]
-    )
+    size[ray_sites] = np.concatenate([fixed.vertex_size, fixed.longest[on_faces.face]])
     coarse = size > COARSE_POLE_RATIO * medial
     raw = np.where(
         np.isfinite(medial),
@@ -501,16 +510,14 @@ def _evaluate(
     # The largest ball tangent at the site that no other non-adjacent patch enters: medial
     # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
     # outward only where a ray found a gap (a convex outside has no medial ball to find).
-    tangent = _tangent_balls(
+    tangent, balls = _tangent_balls(
+        fixed.balls,
         site_points[ray_sites],
         ray_normals,
         ray,
         site_patches[ray_sites, 0],
-        points[faces],
-        face_patch,
-        allowed,
-        patches.count,
         raw[ray_sites],
+        _last_balls(fixed.memo, last[ray_sites]),
     )
     across[ray_sites] = np.minimum(across[ray_sites], tangent)
     raw[ray_sites] = np.minimum(raw[ray_sites], tangent)
@@ -548,8 +555,57 @@ def _evaluate(
     sites = Sites(
         site_points, raw, lfs, kind, areas, medial, bound, thick, radii, lfs, vertex, gradient
     )
+    remembered = {name: np.full(count, np.nan) for name in balls}
+    for name, values in balls.items():
+        remembered[name][ray_sites] = values
+    fixed.memo.remember(keys, medial=medial, **remembered)
     medial_points = None if poles is None else poles[0]
     return sites, medial_points
+
+
+@dataclass(frozen=True)
+class _Fixed:
+    """What every round of :func:`_evaluate` needs and no round changes."""
+
+    normals: np.ndarray
+    feature_vertices: np.ndarray
+    vertex_faces: np.ndarray
+    """(m, k) the patches of each vertex's faces."""
+    edge_patches: np.ndarray
+    """(e, 2) the patches on either side of each feature edge."""
+    vertex_curves: np.ndarray
+    """The curves of each feature vertex."""
+    vertex_face: np.ndarray
+    """A face of each vertex site."""
+    vertex_size: np.ndarray
+    """Longest edge at each vertex site."""
+    vertex_radius: np.ndarray
+    """Smallest radius of curvature of the faces around each vertex site."""
+    longest: np.ndarray
+    """Longest edge of each face."""
+    balls: TangentBalls
+    """The faces, for the tangent balls against other non-adjacent patches."""
+    memo: RoundMemo
+
+
+def _fixed(prepared, patches: Patches, vertex_sites, radius_face, allowed) -> _Fixed:
+    points, faces = prepared.points, prepared.triangles
+    feature_vertices = np.flatnonzero(patches.feature_vertex)
+    corners = points[faces]
+    other = allowed & ~np.eye(patches.count, dtype=bool)
+    return _Fixed(
+        normals=vertex_normals(prepared),
+        feature_vertices=feature_vertices,
+        vertex_faces=_vertex_patch_table(faces, patches.face_patch, len(points)),
+        edge_patches=_edge_patches(prepared, patches),
+        vertex_curves=_vertex_curves(patches, feature_vertices),
+        vertex_face=_a_face(faces, vertex_sites),
+        vertex_size=_vertex_size(faces, points, vertex_sites),
+        vertex_radius=_vertex_radius(faces, radius_face, vertex_sites, len(points)),
+        longest=np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1),
+        balls=TangentBalls(corners, patches.face_patch, other),
+        memo=RoundMemo(),
+    )
 
 
 def _labelled_poles(
@@ -634,31 +690,47 @@ def _a_face(faces, vertices) -> np.ndarray:
     return owner[vertices]
 
 
-def _tangent_balls(
-    sites, normals, ray, groups, face_corners, face_patch, allowed, count, cap
-) -> np.ndarray:
-    """Largest empty tangent ball against the pieces of other non-adjacent patches, on the
+def _tangent_balls(balls: TangentBalls, sites, normals, ray, groups, cap, last):
+    """Largest empty tangent ball against the faces of other non-adjacent patches, on the
     inward side (and the outward side where the ray there met an allowed patch), at most
-    ``cap``."""
-    other = allowed & ~np.eye(count, dtype=bool)
+    ``cap``; with what to remember of each side (its cap, ball and direction), from which
+    ``last`` (the same, of the last round, NaN for new sites) gives a ball again where it can
+    (:mod:`.memo`)."""
     out = np.asarray(cap, dtype=float).copy()
-    if not other.any():
-        return out
-    triangle_group = face_patch
-    inward = np.where(ray.inward_sign < 0, -1.0, 1.0)[:, None] * normals
-    for direction, use in ((inward, ray.inward_sign != 0), (-inward, np.isfinite(ray.outward))):
+    side = np.where(ray.inward_sign < 0, -1.0, 1.0)
+    remember = {"side": side}
+    inward = side[:, None] * normals
+    for name, direction, use in (
+        ("inward", inward, ray.inward_sign != 0),
+        ("outward", -inward, np.isfinite(ray.outward)),
+    ):
         rows = np.flatnonzero(use & np.isfinite(out))
-        if not len(rows):
-            continue
-        out[rows] = largest_empty_radius(
-            sites[rows],
-            direction[rows],
-            groups[rows],
-            face_corners,
-            triangle_group,
-            other,
-            out[rows],
-        )
+        limit, ball = out[rows], np.full(len(rows), np.nan)
+        old_cap, old_ball = last[name + "_cap"][rows], last[name + "_ball"][rows]
+        same = (last["side"][rows] == side[rows]) & np.isfinite(old_cap)
+        again = same & ((old_ball < old_cap) | (limit <= old_cap))
+        ball[again] = np.minimum(limit[again], old_ball[again])
+        todo = np.flatnonzero(~again)
+        if len(todo) and balls.allowed.any():
+            chosen = rows[todo]
+            ball[todo] = balls(sites[chosen], direction[chosen], groups[chosen], limit[todo])
+        else:
+            ball[todo] = limit[todo]
+        out[rows] = ball
+        remember[name + "_cap"] = np.full(len(out), np.nan)
+        remember[name + "_ball"] = np.full(len(out), np.nan)
+        remember[name + "_cap"][rows], remember[name + "_ball"][rows] = limit, ball
+    return out, remember
+
+
+def _last_balls(memo: RoundMemo, rows: np.ndarray) -> dict:
+    """The remembered tangent balls at ``rows`` of the last round (NaN where −1)."""
+    names = ("side", "inward_cap", "inward_ball", "outward_cap", "outward_ball")
+    out = {name: np.full(len(rows), np.nan) for name in names}
+    seen = rows >= 0
+    if seen.any():
+        for name in names:
+            out[name][seen] = memo.get(name, rows[seen])
     return out
 
 

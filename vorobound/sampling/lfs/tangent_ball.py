@@ -116,14 +116,30 @@ def largest_empty_radius(
     limit : ndarray (n,)
         Radii already known to bound the answer (e.g. half the thickness).
     """
-    best = np.asarray(limit, dtype=float).copy()
-    for group in np.unique(triangle_group):
-        users = np.flatnonzero(allowed[point_group, group] & np.isfinite(best))
-        if len(users):
-            _TriangleGroup(triangles[triangle_group == group]).shrink(
-                points, directions, users, best
-            )
-    return best
+    return TangentBalls(triangles, triangle_group, allowed)(points, directions, point_group, limit)
+
+
+class TangentBalls:
+    """:func:`largest_empty_radius` against one set of triangles, asked many times (the
+    search structures of each group are built once, when first needed)."""
+
+    def __init__(self, triangles: np.ndarray, triangle_group: np.ndarray, allowed: np.ndarray):
+        self.triangles, self.triangle_group, self.allowed = triangles, triangle_group, allowed
+        self._groups: dict[int, _TriangleGroup] = {}
+
+    def __call__(self, points, directions, point_group, limit) -> np.ndarray:
+        best = np.asarray(limit, dtype=float).copy()
+        for group in np.unique(self.triangle_group):
+            users = np.flatnonzero(self.allowed[point_group, group] & np.isfinite(best))
+            if len(users):
+                self._group(int(group)).shrink(points, directions, users, best)
+        return best
+
+    def _group(self, group: int) -> _TriangleGroup:
+        if group not in self._groups:
+            pieces = self.triangles[self.triangle_group == group]
+            self._groups[group] = _TriangleGroup(pieces)
+        return self._groups[group]
 
 
 class _TriangleGroup:
