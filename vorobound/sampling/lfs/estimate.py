@@ -48,7 +48,7 @@ from .memo import RoundMemo, site_keys
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
 from .patches import Patches, find_patches
 from .tangent_ball import TangentBalls
-from .thickness import RayCaster, thickness
+from .thickness import RayCaster, Thickness, thickness
 
 SHARP_ANGLE = 30.0
 """Default threshold (degrees) on the angle between the normals of two adjacent faces above
@@ -329,12 +329,23 @@ def estimate_lfs(
             fixed,
         )
         field = Envelope(sites.points, sites.values, slope, sites.radii)
-        current = field(points[surface_ids])
+        at_vertices = field(points)
+        current = at_vertices[surface_ids]
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
     return _result(
-        mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field
+        mesh,
+        prepared,
+        patches,
+        sites,
+        poles,
+        midpoints,
+        slope,
+        sharp_angle,
+        rounds,
+        field,
+        at_vertices,
     )
 
 
@@ -456,17 +467,20 @@ def _evaluate(
             )
         return points_out, moved
 
-    ray = thickness(
+    # Rays only from the sites the last round did not have.
+    fresh = np.flatnonzero(~seen[ray_sites])
+    new = thickness(
         caster,
-        site_points[ray_sites],
-        ray_normals,
-        origin_face,
+        site_points[ray_sites[fresh]],
+        ray_normals[fresh],
+        origin_face[fresh],
         allowed | np.eye(patches.count, dtype=bool),
         face_patch,
-        site_patches[ray_sites, 0],
+        site_patches[ray_sites[fresh], 0],
         lift,
-        RAY_NEAR * np.concatenate([fixed.vertex_size, on_faces.sizes]),
+        RAY_NEAR * np.concatenate([fixed.vertex_size, on_faces.sizes])[fresh],
     )
+    ray = _rays_with_last(fixed.memo, last[ray_sites], fresh, new)
     curvature = np.concatenate([fixed.vertex_radius, radius_face[on_faces.face]])
     across = np.full(count, np.inf)  # half the thickness, inward or across a gap
     across[ray_sites] = np.minimum(ray.inward, ray.outward) / 2
@@ -555,8 +569,14 @@ def _evaluate(
     sites = Sites(
         site_points, raw, lfs, kind, areas, medial, bound, thick, radii, lfs, vertex, gradient
     )
-    remembered = {name: np.full(count, np.nan) for name in balls}
-    for name, values in balls.items():
+    per_ray = balls | {
+        "inward": ray.inward,
+        "outward": ray.outward,
+        "inward_known": ray.inward_known,
+        "inward_sign": ray.inward_sign,
+    }
+    remembered = {name: np.full(count, np.nan) for name in per_ray}
+    for name, values in per_ray.items():
         remembered[name][ray_sites] = values
     fixed.memo.remember(keys, medial=medial, **remembered)
     medial_points = None if poles is None else poles[0]
@@ -721,6 +741,23 @@ def _tangent_balls(balls: TangentBalls, sites, normals, ray, groups, cap, last):
         remember[name + "_ball"] = np.full(len(out), np.nan)
         remember[name + "_cap"][rows], remember[name + "_ball"][rows] = limit, ball
     return out, remember
+
+
+def _rays_with_last(memo: RoundMemo, rows: np.ndarray, fresh: np.ndarray, new: Thickness):
+    """The ray results of every ray site: ``new`` at ``fresh``, the rest remembered."""
+    seen = np.flatnonzero(rows >= 0)
+    fields = {}
+    for name, kind in (
+        ("inward", float),
+        ("outward", float),
+        ("inward_known", bool),
+        ("inward_sign", np.int8),
+    ):
+        values = np.zeros(len(rows), dtype=kind)
+        values[fresh] = getattr(new, name)
+        values[seen] = memo.get(name, rows[seen]).astype(kind)
+        fields[name] = values
+    return Thickness(**fields)
 
 
 def _last_balls(memo: RoundMemo, rows: np.ndarray) -> dict:
@@ -912,9 +949,11 @@ def _feature_cap(site_points, raw, feature_points, feature_lfs, half) -> np.ndar
     return cap(site_points, upper=raw)
 
 
-def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field):
+def _result(
+    mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field, vertex_lfs
+):
     """The :class:`LfsEstimate` in the input's units, with its warnings; ``field`` is the
-    envelope of the last round's sites."""
+    envelope of the last round's sites and ``vertex_lfs`` its values at the vertices."""
     scale, centre, points = prepared.scale, prepared.centre, prepared.points
     lfs_sites = Sites(
         points=scale * sites.points + centre,
@@ -933,7 +972,7 @@ def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle
     # A vertex is a site: its output is its own L (the envelope of the raw values there).
     # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower
     # where a neighbouring face site's value is; docs/lfs.md). Vertices of no face get `at`.
-    vertex_lfs = field(points)
+    vertex_lfs = vertex_lfs.copy()
     own = sites.vertex >= 0
     vertex_lfs[sites.vertex[own]] = sites.lfs[own]
     if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):

@@ -95,10 +95,16 @@ def face_sites(
     first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
     owner, bary = _slabs(corners, first, max_sites)
     done_owner, done_bary = [], []
-    for _ in range(MAX_LEVELS):
+    for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
         size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
-        limit = np.asarray(spacing(xyz.mean(axis=1), owner), dtype=float)
+        middle = xyz.mean(axis=1)
+        limit = np.empty(len(owner))
+        # A face left whole (most faces of a fine mesh) has its spacing already.
+        known = (middle == centroid[owner]).all(axis=1) if level == 0 else np.zeros(0, bool)
+        limit[known] = first[owner[known]]
+        ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
+        limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
         split = size > limit
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])

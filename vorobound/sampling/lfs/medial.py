@@ -82,7 +82,8 @@ class MedialSample:
     """Tetrahedra left out: flat, or whose ball (unmoved points) is shown not to be empty."""
     owner_labels: np.ndarray | None = None
     """With labels: the label of the sample each pole belongs to (a pole serving samples of
-    several labels appears once per label), aligned with ``labelled_points``."""
+    several labels appears once per label, poles closer than MERGE_RTOL once), aligned with
+    ``labelled_points``."""
     labelled_points: np.ndarray | None = None
 
 
@@ -171,6 +172,11 @@ def vertex_poles(
         tet = candidates[position[group]]
         keep = np.linalg.norm(centres[tet], axis=1) < FAR
         pairs = np.unique(np.c_[tet[keep], labels[owner[starts[group[keep]]]]], axis=0)
+        # Poles closer than MERGE_RTOL are one point per label, as above (on a sampled
+        # torus, every tetrahedron of a ring of cospherical samples has its own copy).
+        key = np.round(centres[pairs[:, 0]] / MERGE_RTOL).astype(np.int64)
+        _, first = np.unique(np.c_[key, pairs[:, 1]], axis=0, return_index=True)
+        pairs = pairs[np.sort(first)]
         labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
     counter.step()
     return MedialSample(

@@ -27,9 +27,10 @@ RAY_START_RTOL = 1e-9
 RAY_CHUNK = 100_000
 """Rays cast together."""
 RAY_TILT = 1e-5
-"""Each ray is tilted by about this angle (radians, fixed pseudo-random): the AABB test misses
-a hit exactly on an edge or a vertex, which the aligned grids of CAD parts produce; the tilt
-moves the hit off it and changes distances by about RAY_TILT²/2 relative."""
+"""Each ray is tilted by about this angle (radians, pseudo-random but fixed by the ray's
+origin, so that a point gets the same rays in every round): the AABB test misses a hit exactly
+on an edge or a vertex, which the aligned grids of CAD parts produce; the tilt moves the hit
+off it and changes distances by about RAY_TILT²/2 relative."""
 
 
 @dataclass(frozen=True)
@@ -76,8 +77,7 @@ class RayCaster:
 
     def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
         """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
-        tilt = np.random.default_rng(len(origins)).standard_normal(directions.shape)
-        directions = directions + RAY_TILT * tilt
+        directions = directions + RAY_TILT * _tilt(origins)
         directions = directions / np.linalg.norm(directions, axis=1)[:, None]
         counts, values = [], []
         for first in range(0, len(origins), RAY_CHUNK):
@@ -104,6 +104,28 @@ class RayCaster:
             self.points, self.faces, np.ascontiguousarray(queries, dtype=float)
         )
         return np.sqrt(squared), face, point
+
+
+def _tilt(origins: np.ndarray) -> np.ndarray:
+    """(n, 3) pseudo-random numbers in [−1, 1), a function of each origin's coordinates (their
+    bits hashed by the splitmix64 finalizer)."""
+    bits = np.ascontiguousarray(origins, dtype=float).view(np.uint64).reshape(-1, 3)
+    golden = np.uint64(0x9E3779B97F4A7C15)
+    state = np.full(len(bits), golden)
+    for column in range(3):
+        state = _mix(state ^ bits[:, column])
+    out = np.empty(bits.shape)
+    for column in range(3):
+        state = _mix(state + golden)
+        out[:, column] = (state >> np.uint64(11)) * 2.0**-52 - 1.0
+    return out
+
+
+def _mix(state: np.ndarray) -> np.ndarray:
+    """The splitmix64 finalizer (uint64 arithmetic wraps)."""
+    state = (state ^ (state >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    state = (state ^ (state >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return state ^ (state >> np.uint64(31))
 
 
 def thickness(
