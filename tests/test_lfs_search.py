@@ -160,3 +160,36 @@ def test_envelope_and_cap_with_radii_match_brute_force(kind):
         got = DistanceCap(sites, values, radii)(queries, upper=upper)
         brute = np.minimum(np.maximum(values, beyond).min(axis=1), upper)
     assert np.array_equal(got, brute)
+
+
+def test_an_envelope_sharing_the_tree_shape_of_another_is_the_same():
+    from vorobound.sampling.lfs.lipschitz import Envelope
+
+    rng = np.random.default_rng(4)
+    sites = rng.normal(size=(3000, 3))
+    queries = rng.normal(size=(500, 3))
+    first = Envelope(sites, rng.uniform(0, 1, len(sites)), 1.0)
+    values, radii = rng.uniform(0, 1, len(sites)), rng.uniform(0, 0.1, len(sites))
+    shared = Envelope(sites, values, 0.5, radii, like=first)
+    assert shared.tree.order is first.tree.order
+    assert np.array_equal(shared(queries), Envelope(sites, values, 0.5, radii)(queries))
+
+
+def test_nearest_site_among_coinciding_sites_is_exact():
+    """Sites in clusters that coincide to rounding (the circumcentres of cospherical samples)
+    and lone ones: the nearest is the brute-force nearest."""
+    from vorobound.sampling.lfs.medial import nearest_site
+
+    rng = np.random.default_rng(5)
+    centre = rng.normal(size=(40, 3))
+    sites = np.vstack(
+        [
+            np.repeat(centre, 50, axis=0) + 1e-13 * rng.normal(size=(2000, 3)),
+            rng.normal(size=(99, 3)),
+        ]
+    )
+    queries = np.vstack([rng.normal(size=(700, 3)), centre[:5] + 1e-12])
+    distance, index = nearest_site(sites, queries)
+    gaps = np.linalg.norm(queries[:, None] - sites[None], axis=2)
+    assert np.array_equal(distance, gaps.min(axis=1))
+    assert np.array_equal(gaps[np.arange(len(queries)), index], distance)

@@ -42,7 +42,7 @@ from ..io.meshes import TriangleMesh
 from ..surfaces.analytic import Surface
 from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
-from .lipschitz import DistanceCap, Envelope, lipschitz_envelope
+from .lipschitz import DistanceCap, Envelope
 from .medial import vertex_poles
 from .memo import RoundMemo, site_keys
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
@@ -312,7 +312,7 @@ def estimate_lfs(
             face_spacing, edge_spacing = _spacings(field, factor, face_floor, edge_floor)
         on_faces = face_sites(points, faces, patches.corner_normals, curved_face, face_spacing)
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
-        sites, poles = _evaluate(
+        sites, poles, envelope = _evaluate(
             prepared,
             patches,
             caster,
@@ -328,7 +328,7 @@ def estimate_lfs(
             progress,
             fixed,
         )
-        field = Envelope(sites.points, sites.values, slope, sites.radii)
+        field = Envelope(sites.points, sites.values, slope, sites.radii, like=envelope)
         at_vertices = field(points)
         current = at_vertices[surface_ids]
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
@@ -407,7 +407,9 @@ def _evaluate(
     progress,
     fixed: _Fixed,
 ):
-    """One round: estimators A and B, the feature terms and the envelope at every site.
+    """One round: estimators A and B, the feature terms and the envelope at every site; the
+    sites, the pole positions and the envelope of the raw values (whose tree lends its shape to
+    the round's field).
 
     Sites, in this order: the vertices inside smooth patches, the face sites, the feature
     vertices, the points on feature edges. Values that depend on a site alone are taken over
@@ -544,7 +546,8 @@ def _evaluate(
     if not np.isfinite(raw).any():
         raise VoroboundError("no finite local feature size anywhere: is the mesh closed?")
     raw = np.where(np.isfinite(raw), raw, np.nanmax(raw[np.isfinite(raw)]))
-    lfs = lipschitz_envelope(site_points, raw, slope, progress=progress)
+    envelope = Envelope(site_points, raw, slope)
+    lfs = envelope(site_points, progress)
     areas = np.zeros(count)
     areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
     radii = np.zeros(count)
@@ -580,7 +583,7 @@ def _evaluate(
         remembered[name][ray_sites] = values
     fixed.memo.remember(keys, medial=medial, **remembered)
     medial_points = None if poles is None else poles[0]
-    return sites, medial_points
+    return sites, medial_points, envelope
 
 
 @dataclass(frozen=True)

@@ -38,8 +38,51 @@ class _ConeTree:
     the ball of radius ρ (a site standing for a small piece of surface).
     """
 
-    def __init__(self, sites: np.ndarray, values: np.ndarray, radii: np.ndarray | None = None):
+    def __init__(
+        self,
+        sites: np.ndarray,
+        values: np.ndarray,
+        radii: np.ndarray | None = None,
+        like: _ConeTree | None = None,
+    ):
+        """The tree of ``sites``; ``like``, a tree of the same sites, lends its shape."""
         radii = np.zeros(len(sites)) if radii is None else np.asarray(radii, dtype=float)
+        self.sites, self.values, self.radii = sites, values, radii
+        if like is None:
+            self._shape(sites)
+        else:
+            self.depth, self.order, self.low, self.high = (
+                like.depth,
+                like.order,
+                like.low,
+                like.high,
+            )
+            self.leaf_sites = like.leaf_sites
+        # Per node, bottom-up: the smallest value, the first site of the node (in tree order)
+        # that has it, and the largest radius.
+        count, order = len(sites), self.order
+        bounds = self._bounds(self.depth, count)
+        value = values[order]
+        best = np.minimum.reduceat(value, bounds[:-1])
+        segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+        smallest = np.where(value == best[segment], np.arange(count), count)
+        best_site = order[np.minimum.reduceat(smallest, bounds[:-1])]
+        max_radius = np.maximum.reduceat(radii[order], bounds[:-1])
+        self.best_value, self.best_site, self.max_radius = [best], [best_site], [max_radius]
+        for _ in range(self.depth):
+            left, right = best[0::2], best[1::2]
+            best_site = np.where(left <= right, best_site[0::2], best_site[1::2])
+            best = np.minimum(left, right)
+            max_radius = np.maximum(max_radius[0::2], max_radius[1::2])
+            self.best_value.append(best)
+            self.best_site.append(best_site)
+            self.max_radius.append(max_radius)
+        for per_depth in (self.best_value, self.best_site, self.max_radius):
+            per_depth.reverse()
+
+    def _shape(self, sites: np.ndarray) -> None:
+        """The order of the sites (median splits along the widest axis), the nodes' boxes and
+        the leaves."""
         count = len(sites)
         self.depth = max(0, math.ceil(math.log2(max(count / LEAF_SIZE, 1))))
         order = np.arange(count)
@@ -58,22 +101,19 @@ class _ConeTree:
             offset = placed[np.arange(count), axis[segment]] - lowest[segment]
             key = segment + 0.5 * offset / np.where(extent > 0, extent, 1.0)[segment]
             order = order[np.argsort(key, kind="stable")]
-        self.sites, self.values, self.order, self.radii = sites, values, order, radii
-        self.low, self.high, self.best_value, self.best_site = [], [], [], []
-        self.max_radius = []
-        for depth in range(self.depth + 1):
-            bounds = self._bounds(depth, count)
-            placed = sites[order]
-            self.low.append(np.minimum.reduceat(placed, bounds[:-1]))
-            self.high.append(np.maximum.reduceat(placed, bounds[:-1]))
-            value = values[order]
-            self.best_value.append(np.minimum.reduceat(value, bounds[:-1]))
-            self.max_radius.append(np.maximum.reduceat(radii[order], bounds[:-1]))
-            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
-            # The first site of each node that has the node's smallest value.
-            smallest = np.where(value == self.best_value[-1][segment], np.arange(count), count)
-            self.best_site.append(order[np.minimum.reduceat(smallest, bounds[:-1])])
+        self.order = order
         bounds = self._bounds(self.depth, count)
+        placed = sites[order]
+        low = np.minimum.reduceat(placed, bounds[:-1])
+        high = np.maximum.reduceat(placed, bounds[:-1])
+        self.low, self.high = [low], [high]
+        for _ in range(self.depth):
+            low = np.minimum(low[0::2], low[1::2])
+            high = np.maximum(high[0::2], high[1::2])
+            self.low.append(low)
+            self.high.append(high)
+        self.low.reverse()
+        self.high.reverse()
         width = int(np.diff(bounds).max())
         slots = bounds[:-1, None] + np.arange(width)
         self.leaf_sites = np.where(
@@ -132,15 +172,24 @@ class Envelope:
     (ρ = 0 unless ``radii`` are given)."""
 
     def __init__(
-        self, sites: np.ndarray, values: np.ndarray, slope: float, radii: np.ndarray | None = None
+        self,
+        sites: np.ndarray,
+        values: np.ndarray,
+        slope: float,
+        radii: np.ndarray | None = None,
+        like: Envelope | None = None,
     ):
+        """``like``: an envelope of the same sites, whose tree lends its shape."""
         sites, values = _checked(sites, values, slope)
         if radii is not None:
             radii = np.asarray(radii, dtype=float)
             if radii.shape != values.shape or not (np.isfinite(radii).all() and (radii >= 0).all()):
                 raise InputError("site radii must be finite, ≥ 0, one per site")
-        self.tree, self.slope = _ConeTree(sites, values, radii), float(slope)
-        self._nearest = None
+        shape = None
+        if like is not None and np.array_equal(like.tree.sites, sites):
+            shape = like.tree
+        self.tree, self.slope = _ConeTree(sites, values, radii, shape), float(slope)
+        self._nearest = None if shape is None else like._nearest
 
     def __call__(
         self,
