@@ -273,7 +273,9 @@ def estimate_lfs(
     allowed = ~patches.adjacent
     counter.step()
     vertex_sites = surface_ids[~patches.feature_vertex[surface_ids]]
+    counter = Counter(progress, "fitted midpoints", 1)
     midpoints = _midpoints(prepared, patches, samples, len(surface_ids))
+    counter.step()
     factor = np.where(curved_face, SITE_SPACING["curved"], SITE_SPACING["flat"])
     corners = points[faces]
     face_floor = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
@@ -310,8 +312,10 @@ def estimate_lfs(
 
         else:
             face_spacing, edge_spacing = _spacings(field, factor, face_floor, edge_floor)
+        counter = Counter(progress, "face sites", 1)
         on_faces = face_sites(points, faces, patches.corner_normals, curved_face, face_spacing)
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
+        counter.step()
         sites, poles, envelope = _evaluate(
             prepared,
             patches,
@@ -328,12 +332,15 @@ def estimate_lfs(
             progress,
             fixed,
         )
+        counter = Counter(progress, "L at the vertices", 1)
         field = Envelope(sites.points, sites.values, slope, sites.radii, like=envelope)
         at_vertices = field(points)
+        counter.step()
         current = at_vertices[surface_ids]
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
+    Counter(progress, "result", 1)
     return _result(
         mesh,
         prepared,
@@ -434,6 +441,7 @@ def _evaluate(
             site_keys(3, feature.edge, feature.points),
         ]
     )
+    counter = Counter(progress, "pole distances", 1)
     last = fixed.memo.match(keys)
     seen = last >= 0
     site_points = np.vstack([g[0] for g in groups])
@@ -452,7 +460,9 @@ def _evaluate(
             if len(ok):
                 values = _nearest_allowed(*poles, site_points[ok], lab[ok], allowed)
                 medial[ok] = np.minimum(medial[ok], values)
+    counter.step()
     # --- B: thickness and curvature at the vertices inside patches and the face sites -------
+    counter = Counter(progress, "rays", 1)
     ray_sites = np.flatnonzero(kind < 2)
     n_vertex = len(vertex_sites)
     origin_face = np.concatenate([fixed.vertex_face, on_faces.face])
@@ -490,7 +500,9 @@ def _evaluate(
     bend[ray_sites] = curvature
     thick = np.full(count, np.inf)
     thick[ray_sites] = ray.inward
+    counter.step()
     # --- features ---------------------------------------------------------------------------
+    counter = Counter(progress, "feature sizes", 1)
     feature_site = kind == 2
     vertex_curves = fixed.vertex_curves
     edge_curves = patches.edge_curve[feature.edge][:, None]
@@ -523,6 +535,8 @@ def _evaluate(
     raw[feature_site] = np.minimum(raw[feature_site], feature_lfs)
     half = np.concatenate([np.zeros(len(feature_vertices)), feature.lengths / 2])
     raw = _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
+    counter.step()
+    counter = Counter(progress, "tangent balls", 1)
     # The largest ball tangent at the site that no other non-adjacent patch enters: medial
     # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
     # outward only where a ray found a gap (a convex outside has no medial ball to find).
@@ -546,8 +560,11 @@ def _evaluate(
     if not np.isfinite(raw).any():
         raise VoroboundError("no finite local feature size anywhere: is the mesh closed?")
     raw = np.where(np.isfinite(raw), raw, np.nanmax(raw[np.isfinite(raw)]))
+    counter.step()
+    counter = Counter(progress, "Lipschitz repair", 1)
     envelope = Envelope(site_points, raw, slope)
     lfs = envelope(site_points, progress)
+    counter = Counter(progress, "site radii", 1)
     areas = np.zeros(count)
     areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
     radii = np.zeros(count)
@@ -582,6 +599,7 @@ def _evaluate(
     for name, values in per_ray.items():
         remembered[name][ray_sites] = values
     fixed.memo.remember(keys, medial=medial, **remembered)
+    counter.step()
     medial_points = None if poles is None else poles[0]
     return sites, medial_points, envelope
 
