@@ -274,7 +274,8 @@ def estimate_lfs(
     counter.step()
     vertex_sites = surface_ids[~patches.feature_vertex[surface_ids]]
     counter = Counter(progress, "fitted midpoints", 1)
-    midpoints = _midpoints(prepared, patches, samples, len(surface_ids))
+    normals = vertex_normals(prepared)
+    midpoints = _midpoints(prepared, patches, samples, len(surface_ids), normals)
     counter.step()
     factor = np.where(curved_face, SITE_SPACING["curved"], SITE_SPACING["flat"])
     corners = points[faces]
@@ -290,13 +291,13 @@ def estimate_lfs(
         vertex_sites,
         vertex_patch,
         midpoints,
-        vertex_normals(prepared),
+        normals,
         seed,
         mesh.points,
         progress,
         caster,
     )
-    fixed = _fixed(prepared, patches, vertex_sites, radius_face, allowed)
+    fixed = _fixed(prepared, patches, vertex_sites, radius_face, allowed, normals)
     sites = poles = field = None
     previous = None
     rounds = 0
@@ -377,9 +378,8 @@ class _Midpoints:
     eligible: int
 
 
-def _midpoints(prepared, patches: Patches, samples, vertices: int) -> _Midpoints:
+def _midpoints(prepared, patches: Patches, samples, vertices: int, normals) -> _Midpoints:
     """Fitted edge midpoints on the smooth patches, as in the pole estimator of docs/lfs.md."""
-    normals = vertex_normals(prepared)
     excluded = np.zeros(len(prepared.edges), dtype=bool)
     feature_keys = {tuple(e) for e in np.sort(patches.feature_edges, axis=1).tolist()}
     if feature_keys:
@@ -629,13 +629,13 @@ class _Fixed:
     memo: RoundMemo
 
 
-def _fixed(prepared, patches: Patches, vertex_sites, radius_face, allowed) -> _Fixed:
+def _fixed(prepared, patches: Patches, vertex_sites, radius_face, allowed, normals) -> _Fixed:
     points, faces = prepared.points, prepared.triangles
     feature_vertices = np.flatnonzero(patches.feature_vertex)
     corners = points[faces]
     other = allowed & ~np.eye(patches.count, dtype=bool)
     return _Fixed(
-        normals=vertex_normals(prepared),
+        normals=normals,
         feature_vertices=feature_vertices,
         vertex_faces=_vertex_patch_table(faces, patches.face_patch, len(points)),
         edge_patches=_edge_patches(prepared, patches),

@@ -243,10 +243,12 @@ def _members_nearest(sites, order, start, queries, clusters, use):
         - np.repeat(np.cumsum(sizes) - sizes, sizes)
     ]
     gap = np.linalg.norm(sites[member] - queries[owner], axis=1)
-    # The nearest member per query, the lowest index among equals.
-    pick = np.lexsort((member, gap, owner))
-    first = pick[np.r_[True, owner[pick][1:] != owner[pick][:-1]]]
-    return gap[first], member[first]
+    # The nearest member per query (entries are grouped by query), the lowest index among
+    # equals.
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    nearest = np.minimum.reduceat(gap, starts)
+    best = np.where(gap == np.repeat(nearest, np.diff(np.r_[starts, len(gap)])), member, len(sites))
+    return nearest, np.minimum.reduceat(best, starts)
 
 
 def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.ndarray:
