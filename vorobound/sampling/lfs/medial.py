@@ -70,8 +70,10 @@ FAR = 1e3
 ends of nearly unbounded cells and cannot be the nearest medial point of the surface)."""
 NEAREST_CLUSTERS = 4
 """Clusters of coinciding sites looked at first by :func:`nearest_site`."""
-NEAREST_CHUNK = 8192
-"""Queries of :func:`nearest_site` measured together."""
+NEAREST_PAIRS = 1 << 22
+"""(query, site) distances :func:`nearest_site` measures together (bounds its memory)."""
+LARGEST_CLUSTER = 2048
+"""Above this many coinciding sites :func:`nearest_site` leaves the search to the k-d tree."""
 MERGE_RTOL = 1e-10
 """Poles closer than MERGE_RTOL diameters are one point (symmetric shapes repeat them)."""
 
@@ -204,16 +206,20 @@ def nearest_site(sites: np.ndarray, queries: np.ndarray) -> tuple[np.ndarray, np
 
     key = np.round(sites / MERGE_RTOL).astype(np.int64)
     _, first, cluster = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    if len(first) == len(sites):
-        return cKDTree(sites).query(queries, workers=-1)
     cluster = cluster.reshape(-1)
+    largest = int(np.bincount(cluster).max())
+    if len(first) == len(sites) or largest > LARGEST_CLUSTER:
+        # No clusters, or one so large (a sphere's poles are all its centre) that measuring
+        # its members for every query would take more memory and time than the tree.
+        return cKDTree(sites).query(queries, workers=-1)
     spread = float(np.linalg.norm(sites - sites[first][cluster], axis=1).max())
     order = np.argsort(cluster, kind="stable")
     start = np.searchsorted(cluster[order], np.arange(len(first) + 1))
     tree = cKDTree(sites[first])
     distance, index = np.empty(len(queries)), np.empty(len(queries), dtype=np.int64)
-    for lo in range(0, len(queries), NEAREST_CHUNK):
-        todo = np.arange(lo, min(lo + NEAREST_CHUNK, len(queries)))
+    chunk = max(1, NEAREST_PAIRS // (2 * largest))
+    for lo in range(0, len(queries), chunk):
+        todo = np.arange(lo, min(lo + chunk, len(queries)))
         k = min(NEAREST_CLUSTERS, len(first))
         while len(todo):
             reach, near = tree.query(queries[todo], k=k, workers=-1)
