@@ -18,15 +18,16 @@ same measurements, rendered by docs/examples/lfs_*.py from the functions here:
   the true range of L against the estimate;
 * triangulation independence: L of a coarse and a fine triangulation of each CAD test part at
   common surface points (target: within 5 %), and the advised sample counts (within 10 %);
-* CAD speed: a 10⁵-face CAD-like part through ``lfs`` (target ≤ 60 s) and ``advise --mesh``
-  (≤ 90 s), stage split and CPU seconds next to wall; and meshes of growing size for the
-  growth exponent (``--big`` adds the 10⁶-vertex torus, target ≤ 10 min and ≤ 8 GB).
+* scale (``--scale``): a 10⁵-face CAD-like part (an L-bracket with a bore) through the command
+  line, ``vorobound lfs`` (target ≤ 60 s) and ``vorobound advise --mesh`` (≤ 90 s), wall and
+  CPU seconds and peak memory of each process; the stage split of the estimate on brackets and
+  torus grids of growing size, and the growth exponent of its time (``--big`` adds the
+  10⁶-vertex torus: target ≤ 10 min and ≤ 8 GB). Each measurement is a process of its own.
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 import time
@@ -362,60 +363,17 @@ def agreement(name: str, coarse: TriangleMesh, fine: TriangleMesh) -> Agreement:
     )
 
 
-def cad_speed_meshes(big: bool = False) -> list[TriangleMesh]:
-    """CAD-like parts of growing size (an L-bracket with a bore, ever finer), the largest with
-    about 10⁵ faces; with ``big`` the 10⁶-vertex torus of the issue as well."""
-    meshes = [
-        cad_meshes.l_bracket(spacing=step, rings=rings, segments=segments)
-        for step, rings, segments in ((0.2, 8, 16), (0.1, 24, 32), (0.05, 60, 64))
-    ]
-    if big:
-        meshes.append(torus_mesh(3.0, 1.0, 2000, 500))
-    return meshes
-
-
-def cad_speed_row(mesh: TriangleMesh) -> dict:
-    """Wall and CPU seconds of the estimate (with its stage split) and of the advice."""
-    import resource
-
-    from vorobound.bounds.params import QualityParams
-    from vorobound.reports.advisor import advise
-
-    stages: dict[str, float] = {}
-    last = [time.perf_counter(), None]
-
-    def progress(task, done=None, total=None):
-        now = time.perf_counter()
-        if last[1] is not None:
-            stages[last[1]] = stages.get(last[1], 0.0) + now - last[0]
-        last[0], last[1] = now, task
-
-    cpu, wall = time.process_time(), time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", VoroboundWarning)
-        estimate = estimate_lfs(mesh, progress=progress)
-    progress("end")
-    lfs_wall, lfs_cpu = time.perf_counter() - wall, time.process_time() - cpu
-    advise(QualityParams(0.75, 2.0, 1.38), estimate.surface(), ["rigorous", "tight"])
-    return {
-        "faces": len(mesh.triangles),
-        "vertices": len(mesh.points),
-        "lfs_wall": lfs_wall,
-        "lfs_cpu": lfs_cpu,
-        "advise_wall": time.perf_counter() - wall,
-        "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20,
-        "stages": stages,
-        "sites": len(estimate.sites.points),
-    }
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="skip the meshes over 40k vertices")
     parser.add_argument("--cad", action="store_true", help="only the CAD tables")
-    parser.add_argument("--big", action="store_true", help="add the 10^6-vertex torus (slow)")
+    parser.add_argument("--scale", action="store_true", help="only the scale tables (minutes)")
+    parser.add_argument("--big", action="store_true", help="--scale with the 10^6-vertex torus")
     args = parser.parse_args()
-    cad_tables(args.big)
+    if args.scale or args.big:
+        _scale().tables(args.big)
+        return
+    cad_tables()
     if args.cad:
         return
     print("\n## Accuracy (relative error of L at the vertices): vertices only | default sample")
@@ -463,7 +421,7 @@ def main() -> None:
         print(f"{count:9d} {h:6.3f} {on_edge:8.3f} {one_in:11.3f} {added:9d}")
 
 
-def cad_tables(big: bool) -> None:
+def cad_tables() -> None:
     print("\n## CAD parts of the issue: true range of L and the estimate")
     for label, mesh, truth, _ in issue_meshes():
         low, high, surface, seconds = issue_row(mesh)
@@ -479,23 +437,20 @@ def cad_tables(big: bool) -> None:
             f"{a.p99:.2e} max {a.largest:.2e}  ∫1/L² ratio {a.integral_ratio:.4f}  feature "
             f"{a.feature_ratio:.4f}  {a.seconds[0]:.1f}s / {a.seconds[1]:.1f}s"
         )
-    print("\n## CAD speed (targets at 1e5 faces: lfs <= 60 s, advise <= 90 s)")
-    rows = []
-    for mesh in cad_speed_meshes(big):
-        row = cad_speed_row(mesh)
-        rows.append(row)
-        split = ", ".join(f"{k} {v:.1f}s" for k, v in row["stages"].items() if v >= 0.05)
-        print(
-            f"{row['faces']:>8d} faces {row['vertices']:>8d} vertices: lfs {row['lfs_wall']:.1f}s "
-            f"wall {row['lfs_cpu']:.1f}s CPU, advise {row['advise_wall']:.1f}s, peak "
-            f"{row['peak_gb']:.2f} GB, {row['sites']:,} sites ({split})"
-        )
-    if len(rows) >= 2:
-        a, b = rows[-2], rows[-1]
-        exponent = math.log(b["lfs_cpu"] / a["lfs_cpu"]) / math.log(b["faces"] / a["faces"])
-        print(f"growth exponent (CPU seconds vs faces, last two): {exponent:.2f}")
-    print(f"load average: {os.getloadavg()[0]:.2f} (the machine is shared)")
+
+
+def _scale():
+    """benchmarks/lfs_scale.py, the scale tables and the processes that measure them."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import lfs_scale
+
+    return lfs_scale
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:2] == ["--child"]:
+        _scale().child(sys.argv[2:])
+    elif sys.argv[1:2] == ["--measure"]:
+        _scale().measure_child(sys.argv[2:])
+    else:
+        main()

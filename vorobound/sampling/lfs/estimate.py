@@ -41,12 +41,13 @@ from ..io.meshes import TriangleMesh
 from ..surfaces.base import SurfaceCounts
 from .curved import edge_midpoints
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
-from .lipschitz import Envelope, lipschitz_envelope
+from .lipschitz import DistanceCap, Envelope
 from .medial import vertex_poles
+from .memo import RoundMemo, site_keys
 from .mesh_quality import MeshReport, prepare_mesh, vertex_normals
 from .patches import Patches, find_patches
-from .tangent_ball import largest_empty_radius
-from .thickness import RayCaster, thickness
+from .tangent_ball import TangentBalls
+from .thickness import RayCaster, Thickness, thickness
 
 SHARP_ANGLE = 30.0
 """Default threshold (degrees) on the angle between the normals of two adjacent faces above
@@ -272,7 +273,10 @@ def estimate_lfs(
     allowed = ~patches.adjacent
     counter.step()
     vertex_sites = surface_ids[~patches.feature_vertex[surface_ids]]
-    midpoints = _midpoints(prepared, patches, samples, len(surface_ids))
+    counter = Counter(progress, "fitted midpoints", 1)
+    normals = vertex_normals(prepared)
+    midpoints = _midpoints(prepared, patches, samples, len(surface_ids), normals)
+    counter.step()
     factor = np.where(curved_face, SITE_SPACING["curved"], SITE_SPACING["flat"])
     corners = points[faces]
     face_floor = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
@@ -287,13 +291,14 @@ def estimate_lfs(
         vertex_sites,
         vertex_patch,
         midpoints,
-        vertex_normals(prepared),
+        normals,
         seed,
         mesh.points,
         progress,
         caster,
     )
-    sites = poles = None
+    fixed = _fixed(prepared, patches, vertex_sites, radius_face, allowed, normals)
+    sites = poles = field = None
     previous = None
     rounds = 0
     for done in range(1, ROUNDS + 1):
@@ -307,10 +312,12 @@ def estimate_lfs(
                 return np.full(len(x), FIRST_SPACING)
 
         else:
-            face_spacing, edge_spacing = _spacings(sites, slope, factor, face_floor, edge_floor)
+            face_spacing, edge_spacing = _spacings(field, factor, face_floor, edge_floor)
+        counter = Counter(progress, "face sites", 1)
         on_faces = face_sites(points, faces, patches.corner_normals, curved_face, face_spacing)
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
-        sites, poles = _evaluate(
+        counter.step()
+        sites, poles, envelope = _evaluate(
             prepared,
             patches,
             caster,
@@ -324,20 +331,35 @@ def estimate_lfs(
             curved_face,
             slope,
             progress,
+            fixed,
         )
-        current = Envelope(sites.points, sites.values, slope, sites.radii)(points[surface_ids])
+        counter = Counter(progress, "L at the vertices", 1)
+        field = Envelope(sites.points, sites.values, slope, sites.radii, like=envelope)
+        at_vertices = field(points)
+        counter.step()
+        current = at_vertices[surface_ids]
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
+    Counter(progress, "result", 1)
     return _result(
-        mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points
+        mesh,
+        prepared,
+        patches,
+        sites,
+        poles,
+        midpoints,
+        slope,
+        sharp_angle,
+        rounds,
+        field,
+        at_vertices,
     )
 
 
-def _spacings(sites: Sites, slope: float, factor: np.ndarray, face_floor, edge_floor):
+def _spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor):
     """The next round's spacing: SITE_SPACING (per face) times L of the last round, at least
     the floors (:data:`MIN_PIECES`)."""
-    field = Envelope(sites.points, sites.values, slope, sites.radii)
 
     def face_spacing(x, face):
         return np.maximum(factor[face] * field(x), face_floor[face])
@@ -356,9 +378,8 @@ class _Midpoints:
     eligible: int
 
 
-def _midpoints(prepared, patches: Patches, samples, vertices: int) -> _Midpoints:
+def _midpoints(prepared, patches: Patches, samples, vertices: int, normals) -> _Midpoints:
     """Fitted edge midpoints on the smooth patches, as in the pole estimator of docs/lfs.md."""
-    normals = vertex_normals(prepared)
     excluded = np.zeros(len(prepared.edges), dtype=bool)
     feature_keys = {tuple(e) for e in np.sort(patches.feature_edges, axis=1).tolist()}
     if feature_keys:
@@ -391,24 +412,38 @@ def _evaluate(
     curved_face,
     slope,
     progress,
+    fixed: _Fixed,
 ):
-    """One round: estimators A and B, the feature terms and the envelope at every site.
+    """One round: estimators A and B, the feature terms and the envelope at every site; the
+    sites, the pole positions and the envelope of the raw values (whose tree lends its shape to
+    the round's field).
 
     Sites, in this order: the vertices inside smooth patches, the face sites, the feature
-    vertices, the points on feature edges.
+    vertices, the points on feature edges. Values that depend on a site alone are taken over
+    from the last round where the site is the same (:mod:`.memo`).
     """
     points, faces = prepared.points, prepared.triangles
     face_patch = patches.face_patch
-    normals = vertex_normals(prepared)
+    normals = fixed.normals
     poles = labelled
-    feature_vertices = np.flatnonzero(patches.feature_vertex)
-    vertex_faces = _vertex_patch_table(faces, face_patch, len(points))
+    feature_vertices = fixed.feature_vertices
     groups = [
         (points[vertex_sites], 0, vertex_patch[vertex_sites][:, None]),
         (on_faces.points, 1, face_patch[on_faces.face][:, None]),
-        (points[feature_vertices], 2, vertex_faces[feature_vertices]),
-        (feature.points, 2, _edge_patches(prepared, patches)[feature.edge]),
+        (points[feature_vertices], 2, fixed.vertex_faces[feature_vertices]),
+        (feature.points, 2, fixed.edge_patches[feature.edge]),
     ]
+    keys = np.concatenate(
+        [
+            site_keys(0, vertex_sites, points[vertex_sites]),
+            site_keys(1, on_faces.face, on_faces.points),
+            site_keys(2, feature_vertices, points[feature_vertices]),
+            site_keys(3, feature.edge, feature.points),
+        ]
+    )
+    counter = Counter(progress, "pole distances", 1)
+    last = fixed.memo.match(keys)
+    seen = last >= 0
     site_points = np.vstack([g[0] for g in groups])
     kind = np.concatenate([np.full(len(g[0]), g[1]) for g in groups]).astype(np.int8)
     width = max(g[2].shape[1] for g in groups)
@@ -417,17 +452,20 @@ def _evaluate(
     )
     count = len(site_points)
     medial = np.full(count, np.inf)
+    medial[seen] = fixed.memo.get("medial", last[seen])
     if poles is not None:
         for column in range(width):
             lab = site_patches[:, column]
-            ok = np.flatnonzero(lab >= 0)
+            ok = np.flatnonzero((lab >= 0) & ~seen)
             if len(ok):
                 values = _nearest_allowed(*poles, site_points[ok], lab[ok], allowed)
                 medial[ok] = np.minimum(medial[ok], values)
+    counter.step()
     # --- B: thickness and curvature at the vertices inside patches and the face sites -------
+    counter = Counter(progress, "rays", 1)
     ray_sites = np.flatnonzero(kind < 2)
     n_vertex = len(vertex_sites)
-    origin_face = np.concatenate([_a_face(faces, vertex_sites), on_faces.face])
+    origin_face = np.concatenate([fixed.vertex_face, on_faces.face])
     ray_normals = np.vstack([normals[vertex_sites], on_faces.normals])
 
     def lift(hit_faces, bary):
@@ -441,29 +479,32 @@ def _evaluate(
             )
         return points_out, moved
 
-    ray = thickness(
+    # Rays only from the sites the last round did not have.
+    fresh = np.flatnonzero(~seen[ray_sites])
+    new = thickness(
         caster,
-        site_points[ray_sites],
-        ray_normals,
-        origin_face,
+        site_points[ray_sites[fresh]],
+        ray_normals[fresh],
+        origin_face[fresh],
         allowed | np.eye(patches.count, dtype=bool),
         face_patch,
-        site_patches[ray_sites, 0],
+        site_patches[ray_sites[fresh], 0],
         lift,
-        RAY_NEAR * np.concatenate([_vertex_size(faces, points, vertex_sites), on_faces.sizes]),
+        RAY_NEAR * np.concatenate([fixed.vertex_size, on_faces.sizes])[fresh],
     )
-    curvature = np.concatenate(
-        [_vertex_radius(faces, radius_face, vertex_sites, len(points)), radius_face[on_faces.face]]
-    )
+    ray = _rays_with_last(fixed.memo, last[ray_sites], fresh, new)
+    curvature = np.concatenate([fixed.vertex_radius, radius_face[on_faces.face]])
     across = np.full(count, np.inf)  # half the thickness, inward or across a gap
     across[ray_sites] = np.minimum(ray.inward, ray.outward) / 2
     bend = np.full(count, np.inf)  # radius of curvature from the vertex normals
     bend[ray_sites] = curvature
     thick = np.full(count, np.inf)
     thick[ray_sites] = ray.inward
+    counter.step()
     # --- features ---------------------------------------------------------------------------
+    counter = Counter(progress, "feature sizes", 1)
     feature_site = kind == 2
-    vertex_curves = _vertex_curves(patches, feature_vertices)
+    vertex_curves = fixed.vertex_curves
     edge_curves = patches.edge_curve[feature.edge][:, None]
     columns = max(vertex_curves.shape[1], 1)
     curves = np.concatenate(
@@ -482,11 +523,7 @@ def _evaluate(
     # along the medial axis are as far apart as the vertices (their distance overestimates L)
     # and the curvature caps it too; elsewhere B is the estimate.
     size = np.full(count, np.inf)
-    corners = points[faces]
-    longest = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
-    size[ray_sites] = np.concatenate(
-        [_vertex_size(faces, points, vertex_sites), longest[on_faces.face]]
-    )
+    size[ray_sites] = np.concatenate([fixed.vertex_size, fixed.longest[on_faces.face]])
     coarse = size > COARSE_POLE_RATIO * medial
     raw = np.where(
         np.isfinite(medial),
@@ -497,22 +534,20 @@ def _evaluate(
     )
     raw[feature_site] = np.minimum(raw[feature_site], feature_lfs)
     half = np.concatenate([np.zeros(len(feature_vertices)), feature.lengths / 2])
-    raw = np.minimum(
-        raw, _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
-    )
+    raw = _feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
+    counter.step()
+    counter = Counter(progress, "tangent balls", 1)
     # The largest ball tangent at the site that no other non-adjacent patch enters: medial
     # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
     # outward only where a ray found a gap (a convex outside has no medial ball to find).
-    tangent = _tangent_balls(
+    tangent, balls = _tangent_balls(
+        fixed.balls,
         site_points[ray_sites],
         ray_normals,
         ray,
         site_patches[ray_sites, 0],
-        points[faces],
-        face_patch,
-        allowed,
-        patches.count,
         raw[ray_sites],
+        _last_balls(fixed.memo, last[ray_sites]),
     )
     across[ray_sites] = np.minimum(across[ray_sites], tangent)
     raw[ray_sites] = np.minimum(raw[ray_sites], tangent)
@@ -525,7 +560,11 @@ def _evaluate(
     if not np.isfinite(raw).any():
         raise VoroboundError("no finite local feature size anywhere: is the mesh closed?")
     raw = np.where(np.isfinite(raw), raw, np.nanmax(raw[np.isfinite(raw)]))
-    lfs = lipschitz_envelope(site_points, raw, slope, progress=progress)
+    counter.step()
+    counter = Counter(progress, "Lipschitz repair", 1)
+    envelope = Envelope(site_points, raw, slope)
+    lfs = envelope(site_points, progress)
+    counter = Counter(progress, "site radii", 1)
     areas = np.zeros(count)
     areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
     radii = np.zeros(count)
@@ -550,8 +589,64 @@ def _evaluate(
     sites = Sites(
         site_points, raw, lfs, kind, areas, medial, bound, thick, radii, lfs, vertex, gradient
     )
+    per_ray = balls | {
+        "inward": ray.inward,
+        "outward": ray.outward,
+        "inward_known": ray.inward_known,
+        "inward_sign": ray.inward_sign,
+    }
+    remembered = {name: np.full(count, np.nan) for name in per_ray}
+    for name, values in per_ray.items():
+        remembered[name][ray_sites] = values
+    fixed.memo.remember(keys, medial=medial, **remembered)
+    counter.step()
     medial_points = None if poles is None else poles[0]
-    return sites, medial_points
+    return sites, medial_points, envelope
+
+
+@dataclass(frozen=True)
+class _Fixed:
+    """What every round of :func:`_evaluate` needs and no round changes."""
+
+    normals: np.ndarray
+    feature_vertices: np.ndarray
+    vertex_faces: np.ndarray
+    """(m, k) the patches of each vertex's faces."""
+    edge_patches: np.ndarray
+    """(e, 2) the patches on either side of each feature edge."""
+    vertex_curves: np.ndarray
+    """The curves of each feature vertex."""
+    vertex_face: np.ndarray
+    """A face of each vertex site."""
+    vertex_size: np.ndarray
+    """Longest edge at each vertex site."""
+    vertex_radius: np.ndarray
+    """Smallest radius of curvature of the faces around each vertex site."""
+    longest: np.ndarray
+    """Longest edge of each face."""
+    balls: TangentBalls
+    """The faces, for the tangent balls against other non-adjacent patches."""
+    memo: RoundMemo
+
+
+def _fixed(prepared, patches: Patches, vertex_sites, radius_face, allowed, normals) -> _Fixed:
+    points, faces = prepared.points, prepared.triangles
+    feature_vertices = np.flatnonzero(patches.feature_vertex)
+    corners = points[faces]
+    other = allowed & ~np.eye(patches.count, dtype=bool)
+    return _Fixed(
+        normals=normals,
+        feature_vertices=feature_vertices,
+        vertex_faces=_vertex_patch_table(faces, patches.face_patch, len(points)),
+        edge_patches=_edge_patches(prepared, patches),
+        vertex_curves=_vertex_curves(patches, feature_vertices),
+        vertex_face=_a_face(faces, vertex_sites),
+        vertex_size=_vertex_size(faces, points, vertex_sites),
+        vertex_radius=_vertex_radius(faces, radius_face, vertex_sites, len(points)),
+        longest=np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1),
+        balls=TangentBalls(corners, patches.face_patch, other),
+        memo=RoundMemo(),
+    )
 
 
 def _labelled_poles(
@@ -636,31 +731,64 @@ def _a_face(faces, vertices) -> np.ndarray:
     return owner[vertices]
 
 
-def _tangent_balls(
-    sites, normals, ray, groups, face_corners, face_patch, allowed, count, cap
-) -> np.ndarray:
-    """Largest empty tangent ball against the pieces of other non-adjacent patches, on the
+def _tangent_balls(balls: TangentBalls, sites, normals, ray, groups, cap, last):
+    """Largest empty tangent ball against the faces of other non-adjacent patches, on the
     inward side (and the outward side where the ray there met an allowed patch), at most
-    ``cap``."""
-    other = allowed & ~np.eye(count, dtype=bool)
+    ``cap``; with what to remember of each side (its cap, ball and direction), from which
+    ``last`` (the same, of the last round, NaN for new sites) gives a ball again where it can
+    (:mod:`.memo`)."""
     out = np.asarray(cap, dtype=float).copy()
-    if not other.any():
-        return out
-    triangle_group = face_patch
-    inward = np.where(ray.inward_sign < 0, -1.0, 1.0)[:, None] * normals
-    for direction, use in ((inward, ray.inward_sign != 0), (-inward, np.isfinite(ray.outward))):
+    side = np.where(ray.inward_sign < 0, -1.0, 1.0)
+    remember = {"side": side}
+    inward = side[:, None] * normals
+    for name, direction, use in (
+        ("inward", inward, ray.inward_sign != 0),
+        ("outward", -inward, np.isfinite(ray.outward)),
+    ):
         rows = np.flatnonzero(use & np.isfinite(out))
-        if not len(rows):
-            continue
-        out[rows] = largest_empty_radius(
-            sites[rows],
-            direction[rows],
-            groups[rows],
-            face_corners,
-            triangle_group,
-            other,
-            out[rows],
-        )
+        limit, ball = out[rows], np.full(len(rows), np.nan)
+        old_cap, old_ball = last[name + "_cap"][rows], last[name + "_ball"][rows]
+        same = (last["side"][rows] == side[rows]) & np.isfinite(old_cap)
+        again = same & ((old_ball < old_cap) | (limit <= old_cap))
+        ball[again] = np.minimum(limit[again], old_ball[again])
+        todo = np.flatnonzero(~again)
+        if len(todo) and balls.allowed.any():
+            chosen = rows[todo]
+            ball[todo] = balls(sites[chosen], direction[chosen], groups[chosen], limit[todo])
+        else:
+            ball[todo] = limit[todo]
+        out[rows] = ball
+        remember[name + "_cap"] = np.full(len(out), np.nan)
+        remember[name + "_ball"] = np.full(len(out), np.nan)
+        remember[name + "_cap"][rows], remember[name + "_ball"][rows] = limit, ball
+    return out, remember
+
+
+def _rays_with_last(memo: RoundMemo, rows: np.ndarray, fresh: np.ndarray, new: Thickness):
+    """The ray results of every ray site: ``new`` at ``fresh``, the rest remembered."""
+    seen = np.flatnonzero(rows >= 0)
+    fields = {}
+    for name, kind in (
+        ("inward", float),
+        ("outward", float),
+        ("inward_known", bool),
+        ("inward_sign", np.int8),
+    ):
+        values = np.zeros(len(rows), dtype=kind)
+        values[fresh] = getattr(new, name)
+        values[seen] = memo.get(name, rows[seen]).astype(kind)
+        fields[name] = values
+    return Thickness(**fields)
+
+
+def _last_balls(memo: RoundMemo, rows: np.ndarray) -> dict:
+    """The remembered tangent balls at ``rows`` of the last round (NaN where −1)."""
+    names = ("side", "inward_cap", "inward_ball", "outward_cap", "outward_ball")
+    out = {name: np.full(len(rows), np.nan) for name in names}
+    seen = rows >= 0
+    if seen.any():
+        for name in names:
+            out[name][seen] = memo.get(name, rows[seen])
     return out
 
 
@@ -833,35 +961,21 @@ def _feature_lfs(query_points, query_curves, radius, patches: Patches, feature) 
 
 
 def _feature_cap(site_points, raw, feature_points, feature_lfs, half) -> np.ndarray:
-    """min over feature pieces P of max(dist(x, P), L_F(P)), with dist(x, P) taken as
-    |x − p| − (half the piece's length), p its centre (never above the distance). Searched
-    only within raw(x) (plus the longest half piece) of x: a farther or larger feature cannot
-    lower raw(x)."""
-    from scipy.spatial import cKDTree
-
-    cap = np.full(len(site_points), np.inf)
-    if len(feature_points) == 0:
-        return cap
-    tree = cKDTree(feature_points)
-    longest = float(half.max())
-    nearest, index = tree.query(site_points, workers=-1)
-    cap = np.maximum(np.maximum(nearest - half[index], 0.0), feature_lfs[index])
-    reach = np.minimum(np.where(np.isfinite(raw), raw, np.inf), cap) + longest
-    look = np.flatnonzero(reach > nearest)
-    if len(look):
-        lists = tree.query_ball_point(site_points[look], reach[look], workers=-1)
-        sizes = np.fromiter((len(x) for x in lists), dtype=np.int64, count=len(lists))
-        flat = np.fromiter((i for x in lists for i in x), dtype=np.int64, count=int(sizes.sum()))
-        owner = np.repeat(look, sizes)
-        gap = np.linalg.norm(site_points[owner] - feature_points[flat], axis=1) - half[flat]
-        value = np.maximum(np.maximum(gap, 0.0), feature_lfs[flat])
-        np.minimum.at(cap, owner, value)
-    return cap
+    """min(raw, min over feature pieces P of max(dist(x, P), L_F(P))), with dist(x, P) taken
+    as |x − p| − (half the piece's length), p its centre (never above the distance)."""
+    finite = np.isfinite(feature_lfs)  # an infinite L_F caps nothing
+    if not finite.any():
+        return raw
+    cap = DistanceCap(feature_points[finite], feature_lfs[finite], half[finite])
+    return cap(site_points, upper=raw)
 
 
-def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, points):
-    """The :class:`LfsEstimate` in the input's units, with its warnings."""
-    scale, centre = prepared.scale, prepared.centre
+def _result(
+    mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle, rounds, field, vertex_lfs
+):
+    """The :class:`LfsEstimate` in the input's units, with its warnings; ``field`` is the
+    envelope of the last round's sites and ``vertex_lfs`` its values at the vertices."""
+    scale, centre, points = prepared.scale, prepared.centre, prepared.points
     lfs_sites = Sites(
         points=scale * sites.points + centre,
         raw=scale * sites.raw,
@@ -879,7 +993,7 @@ def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle
     # A vertex is a site: its output is its own L (the envelope of the raw values there).
     # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower
     # where a neighbouring face site's value is; docs/lfs.md). Vertices of no face get `at`.
-    vertex_lfs = Envelope(sites.points, sites.values, slope, sites.radii)(points)
+    vertex_lfs = vertex_lfs.copy()
     own = sites.vertex >= 0
     vertex_lfs[sites.vertex[own]] = sites.lfs[own]
     if not (np.isfinite(vertex_lfs).all() and (vertex_lfs > 0).all()):
@@ -917,7 +1031,6 @@ def _result(mesh, prepared, patches, sites, poles, midpoints, slope, sharp_angle
     notes += _coarse(prepared, patches, vertex_lfs)
     for note in notes:
         warnings.warn(f"mesh {mesh.name}: {note}", VoroboundWarning, stacklevel=3)
-    field = Envelope(sites.points, sites.values, slope, sites.radii)
     feature_length, feature_inv = _feature_integrals(prepared.points, patches.feature_edges, field)
     feature_length *= scale
     medial_points = np.zeros((0, 3)) if poles is None else scale * poles + centre

@@ -95,10 +95,16 @@ def face_sites(
     first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
     owner, bary = _slabs(corners, first, max_sites)
     done_owner, done_bary = [], []
-    for _ in range(MAX_LEVELS):
+    for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
         size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
-        limit = np.asarray(spacing(xyz.mean(axis=1), owner), dtype=float)
+        middle = xyz.mean(axis=1)
+        limit = np.empty(len(owner))
+        # A face left whole (most faces of a fine mesh) has its spacing already.
+        known = (middle == centroid[owner]).all(axis=1) if level == 0 else np.zeros(0, bool)
+        limit[known] = first[owner[known]]
+        ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
+        limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
         split = size > limit
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])
@@ -156,26 +162,39 @@ def _slabs(corners: np.ndarray, spacing: np.ndarray, max_sites: int):
     estimate = float((slabs * np.maximum(columns, 1)).sum())
     if estimate > max_sites:
         raise _too_many(max_sites)
-    eye = np.eye(3)
-    owners, pieces = [], []
-    for face in range(len(corners)):
-        k, j_max = int(slabs[face]), int(max(columns[face], 1))
-        a, b, c = eye[a_index[face]], eye[b_index[face]], eye[c_index[face]]
-        t = np.arange(k + 1) / k
-        for i in range(k):
-            j = max(1, int(np.ceil(t[i + 1] * j_max)))
-            s = np.arange(j + 1) / j
-            low = (1 - t[i]) * c + t[i] * ((1 - s)[:, None] * a + s[:, None] * b)
-            high = (1 - t[i + 1]) * c + t[i + 1] * ((1 - s)[:, None] * a + s[:, None] * b)
-            upper = np.stack([low[:-1], high[:-1], high[1:]], axis=1)
-            if i == 0:  # the bottom of the first slab is the corner C: triangles only
-                pieces.append(upper)
-                owners.append(np.full(j, face))
-                continue
-            lower = np.stack([low[:-1], high[1:], low[1:]], axis=1)
-            pieces += [upper, lower]
-            owners.append(np.full(2 * j, face))
-    return np.concatenate(owners), np.concatenate(pieces)
+    slabs, columns = slabs.astype(np.int64), np.maximum(columns, 1).astype(np.int64)
+    # One row per slab i of face f (faces in order), then one entry per piece: slab i has
+    # j = ceil((i + 1)/k · columns) columns, each an upper triangle and (above the first slab,
+    # whose bottom is the corner C) a lower one, in that order along the slab.
+    face = np.repeat(np.arange(len(corners)), slabs)
+    slab = np.arange(len(face)) - np.repeat(np.cumsum(slabs) - slabs, slabs)
+    k = slabs[face]
+    top = (slab + 1) / k
+    j = np.maximum(1, np.ceil(top * columns[face]).astype(np.int64))
+    count = np.where(slab == 0, j, 2 * j)
+    row = np.repeat(np.arange(len(face)), count)
+    within = np.arange(len(row)) - np.repeat(np.cumsum(count) - count, count)
+    lower = within >= j[row]
+    m = within - np.where(lower, j[row], 0)
+    t_low, t_high = (slab / k)[row], top[row]
+    s_this, s_next = m / j[row], (m + 1) / j[row]
+    # A point at height t and position s along the slab has weights t(1 − s), t·s, 1 − t on
+    # the corners A, B, C.
+    first = _at(t_low, s_this)
+    second = np.where(lower[:, None], _at(t_high, s_next), _at(t_high, s_this))
+    third = np.where(lower[:, None], _at(t_low, s_next), _at(t_high, s_next))
+    owner = face[row]
+    columns_abc = np.stack([a_index, b_index, c_index], axis=1)[owner]
+    pieces = np.zeros((len(row), 3, 3))
+    rows = np.arange(len(row))[:, None]
+    for corner, weights in enumerate((first, second, third)):
+        pieces[rows, corner, columns_abc] = weights
+    return owner, pieces
+
+
+def _at(t: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """(n, 3) weights of the slab corners A, B, C at height t and position s."""
+    return np.stack([t * (1 - s), t * s, 1 - t], axis=1)
 
 
 def _quarter(bary: np.ndarray) -> np.ndarray:

@@ -4,7 +4,9 @@ The result is the largest λ-Lipschitz function that nowhere exceeds the given v
 computed exactly (up to rounding) by branch and bound on a k-d tree of the sites: a node
 holding sites with smallest value m and bounding box B cannot beat the best value found for
 a query x once m + λ·dist(x, B) is not smaller. All queries of a chunk descend the tree
-together, one level per numpy step.
+together, one level per numpy step. Each query starts from the cones of its nearest sites
+(scipy's k-d tree), an upper bound that is usually the answer or close to it, so that the
+descent prunes almost everything off the query's own path; chunks run on both cores.
 """
 
 from __future__ import annotations
@@ -14,12 +16,19 @@ import math
 import numpy as np
 
 from ...errors import InputError
+from ...geometry.threads import chunk_bounds, run_in_threads
 from ...progress import Counter, Progress
 
 LEAF_SIZE = 8
 """Sites per leaf of the tree."""
 QUERY_CHUNK = 4096
 """Queries that descend the tree together (bounds the number of live query-node pairs)."""
+CHUNKS_PER_STEP = 16
+"""Chunks run on the threads between two progress reports."""
+START_NEIGHBOURS = 4
+"""Nearest sites whose cones give each query its first upper bound."""
+START_BLOCK = 1 << 17
+"""Queries whose nearest sites are found together."""
 
 
 class _ConeTree:
@@ -29,8 +38,51 @@ class _ConeTree:
     the ball of radius ρ (a site standing for a small piece of surface).
     """
 
-    def __init__(self, sites: np.ndarray, values: np.ndarray, radii: np.ndarray | None = None):
+    def __init__(
+        self,
+        sites: np.ndarray,
+        values: np.ndarray,
+        radii: np.ndarray | None = None,
+        like: _ConeTree | None = None,
+    ):
+        """The tree of ``sites``; ``like``, a tree of the same sites, lends its shape."""
         radii = np.zeros(len(sites)) if radii is None else np.asarray(radii, dtype=float)
+        self.sites, self.values, self.radii = sites, values, radii
+        if like is None:
+            self._shape(sites)
+        else:
+            self.depth, self.order, self.low, self.high = (
+                like.depth,
+                like.order,
+                like.low,
+                like.high,
+            )
+            self.leaf_sites = like.leaf_sites
+        # Per node, bottom-up: the smallest value, the first site of the node (in tree order)
+        # that has it, and the largest radius.
+        count, order = len(sites), self.order
+        bounds = self._bounds(self.depth, count)
+        value = values[order]
+        best = np.minimum.reduceat(value, bounds[:-1])
+        segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+        smallest = np.where(value == best[segment], np.arange(count), count)
+        best_site = order[np.minimum.reduceat(smallest, bounds[:-1])]
+        max_radius = np.maximum.reduceat(radii[order], bounds[:-1])
+        self.best_value, self.best_site, self.max_radius = [best], [best_site], [max_radius]
+        for _ in range(self.depth):
+            left, right = best[0::2], best[1::2]
+            best_site = np.where(left <= right, best_site[0::2], best_site[1::2])
+            best = np.minimum(left, right)
+            max_radius = np.maximum(max_radius[0::2], max_radius[1::2])
+            self.best_value.append(best)
+            self.best_site.append(best_site)
+            self.max_radius.append(max_radius)
+        for per_depth in (self.best_value, self.best_site, self.max_radius):
+            per_depth.reverse()
+
+    def _shape(self, sites: np.ndarray) -> None:
+        """The order of the sites (median splits along the widest axis), the nodes' boxes and
+        the leaves."""
         count = len(sites)
         self.depth = max(0, math.ceil(math.log2(max(count / LEAF_SIZE, 1))))
         order = np.arange(count)
@@ -40,23 +92,28 @@ class _ConeTree:
             placed = sites[order]
             low = np.minimum.reduceat(placed, bounds[:-1])
             high = np.maximum.reduceat(placed, bounds[:-1])
-            axis = np.argmax(high - low, axis=1)[segment]
-            order = order[np.lexsort((placed[np.arange(count), axis], segment))]
-        self.sites, self.values, self.order, self.radii = sites, values, order, radii
-        self.low, self.high, self.best_value, self.best_site = [], [], [], []
-        self.max_radius = []
-        for depth in range(self.depth + 1):
-            bounds = self._bounds(depth, count)
-            placed = sites[order]
-            self.low.append(np.minimum.reduceat(placed, bounds[:-1]))
-            self.high.append(np.maximum.reduceat(placed, bounds[:-1]))
-            value = values[order]
-            self.best_value.append(np.minimum.reduceat(value, bounds[:-1]))
-            self.max_radius.append(np.maximum.reduceat(radii[order], bounds[:-1]))
-            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
-            first = np.lexsort((value, segment))[bounds[:-1]]
-            self.best_site.append(order[first])
+            axis = np.argmax(high - low, axis=1)
+            # Sort every node by its widest coordinate, all nodes in one sort: the key is the
+            # node's index plus the coordinate mapped into [0, 1/2] (any split gives a valid
+            # tree; the branch and bound is exact for every tree).
+            rows = np.arange(len(axis))
+            lowest, extent = low[rows, axis], (high - low)[rows, axis]
+            offset = placed[np.arange(count), axis[segment]] - lowest[segment]
+            key = segment + 0.5 * offset / np.where(extent > 0, extent, 1.0)[segment]
+            order = order[np.argsort(key, kind="stable")]
+        self.order = order
         bounds = self._bounds(self.depth, count)
+        placed = sites[order]
+        low = np.minimum.reduceat(placed, bounds[:-1])
+        high = np.maximum.reduceat(placed, bounds[:-1])
+        self.low, self.high = [low], [high]
+        for _ in range(self.depth):
+            low = np.minimum(low[0::2], low[1::2])
+            high = np.maximum(high[0::2], high[1::2])
+            self.low.append(low)
+            self.high.append(high)
+        self.low.reverse()
+        self.high.reverse()
         width = int(np.diff(bounds).max())
         slots = bounds[:-1, None] + np.arange(width)
         self.leaf_sites = np.where(
@@ -71,11 +128,18 @@ class _ConeTree:
     def _bounds(depth: int, count: int) -> np.ndarray:
         return (np.arange(2**depth + 1) * count) // 2**depth
 
-    def envelope(self, queries: np.ndarray, slope: float) -> np.ndarray:
-        """min over sites y of value(y) + slope·|x − y| for each query x."""
+    @staticmethod
+    def combine(value, beyond, slope: float | None):
+        """A site's cone at a query: value + slope·beyond, or max(value, beyond) without a
+        slope (``beyond``: the distance past the site's radius)."""
+        return np.maximum(value, beyond) if slope is None else value + slope * beyond
+
+    def envelope(self, queries: np.ndarray, slope: float | None, best: np.ndarray) -> np.ndarray:
+        """min over sites y of their cones (:meth:`combine`) at each query x, given upper
+        bounds ``best`` (the value of some cone at each query; updated in place). A node's
+        cones are at least its smallest value combined with its distance beyond the largest
+        radius."""
         pair_query = np.arange(len(queries))
-        root = self.best_site[0][0]
-        best = self.values[root] + slope * self._beyond(queries, root)
         node = np.zeros(len(queries), dtype=np.int64)
         for depth in range(self.depth + 1):
             x = queries[pair_query]
@@ -83,11 +147,11 @@ class _ConeTree:
                 x - self.high[depth][node], 0
             )
             reach = np.maximum(np.linalg.norm(gap, axis=1) - self.max_radius[depth][node], 0)
-            bound = self.best_value[depth][node] + slope * reach
+            bound = self.combine(self.best_value[depth][node], reach, slope)
             live = bound < best[pair_query]
             pair_query, node, x = pair_query[live], node[live], x[live]
             site = self.best_site[depth][node]
-            candidate = self.values[site] + slope * self._beyond(x, site)
+            candidate = self.combine(self.values[site], self._beyond(x, site), slope)
             np.minimum.at(best, pair_query, candidate)
             if depth < self.depth:
                 pair_query = np.repeat(pair_query, 2)
@@ -97,7 +161,8 @@ class _ConeTree:
         safe = np.where(valid, sites, 0)
         distance = np.linalg.norm(queries[pair_query][:, None, :] - self.sites[safe], axis=2)
         distance = np.maximum(distance - self.radii[safe], 0)
-        candidate = np.where(valid, self.values[safe] + slope * distance, np.inf).min(axis=1)
+        candidate = self.combine(self.values[safe], distance, slope)
+        candidate = np.where(valid, candidate, np.inf).min(axis=1)
         np.minimum.at(best, pair_query, candidate)
         return best
 
@@ -107,24 +172,76 @@ class Envelope:
     (ρ = 0 unless ``radii`` are given)."""
 
     def __init__(
-        self, sites: np.ndarray, values: np.ndarray, slope: float, radii: np.ndarray | None = None
+        self,
+        sites: np.ndarray,
+        values: np.ndarray,
+        slope: float,
+        radii: np.ndarray | None = None,
+        like: Envelope | None = None,
     ):
+        """``like``: an envelope of the same sites, whose tree lends its shape."""
         sites, values = _checked(sites, values, slope)
         if radii is not None:
             radii = np.asarray(radii, dtype=float)
             if radii.shape != values.shape or not (np.isfinite(radii).all() and (radii >= 0).all()):
                 raise InputError("site radii must be finite, ≥ 0, one per site")
-        self.tree, self.slope = _ConeTree(sites, values, radii), float(slope)
+        shape = None
+        if like is not None and np.array_equal(like.tree.sites, sites):
+            shape = like.tree
+        self.tree, self.slope = _ConeTree(sites, values, radii, shape), float(slope)
+        self._nearest = None if shape is None else like._nearest
 
-    def __call__(self, queries: np.ndarray, progress: Progress | None = None) -> np.ndarray:
+    def __call__(
+        self,
+        queries: np.ndarray,
+        progress: Progress | None = None,
+        upper: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The envelope at ``queries`` (m, 3), or its minimum with ``upper`` if given."""
         queries = np.asarray(queries, dtype=float)
-        result = np.empty(len(queries))
+        result = self._start(queries)
+        if upper is not None:
+            np.minimum(result, upper, out=result)
         counter = Counter(progress, "Lipschitz repair", len(queries))
-        for start in range(0, len(queries), QUERY_CHUNK):
-            stop = min(start + QUERY_CHUNK, len(queries))
-            result[start:stop] = self.tree.envelope(queries[start:stop], self.slope)
-            counter.step(stop - start)
+
+        def descend(chunk):
+            start, stop = chunk
+            self.tree.envelope(queries[start:stop], self.slope, result[start:stop])
+
+        chunks = chunk_bounds(len(queries), QUERY_CHUNK)
+        for first in range(0, len(chunks), CHUNKS_PER_STEP):
+            batch = chunks[first : first + CHUNKS_PER_STEP]
+            run_in_threads(descend, batch)
+            counter.step(batch[-1][1] - batch[0][0])
         return result
+
+    def _start(self, queries: np.ndarray) -> np.ndarray:
+        """The smallest cone value at each query among its nearest sites."""
+        from scipy.spatial import cKDTree
+
+        tree = self.tree
+        if self._nearest is None:
+            self._nearest = cKDTree(tree.sites)
+        k = min(START_NEIGHBOURS, len(tree.sites))
+        out = np.empty(len(queries))
+        for start in range(0, len(queries), START_BLOCK):
+            block = queries[start : start + START_BLOCK]
+            index = self._nearest.query(block, k=k, workers=-1)[1].reshape(len(block), k)
+            # The distances as the tree's own search computes them (the same rounding).
+            distance = np.linalg.norm(block[:, None] - tree.sites[index], axis=2)
+            beyond = np.maximum(distance - tree.radii[index], 0)
+            cones = tree.combine(tree.values[index], beyond, self.slope)
+            out[start : start + len(block)] = cones.min(axis=1)
+        return out
+
+
+class DistanceCap(Envelope):
+    """x ↦ min over sites y of max(value(y), max(0, |x − y| − ρ(y))): the smallest v such
+    that a site of value at most v lies within v of x (beyond its radius)."""
+
+    def __init__(self, sites: np.ndarray, values: np.ndarray, radii: np.ndarray):
+        super().__init__(sites, values, 0.0, radii)
+        self.slope = None
 
 
 def _checked(sites, values, slope):

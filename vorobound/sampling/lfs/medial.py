@@ -3,12 +3,12 @@
 The Voronoi cell of a point of a dense surface sample is a thin needle along the surface
 normal, and its two far ends (the poles, one on each side of the surface) lie near the medial
 axis (Amenta & Bern, "Surface reconstruction by Voronoi filtering", 1999). Voronoi vertices are
-the circumcentres of the Delaunay tetrahedra, computed here with scipy (qhull).
+the circumcentres of the Delaunay tetrahedra (CGAL's, through GUDHI: :mod:`.delaunay`).
 
 Sampled smooth surfaces are full of cospherical point sets (every sample of a sphere is one),
-which make qhull crawl. The triangulation is therefore built on a copy of the sample moved by
-a tiny pseudo-random jitter and inserted in shuffled order (qhull is about twice as fast on
-shuffled surface samples), while every circumcentre is computed from the unmoved points.
+whose Delaunay triangulation is not unique. The triangulation is therefore built on a copy of
+the sample moved by a tiny pseudo-random jitter, which picks one, while every circumcentre is
+computed from the unmoved points.
 
 Ill-conditioned circumcentres are the second difficulty. Four (nearly) cocircular points have
 a circumcentre that moves far along the axis of their circle under the smallest perturbation:
@@ -35,12 +35,13 @@ import numpy as np
 
 from ...errors import InputError
 from ...progress import Counter, Progress
+from .delaunay import delaunay_tetrahedra
 
 JITTER = 1e-6
 """Size of the jitter applied before the triangulation, relative to each point's distance to
 its nearest neighbour (local, so that a far-away part of the model does not blur this one).
-Smaller jitters slow qhull down on cospherical samples: 10⁻⁸ made the 163 842-vertex
-icosphere take 108 s instead of 7 s."""
+(Chosen when qhull built the triangulation, which smaller jitters slowed down on cospherical
+samples: 10⁻⁸ made the 163 842-vertex icosphere take 108 s instead of 7 s.)"""
 SPACING_FLOOR = 1e-6
 """Nearest-neighbour distances below SPACING_FLOOR (in diameters) count as SPACING_FLOOR, so
 that the jitter stays above the rounding of the coordinates."""
@@ -67,6 +68,12 @@ EMPTY_ROUNDS = 8
 FAR = 1e3
 """Poles farther than FAR diameters from the sample's centre are dropped (they are the far
 ends of nearly unbounded cells and cannot be the nearest medial point of the surface)."""
+NEAREST_CLUSTERS = 4
+"""Clusters of coinciding sites looked at first by :func:`nearest_site`."""
+NEAREST_PAIRS = 1 << 22
+"""(query, site) distances :func:`nearest_site` measures together (bounds its memory)."""
+LARGEST_CLUSTER = 2048
+"""Above this many coinciding sites :func:`nearest_site` leaves the search to the k-d tree."""
 MERGE_RTOL = 1e-10
 """Poles closer than MERGE_RTOL diameters are one point (symmetric shapes repeat them)."""
 
@@ -82,7 +89,8 @@ class MedialSample:
     """Tetrahedra left out: flat, or whose ball (unmoved points) is shown not to be empty."""
     owner_labels: np.ndarray | None = None
     """With labels: the label of the sample each pole belongs to (a pole serving samples of
-    several labels appears once per label), aligned with ``labelled_points``."""
+    several labels appears once per label, poles closer than MERGE_RTOL once), aligned with
+    ``labelled_points``."""
     labelled_points: np.ndarray | None = None
 
 
@@ -112,7 +120,7 @@ def vertex_poles(
         How far the coordinates may be off (their rounding), in the units of ``points``;
         circumcentres it can move by more than UNRELIABLE_RTOL of their radius are not used.
     seed : int
-        Seed of the jitter and of the order in which qhull inserts the points.
+        Seed of the jitter.
     progress : Progress, optional
         Called with task "Delaunay" and "poles".
 
@@ -126,24 +134,18 @@ def vertex_poles(
     ----------
     Amenta & Bern (1999), definition of poles; Amenta, Choi & Kolluri (2001), the power crust.
     """
-    from scipy.spatial import Delaunay, QhullError
-
     counter = Counter(progress, "Delaunay", 1)
     random = np.random.default_rng(seed)
     jitter = JITTER * nearest_spacing(points)
     moved = points + jitter[:, None] * random.standard_normal(points.shape)
-    order = random.permutation(len(points))  # qhull is twice as fast on shuffled surface samples
-    try:
-        triangulation = Delaunay(moved[order])
-    except QhullError:
+    tets, neighbours = delaunay_tetrahedra(moved)
+    if not len(tets):
         raise InputError(
             "the mesh vertices are (nearly) coplanar: a flat surface has no finite local "
             "feature size"
-        ) from None
+        )
     counter.step()
     counter = Counter(progress, "poles", 2)
-    tets = order[triangulation.simplices]
-    neighbours = triangulation.neighbors
     centres, radii = _circumcentres(points[tets])
     moved_by = jitter[tets].max(axis=1)
     bound = (1 - EMPTY_RTOL) * radii - EMPTY_ATOL * moved_by
@@ -171,6 +173,11 @@ def vertex_poles(
         tet = candidates[position[group]]
         keep = np.linalg.norm(centres[tet], axis=1) < FAR
         pairs = np.unique(np.c_[tet[keep], labels[owner[starts[group[keep]]]]], axis=0)
+        # Poles closer than MERGE_RTOL are one point per label, as above (on a sampled
+        # torus, every tetrahedron of a ring of cospherical samples has its own copy).
+        merged = np.round(centres[pairs[:, 0]] / MERGE_RTOL).astype(np.int64)
+        _, once = np.unique(np.c_[merged, pairs[:, 1]], axis=0, return_index=True)
+        pairs = pairs[np.sort(once)]
         labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
     counter.step()
     return MedialSample(
@@ -186,6 +193,70 @@ def nearest_spacing(points: np.ndarray) -> np.ndarray:
     return np.maximum(distance, SPACING_FLOOR)
 
 
+def nearest_site(sites: np.ndarray, queries: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance to the nearest of ``sites`` and its index, for each query.
+
+    Many sites may coincide to rounding (the circumcentres of the tetrahedra of one
+    cospherical set of samples, hundreds on a sampled torus), and a k-d tree cannot tell them
+    apart without measuring every one. The tree therefore holds one site per cluster closer
+    than MERGE_RTOL; the clusters near enough to hold the nearest site are then measured in
+    full.
+    """
+    from scipy.spatial import cKDTree
+
+    key = np.round(sites / MERGE_RTOL).astype(np.int64)
+    _, first, cluster = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    cluster = cluster.reshape(-1)
+    largest = int(np.bincount(cluster).max())
+    if len(first) == len(sites) or largest > LARGEST_CLUSTER:
+        # No clusters, or one so large (a sphere's poles are all its centre) that measuring
+        # its members for every query would take more memory and time than the tree.
+        return cKDTree(sites).query(queries, workers=-1)
+    spread = float(np.linalg.norm(sites - sites[first][cluster], axis=1).max())
+    order = np.argsort(cluster, kind="stable")
+    start = np.searchsorted(cluster[order], np.arange(len(first) + 1))
+    tree = cKDTree(sites[first])
+    distance, index = np.empty(len(queries)), np.empty(len(queries), dtype=np.int64)
+    chunk = max(1, NEAREST_PAIRS // (2 * largest))
+    for lo in range(0, len(queries), chunk):
+        todo = np.arange(lo, min(lo + chunk, len(queries)))
+        k = min(NEAREST_CLUSTERS, len(first))
+        while len(todo):
+            reach, near = tree.query(queries[todo], k=k, workers=-1)
+            reach, near = reach.reshape(len(todo), k), near.reshape(len(todo), k)
+            # Every member lies within `spread` of its cluster's first site.
+            slack = 2 * spread * (1 + 1e-9) + 1e-15 * reach[:, :1]
+            within = reach <= reach[:, :1] + slack
+            done = ~within[:, -1] | (k == len(first))
+            rows = todo[done]
+            found = _members_nearest(sites, order, start, queries[rows], near[done], within[done])
+            distance[rows], index[rows] = found
+            todo, k = todo[~done], min(4 * k, len(first))
+    return distance, index
+
+
+def _members_nearest(sites, order, start, queries, clusters, use):
+    """Nearest member of the ``clusters`` (where ``use``) of each query: (distance, index)."""
+    if not len(queries):
+        return np.zeros(0), np.zeros(0, dtype=np.int64)
+    row, column = np.nonzero(use)
+    cluster = clusters[row, column]
+    sizes = start[cluster + 1] - start[cluster]
+    owner = np.repeat(row, sizes)
+    member = order[
+        np.repeat(start[cluster], sizes)
+        + np.arange(sizes.sum())
+        - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    ]
+    gap = np.linalg.norm(sites[member] - queries[owner], axis=1)
+    # The nearest member per query (entries are grouped by query), the lowest index among
+    # equals.
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    nearest = np.minimum.reduceat(gap, starts)
+    best = np.where(gap == np.repeat(nearest, np.diff(np.r_[starts, len(gap)])), member, len(sites))
+    return nearest, np.minimum.reduceat(best, starts)
+
+
 def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.ndarray:
     """The pole tetrahedra after the consistency test: no sample inside the ball of its nearest
     pole (closer to its centre than ``bound``). ``usable`` is updated in place.
@@ -194,8 +265,6 @@ def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.
     circumcentre whose ball holds the same sample; the nearest poles are then updated only
     for the samples that lost theirs or that a new pole is closer to.
     """
-    from scipy.spatial import cKDTree
-
     ends = np.r_[starts[1:], len(candidates)].astype(np.int64)
     chosen = np.zeros(0, dtype=np.int64)
     nearest = np.full(len(points), -1)
@@ -214,10 +283,10 @@ def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.
         kept = np.flatnonzero(np.isin(nearest, current))
         chosen = current
         if len(lost):
-            gap[lost], index = cKDTree(centres[chosen]).query(points[lost], workers=-1)
+            gap[lost], index = nearest_site(centres[chosen], points[lost])
             nearest[lost] = chosen[index]
         if len(new) and len(kept):
-            distance, index = cKDTree(centres[new]).query(points[kept], workers=-1)
+            distance, index = nearest_site(centres[new], points[kept])
             closer = distance < gap[kept]
             gap[kept[closer]], nearest[kept[closer]] = distance[closer], new[index[closer]]
         depth = bound[nearest] - gap

@@ -21,6 +21,11 @@ NEAREST = 16
 """Pieces tried first per point and group (then four times as many, as long as needed)."""
 PAIR_CHUNK = 2_000_000
 """(point, triangle) pairs evaluated together (bounds the temporaries to about 0.5 GB)."""
+PLANE_RTOL = 1e-6
+"""A triangle whose doubled area is below PLANE_RTOL·size² (size: the radius of its circle
+about the centroid) is ruled out by that circle only, not by its plane."""
+MEET_SLACK = 1e-9
+"""Relative enlargement of the ball in the test that rules triangles out."""
 PARALLEL_RTOL = 1e-12
 """1 − |n_T·d| below this: the tangent plane and T's plane are parallel for the plane case."""
 
@@ -94,10 +99,13 @@ def largest_empty_radius(
     """Per point, the largest ball tangent at it along ``directions`` containing no point of
     an allowed triangle (``allowed[point_group, triangle_group]``), capped at ``limit``.
 
-    Balls tangent at one point in one direction are nested, so only pieces that meet the ball
-    of radius ``limit`` can matter: those whose centroid is within limit + (largest piece
-    radius) of its centre. They are tried nearest first, NEAREST at a time and then four
-    times as many, while more may lie in reach.
+    Balls tangent at one point in one direction are nested, so only triangles that meet the
+    ball of radius ``limit`` can matter. Per group of triangles, a k-d tree of their centroids
+    finds the candidates nearest first, NEAREST at a time and then four times as many, while
+    more may lie in reach: around the ball's centre, within its radius plus the largest
+    triangle's; or, for a group that lies within a thin slab (a flat patch), around the foot of
+    the centre on the slab's plane, within the radius of the disk the ball cuts from the slab.
+    Candidates that cannot meet the ball (:func:`_may_meet`) are not evaluated.
 
     Parameters
     ----------
@@ -108,42 +116,124 @@ def largest_empty_radius(
     limit : ndarray (n,)
         Radii already known to bound the answer (e.g. half the thickness).
     """
-    from scipy.spatial import cKDTree
+    return TangentBalls(triangles, triangle_group, allowed)(points, directions, point_group, limit)
 
-    best = np.asarray(limit, dtype=float).copy()
-    for group in np.unique(triangle_group):
-        mine = np.flatnonzero(triangle_group == group)
-        users = np.flatnonzero(allowed[point_group, group] & np.isfinite(best))
-        if not len(users) or not len(mine):
-            continue
-        pieces = triangles[mine]
-        centroid = pieces.mean(axis=1)
-        pad = float(np.linalg.norm(pieces - centroid[:, None], axis=2).max())
-        tree = cKDTree(centroid)
-        reach = best[users] + pad
-        centre = points[users] + best[users][:, None] * directions[users]
-        k, done = NEAREST, 0
+
+class TangentBalls:
+    """:func:`largest_empty_radius` against one set of triangles, asked many times (the
+    search structures of each group are built once, when first needed)."""
+
+    def __init__(self, triangles: np.ndarray, triangle_group: np.ndarray, allowed: np.ndarray):
+        self.triangles, self.triangle_group, self.allowed = triangles, triangle_group, allowed
+        self._groups: dict[int, _TriangleGroup] = {}
+
+    def __call__(self, points, directions, point_group, limit) -> np.ndarray:
+        best = np.asarray(limit, dtype=float).copy()
+        for group in np.unique(self.triangle_group):
+            users = np.flatnonzero(self.allowed[point_group, group] & np.isfinite(best))
+            if len(users):
+                self._group(int(group)).shrink(points, directions, users, best)
+        return best
+
+    def _group(self, group: int) -> _TriangleGroup:
+        if group not in self._groups:
+            pieces = self.triangles[self.triangle_group == group]
+            self._groups[group] = _TriangleGroup(pieces)
+        return self._groups[group]
+
+
+class _TriangleGroup:
+    """The triangles of one group, with what the search needs: centroids in a k-d tree, the
+    radius of each one's circle about its centroid, unit normals, and the group's plane."""
+
+    def __init__(self, pieces: np.ndarray):
+        from scipy.spatial import cKDTree
+
+        self.pieces = pieces
+        self.centroid = pieces.mean(axis=1)
+        self.size = np.linalg.norm(pieces - self.centroid[:, None], axis=2).max(axis=1)
+        normal = np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
+        length = np.linalg.norm(normal, axis=1)
+        widest = int(np.argmax(length))
+        # A sliver's plane is not known well enough to rule it out by its plane.
+        normal = np.where((length > PLANE_RTOL * self.size**2)[:, None], normal, 0.0)
+        self.normal = normal / np.where(length > 0, length, 1.0)[:, None]
+        self.pad = float(self.size.max())
+        self.tree = cKDTree(self.centroid)
+        # The slab around the plane of the largest triangle that holds every corner.
+        self.plane_normal, self.plane_point = self.normal[widest], pieces[widest, 0]
+        self.slab = float(np.abs((pieces - self.plane_point) @ self.plane_normal).max())
+        self.flat = bool(self.normal[widest].any()) and self.slab < self.pad
+
+    def shrink(self, points, directions, users, best) -> None:
+        """Lower ``best[users]`` to the largest ball tangent at each point that no triangle of
+        the group enters (in place)."""
+        k = NEAREST
         while len(users):
-            k_eff = min(k, len(mine))
-            dist, index = tree.query(
-                centre, k=k_eff, distance_upper_bound=float(reach.max()), workers=-1
+            centre = points[users] + best[users][:, None] * directions[users]
+            around, reach = self._search_ball(centre, best[users])
+            users, around, reach, centre = (
+                users[reach > 0],
+                around[reach > 0],
+                reach[reach > 0],
+                centre[reach > 0],
+            )
+            if not len(users):
+                return
+            k_eff = min(k, len(self.pieces))
+            dist, index = self.tree.query(
+                around, k=k_eff, distance_upper_bound=float(reach.max()), workers=-1
             )
             dist, index = dist.reshape(len(users), -1), index.reshape(len(users), -1)
-            valid = (index < len(mine)) & (dist <= reach[:, None])
-            valid[:, :done] = False  # tried in the previous pass
-            owner = np.repeat(users, valid.sum(axis=1))
+            valid = (index < len(self.pieces)) & (dist <= reach[:, None])
+            row = np.repeat(np.arange(len(users)), valid.sum(axis=1))
             found = index[valid]
+            meets = _may_meet(
+                centre[row],
+                best[users[row]],
+                self.centroid[found],
+                self.normal[found],
+                self.size[found],
+            )
+            owner, found = users[row[meets]], found[meets]
             for lo in range(0, len(owner), PAIR_CHUNK):
                 o, f = owner[lo : lo + PAIR_CHUNK], found[lo : lo + PAIR_CHUNK]
-                tri = pieces[f]
+                tri = self.pieces[f]
                 value = tangent_radius(points[o], directions[o], tri[:, 0], tri[:, 1], tri[:, 2])
                 np.minimum.at(best, o, value)
-            # More pieces may meet the ball only where all k were in reach.
-            more = (dist[:, -1] <= reach) & (index[:, -1] < len(mine)) & (k_eff < len(mine))
-            users = users[more]
-            # The balls shrank: a smaller ball tangent at the same point lies inside the
-            # larger one, so only pieces that meet the new one still matter.
-            reach = best[users] + pad
-            centre = points[users] + best[users][:, None] * directions[users]
-            done, k = k_eff, 4 * k
-    return best
+            # More triangles may meet the ball only where all k were in reach; they are
+            # searched again around the shrunk ball (every triangle that meets it met the
+            # larger one), the first k again too (evaluating one twice changes nothing).
+            more = (dist[:, -1] <= reach) & (index[:, -1] < len(self.pieces))
+            if k_eff == len(self.pieces):
+                return
+            users, k = users[more], 4 * k
+
+    def _search_ball(self, centre, radius):
+        """Where to look for the centroids of triangles that may meet each ball, and how far
+        (0: nowhere)."""
+        radius = radius * (1 + MEET_SLACK)
+        if not self.flat:
+            return centre, radius + self.pad
+        height = (centre - self.plane_point) @ self.plane_normal
+        foot = centre - height[:, None] * self.plane_normal
+        # Points of the slab in the ball project into this disk around the foot.
+        gap = np.maximum(np.abs(height) - self.slab, 0)
+        disk = np.sqrt(np.maximum(radius * radius - gap * gap, 0))
+        return foot, np.where(gap < radius, disk + self.pad + self.slab, 0.0)
+
+
+def _may_meet(centre, radius, centroid, normal, size) -> np.ndarray:
+    """False where a triangle cannot meet the open ball (centre, radius): its plane is out of
+    reach, or the disk the ball cuts from that plane misses the circle around the triangle's
+    centroid (``size``) that contains it. A triangle that
+    misses the ball of the current best radius cannot lower it (the balls are nested). A zero
+    ``normal`` tests the circle alone. The ball is taken MEET_SLACK larger, so that a triangle
+    left out would not have lowered the radius even by a rounding error."""
+    radius = radius * (1 + MEET_SLACK)
+    offset = centre - centroid
+    distance = np.sqrt((offset * offset).sum(axis=1))
+    height = (offset * normal).sum(axis=1)
+    across = radius * radius - height * height  # squared radius of the disk
+    in_plane = np.sqrt(np.maximum(distance * distance - height * height, 0))
+    return (across > 0) & (in_plane < np.sqrt(np.maximum(across, 0)) + size)

@@ -17,6 +17,7 @@ libigl's ``AABB.intersect_ray`` (Jacobson, Panozzo et al., https://libigl.github
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,9 +27,10 @@ RAY_START_RTOL = 1e-9
 RAY_CHUNK = 100_000
 """Rays cast together."""
 RAY_TILT = 1e-5
-"""Each ray is tilted by about this angle (radians, fixed pseudo-random): the AABB test misses
-a hit exactly on an edge or a vertex, which the aligned grids of CAD parts produce; the tilt
-moves the hit off it and changes distances by about RAY_TILT²/2 relative."""
+"""Each ray is tilted by about this angle (radians, pseudo-random but fixed by the ray's
+origin, so that a point gets the same rays in every round): the AABB test misses a hit exactly
+on an edge or a vertex, which the aligned grids of CAD parts produce; the tilt moves the hit
+off it and changes distances by about RAY_TILT²/2 relative."""
 
 
 @dataclass(frozen=True)
@@ -45,6 +47,21 @@ class Thickness:
     """+1 where the given normal points into the solid, −1 where it points out, 0 unknown."""
 
 
+@dataclass(frozen=True)
+class Hits:
+    """Ray hits as flat arrays, sorted by ray and, within a ray, by distance."""
+
+    ray: np.ndarray
+    face: np.ndarray
+    t: np.ndarray
+    """Distance along the ray."""
+    uv: np.ndarray
+    """(h, 2) barycentric coordinates of the hit on its face (weights of corners 1 and 2)."""
+
+    def take(self, keep: np.ndarray) -> Hits:
+        return Hits(self.ray[keep], self.face[keep], self.t[keep], self.uv[keep])
+
+
 class RayCaster:
     """An AABB tree of a triangle mesh (libigl) with ray and distance queries."""
 
@@ -58,22 +75,28 @@ class RayCaster:
         diagonal = float(np.linalg.norm(self.points.max(axis=0) - self.points.min(axis=0)))
         self.start = RAY_START_RTOL * diagonal
 
-    def hits(self, origins: np.ndarray, directions: np.ndarray) -> list:
-        """All hits (face, t, u, v) of each ray, in no particular order (rays tilted by
-        RAY_TILT)."""
-        tilt = np.random.default_rng(len(origins)).standard_normal(directions.shape)
-        directions = directions + RAY_TILT * tilt
+    def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
+        """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
+        directions = directions + RAY_TILT * _tilt(origins)
         directions = directions / np.linalg.norm(directions, axis=1)[:, None]
-        out = []
+        counts, values = [], []
         for first in range(0, len(origins), RAY_CHUNK):
             block = slice(first, first + RAY_CHUNK)
-            out += self.tree.intersect_ray(
+            found = self.tree.intersect_ray(
                 self.points,
                 self.faces,
                 np.ascontiguousarray(origins[block]),
                 np.ascontiguousarray(directions[block]),
             )
-        return out
+            counts.append(np.fromiter(map(len, found), dtype=np.int64, count=len(found)))
+            flat = itertools.chain.from_iterable(itertools.chain.from_iterable(found))
+            values.append(np.fromiter(flat, dtype=float).reshape(-1, 4))
+        counts = np.concatenate(counts) if counts else np.zeros(0, dtype=np.int64)
+        values = np.concatenate(values) if values else np.zeros((0, 4))
+        ray = np.repeat(np.arange(len(origins)), counts)
+        order = np.lexsort((values[:, 1], ray))  # libigl does not sort
+        values = values[order]
+        return Hits(ray[order], values[:, 0].astype(np.int64), values[:, 1], values[:, 2:])
 
     def closest(self, queries: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(distance, face, closest point) of each query point to the mesh."""
@@ -81,6 +104,28 @@ class RayCaster:
             self.points, self.faces, np.ascontiguousarray(queries, dtype=float)
         )
         return np.sqrt(squared), face, point
+
+
+def _tilt(origins: np.ndarray) -> np.ndarray:
+    """(n, 3) pseudo-random numbers in [−1, 1), a function of each origin's coordinates (their
+    bits hashed by the splitmix64 finalizer)."""
+    bits = np.ascontiguousarray(origins, dtype=float).view(np.uint64).reshape(-1, 3)
+    golden = np.uint64(0x9E3779B97F4A7C15)
+    state = np.full(len(bits), golden)
+    for column in range(3):
+        state = _mix(state ^ bits[:, column])
+    out = np.empty(bits.shape)
+    for column in range(3):
+        state = _mix(state + golden)
+        out[:, column] = (state >> np.uint64(11)) * 2.0**-52 - 1.0
+    return out
+
+
+def _mix(state: np.ndarray) -> np.ndarray:
+    """The splitmix64 finalizer (uint64 arithmetic wraps)."""
+    state = (state ^ (state >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    state = (state ^ (state >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return state ^ (state >> np.uint64(31))
 
 
 def thickness(
@@ -120,59 +165,73 @@ def thickness(
     same = (face_group, origin_group)
     forward = _first_hits(caster, origins, normals, origin_face, lift, near, same)
     backward = _first_hits(caster, origins, -normals, origin_face, lift, near, same)
+    f_count = np.bincount(forward.ray, minlength=n)
+    b_count = np.bincount(backward.ray, minlength=n)
+    f_odd, b_odd = f_count % 2 == 1, b_count % 2 == 1
+    known = f_odd != b_odd  # else an open mesh, or a ray grazing an edge: no side is known
+    sign = np.where(known, np.where(f_odd, 1, -1), 0).astype(np.int8)
     inward = np.full(n, np.inf)
     outward = np.full(n, np.inf)
-    known = np.zeros(n, dtype=bool)
-    sign = np.zeros(n, dtype=np.int8)
-    for k in range(n):
-        f_hits, b_hits = forward[k], backward[k]
-        f_odd, b_odd = len(f_hits) % 2 == 1, len(b_hits) % 2 == 1
-        if f_odd == b_odd:  # open mesh, or a ray grazing an edge: no side is known
-            both = f_hits + b_hits
-            ok = [t for face, t in both if allowed[origin_group[k], face_group[face]]]
-            outward[k] = min(ok, default=np.inf)
-            continue
-        known[k] = True
-        sign[k] = 1 if f_odd else -1
-        inner, outer = (f_hits, b_hits) if f_odd else (b_hits, f_hits)
-        inward[k] = inner[0][1] if inner else np.inf
-        ok = [t for face, t in outer if allowed[origin_group[k], face_group[face]]]
-        outward[k] = ok[0] if ok else np.inf
+    for hits, inner in ((forward, f_odd), (backward, b_odd)):
+        ok = allowed[origin_group[hits.ray], face_group[hits.face]]
+        # Known side: the first hit inward (any face), the first allowed one outward.
+        first = _first_per_ray(hits.ray)
+        rows = hits.ray[first]
+        inside = known[rows] & inner[rows]
+        inward[rows[inside]] = hits.t[first[inside]]
+        first = _first_per_ray(hits.ray, ok)
+        rows = hits.ray[first]
+        outside = known[rows] & ~inner[rows]
+        outward[rows[outside]] = hits.t[first[outside]]
+        # Unknown side: the nearest allowed hit either way.
+        unknown = ~known[hits.ray] & ok
+        np.minimum.at(outward, hits.ray[unknown], hits.t[unknown])
     return Thickness(inward, outward, known, sign)
 
 
-def _first_hits(
-    caster: RayCaster, origins, directions, origin_face, lift, near, groups
-) -> list[list]:
-    """Per ray, its hits beyond the start distance as (face, t), skipping the own face, hits
-    on the own patch nearer than ``near`` and repeated hits of one crossing (a ray through an
-    edge hits both of its faces); with ``lift``, t of a hit on a curved face is the distance
-    to its point on the smooth surface. A hit on another patch always counts (a thin part's
-    other side may be nearer than a long triangle's size)."""
+def _first_per_ray(ray: np.ndarray, keep: np.ndarray | None = None) -> np.ndarray:
+    """Index of the first entry of each ray (among ``keep``) in arrays sorted by ray."""
+    index = np.arange(len(ray)) if keep is None else np.flatnonzero(keep)
+    if not len(index):
+        return index
+    starts = np.r_[True, ray[index[1:]] != ray[index[:-1]]]
+    return index[starts]
+
+
+def _first_hits(caster: RayCaster, origins, directions, origin_face, lift, near, groups) -> Hits:
+    """Per ray, its hits beyond the start distance, skipping the own face, hits on the own
+    patch nearer than ``near`` and repeated hits of one crossing (a ray through an edge hits
+    both of its faces), in order; with ``lift``, t of a hit on a curved face is the distance
+    to its point on the smooth surface (the order stays that of the flat hits). A hit on
+    another patch always counts (a thin part's other side may be nearer than a long
+    triangle's size)."""
     face_group, origin_group = groups
-    raw = caster.hits(origins, directions)
-    out, lifted = [], []
-    for k, hits in enumerate(raw):
-        kept, last = [], -np.inf
-        for face, t, u, v in sorted(hits, key=lambda hit: hit[1]):  # libigl does not sort
-            if t <= caster.start or face == origin_face[k]:
-                continue
-            if t <= near[k] and face_group[face] == origin_group[k]:
-                continue
-            if t - last <= caster.start:  # the same crossing through an edge or a vertex
-                continue
-            kept.append([face, t])
-            lifted.append((k, len(kept) - 1, face, u, v))
-            last = t
-        out.append(kept)
-    if lift is not None and lifted:
-        rows = np.array([(k, j) for k, j, *_ in lifted], dtype=np.int64)
-        faces = np.array([f for _, _, f, _, _ in lifted], dtype=np.int64)
-        uv = np.array([(u, v) for *_, u, v in lifted], dtype=float)
-        bary = np.c_[1 - uv.sum(axis=1), uv]
-        points, moved = lift(faces, bary)
-        distance = np.linalg.norm(points - origins[rows[:, 0]], axis=1)
-        for (k, j), d, m in zip(rows.tolist(), distance.tolist(), moved.tolist(), strict=True):
-            if m:
-                out[k][j][1] = d
-    return [[(face, t) for face, t in kept] for kept in out]
+    hits = caster.hits(origins, directions)
+    own = (hits.t <= caster.start) | (hits.face == origin_face[hits.ray])
+    own |= (hits.t <= near[hits.ray]) & (face_group[hits.face] == origin_group[hits.ray])
+    hits = hits.take(~own)
+    hits = hits.take(_distinct_crossings(hits.ray, hits.t, caster.start))
+    if lift is not None and len(hits.t):
+        bary = np.c_[1 - hits.uv.sum(axis=1), hits.uv]
+        points, moved = lift(hits.face, bary)
+        distance = np.linalg.norm(points - origins[hits.ray], axis=1)
+        hits = Hits(hits.ray, hits.face, np.where(moved, distance, hits.t), hits.uv)
+    return hits
+
+
+def _distinct_crossings(ray: np.ndarray, t: np.ndarray, gap: float) -> np.ndarray:
+    """Which hits to keep (sorted by ray and t): each one more than ``gap`` beyond the last
+    kept hit of its ray."""
+    new_ray = np.r_[True, ray[1:] != ray[:-1]] if len(ray) else np.zeros(0, dtype=bool)
+    close = ~new_ray & (np.diff(t, prepend=-np.inf) <= gap)
+    keep = ~close
+    # Where two close steps follow each other the last kept hit is not the previous one:
+    # walk those rays one hit at a time (rare: a ray through a vertex).
+    chained = close[1:] & close[:-1]
+    for r in np.unique(ray[1:][chained]):
+        last = -np.inf
+        for row in range(np.searchsorted(ray, r), np.searchsorted(ray, r, side="right")):
+            keep[row] = t[row] - last > gap
+            if keep[row]:
+                last = t[row]
+    return keep

@@ -1,0 +1,195 @@
+"""The searches behind the speed of ``vorobound lfs`` give what a brute-force loop over every
+candidate gives: the largest empty tangent balls, the Lipschitz envelope with site radii, the
+feature cap, and the per-site values kept from one refinement round to the next."""
+
+import numpy as np
+import pytest
+
+from vorobound.sampling.lfs.tangent_ball import largest_empty_radius, tangent_radius
+
+
+def _patches(rng):
+    """Triangles of three groups: a flat square (z = 1), a curved cap (sphere of radius 2 about
+    the origin, above z = 1.2) and a few long slivers (z = −1): (triangles, group)."""
+    grid = np.stack(np.meshgrid(np.linspace(-1, 1, 9), np.linspace(-1, 1, 9)), -1)
+    corners = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]
+    quads = np.stack([c.reshape(-1, 2) for c in corners], axis=1)
+    flat = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    flat = np.concatenate([flat, np.ones(flat.shape[:2] + (1,))], axis=2)
+    direction = rng.normal(size=(60, 3, 3)) * 0.2 + [0, 0, 1]
+    cap = 2 * direction / np.linalg.norm(direction, axis=2, keepdims=True)
+    start = rng.uniform(-1, 1, (10, 2))
+    sliver = np.stack(
+        [
+            np.c_[start, -np.ones(10)],
+            np.c_[start + [3, 0.01], -np.ones(10)],
+            np.c_[start + [3, 0.0], -np.ones(10)],
+        ],
+        axis=1,
+    )
+    triangles = np.concatenate([flat, cap, sliver])
+    group = np.repeat([0, 1, 2], [len(flat), len(cap), len(sliver)])
+    return triangles, group
+
+
+def _brute(points, directions, point_group, triangles, triangle_group, allowed, limit):
+    out = np.asarray(limit, dtype=float).copy()
+    for i in range(len(points)):
+        ok = allowed[point_group[i], triangle_group]
+        if ok.any() and np.isfinite(out[i]):
+            n = int(ok.sum())
+            x, d = np.repeat(points[i : i + 1], n, 0), np.repeat(directions[i : i + 1], n, 0)
+            t = triangles[ok]
+            out[i] = min(out[i], tangent_radius(x, d, t[:, 0], t[:, 1], t[:, 2]).min())
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_largest_empty_radius_is_the_brute_force_minimum(seed):
+    rng = np.random.default_rng(seed)
+    triangles, group = _patches(rng)
+    count = 400
+    points = rng.uniform(-1.2, 1.2, (count, 3)) * [1, 1, 0.8]
+    directions = rng.normal(size=(count, 3))
+    directions /= np.linalg.norm(directions, axis=1)[:, None]
+    point_group = rng.integers(0, 4, count)  # group 3 may touch everything
+    allowed = np.ones((4, 3), dtype=bool)
+    allowed[0, 0] = allowed[1, 1] = allowed[2, 2] = False
+    limit = rng.choice([0.05, 0.5, 3.0, np.inf], count)
+    args = (points, directions, point_group, triangles, group, allowed, limit)
+    got = largest_empty_radius(*args)
+    assert np.array_equal(got, _brute(*args))
+    assert (got <= limit).all() and (got < limit).any()
+
+
+def test_a_ball_tangent_to_a_flat_patch_stops_at_the_plane():
+    """From a point one unit below the flat square, straight up: the ball of radius 1/2."""
+    rng = np.random.default_rng(0)
+    triangles, group = _patches(rng)
+    points = np.array([[0.13, -0.21, 0.0], [0.5, 0.5, 0.0]])
+    up = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    allowed = np.array([[True, False, False]])
+    got = largest_empty_radius(points, up, np.zeros(2, int), triangles, group, allowed, [5, 0.3])
+    assert got == pytest.approx([0.5, 0.3], rel=1e-14)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_tangent_balls_taken_over_from_the_last_round_equal_new_ones(seed):
+    """The memo of the refinement rounds (vorobound/sampling/lfs/memo.py): a ball searched
+    from one cap gives the ball for another cap exactly, or is searched again."""
+    from types import SimpleNamespace
+
+    from vorobound.sampling.lfs.estimate import _last_balls, _tangent_balls
+    from vorobound.sampling.lfs.memo import RoundMemo, site_keys
+    from vorobound.sampling.lfs.tangent_ball import TangentBalls
+
+    rng = np.random.default_rng(seed)
+    triangles, group = _patches(rng)
+    count = 300
+    points = rng.uniform(-1.2, 1.2, (count, 3)) * [1, 1, 0.8]
+    normals = rng.normal(size=(count, 3))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    point_group = rng.integers(0, 4, count)
+    allowed = np.ones((4, 3), dtype=bool)
+    allowed[0, 0] = allowed[1, 1] = allowed[2, 2] = False
+    ray = SimpleNamespace(
+        inward_sign=rng.choice([-1, 0, 1], count),
+        outward=rng.choice([0.5, np.inf], count),
+    )
+    balls = TangentBalls(triangles, group, allowed)
+    memo, keys = RoundMemo(), site_keys(1, np.arange(count), points)
+    first_cap = rng.choice([0.05, 0.3, 1.0, 3.0], count)
+    none = _last_balls(memo, memo.match(keys))
+    _, remembered = _tangent_balls(balls, points, normals, ray, point_group, first_cap, none)
+    memo.remember(keys, **remembered)
+    cap = first_cap * rng.choice([0.5, 1.0, 2.0], count)  # lower, equal and higher caps
+    again, _ = _tangent_balls(
+        balls, points, normals, ray, point_group, cap, _last_balls(memo, memo.match(keys))
+    )
+    fresh, _ = _tangent_balls(balls, points, normals, ray, point_group, cap, none)
+    assert np.array_equal(again, fresh)
+    assert (fresh < cap).any()
+
+
+def test_repeated_crossings_are_dropped_in_order():
+    """A hit within the gap of the last kept hit of its ray is the same crossing (edges and
+    vertices are hit by every face around them); a chain of close hits keeps every one that is
+    past the gap from the last kept one."""
+    from vorobound.sampling.lfs.thickness import _distinct_crossings
+
+    rng = np.random.default_rng(0)
+    ray = np.sort(rng.integers(0, 200, 3000))
+    t = rng.uniform(0, 1, 3000)
+    t[::3] = t[1::3][: len(t[::3])]  # exact repeats
+    t[2::7] += 1e-9
+    gap = 1.5e-9
+    # A chain: the third hit is within the gap of the second, past it from the first.
+    ray = np.r_[ray, [500] * 4]
+    t = np.r_[t, 0.5 + gap * np.array([0.0, 0.9, 1.8, 2.0])]
+    order = np.lexsort((t, ray))
+    ray, t = ray[order], t[order]
+    expected = np.zeros(len(t), dtype=bool)
+    last = {}
+    for row in range(len(t)):
+        if t[row] - last.get(ray[row], -np.inf) > gap:
+            expected[row] = True
+            last[ray[row]] = t[row]
+    got = _distinct_crossings(ray, t, gap)
+    assert np.array_equal(got, expected)
+    assert got[ray == 500].tolist() == [True, False, True, False]
+    assert (~got).sum() > 100
+
+
+@pytest.mark.parametrize("kind", ["envelope", "cap"])
+def test_envelope_and_cap_with_radii_match_brute_force(kind):
+    """Several chunks of queries (run on threads), sites with radii, from the nearest sites'
+    cones as first bounds: the branch and bound gives the brute-force minimum."""
+    from vorobound.sampling.lfs.lipschitz import QUERY_CHUNK, DistanceCap, Envelope
+
+    rng = np.random.default_rng(3)
+    sites = rng.normal(size=(1500, 3)) * [3, 1, 0.2]
+    values = rng.uniform(0.1, 2, len(sites))
+    radii = rng.uniform(0, 0.3, len(sites))
+    queries = np.vstack([sites[:100], rng.normal(size=(2 * QUERY_CHUNK + 7, 3)) * 2])
+    beyond = np.maximum(np.linalg.norm(queries[:, None] - sites[None], axis=2) - radii, 0)
+    if kind == "envelope":
+        got = Envelope(sites, values, 0.7, radii)(queries)
+        brute = (values + 0.7 * beyond).min(axis=1)
+    else:
+        upper = rng.uniform(0.5, 3, len(queries))
+        got = DistanceCap(sites, values, radii)(queries, upper=upper)
+        brute = np.minimum(np.maximum(values, beyond).min(axis=1), upper)
+    assert np.array_equal(got, brute)
+
+
+def test_an_envelope_sharing_the_tree_shape_of_another_is_the_same():
+    from vorobound.sampling.lfs.lipschitz import Envelope
+
+    rng = np.random.default_rng(4)
+    sites = rng.normal(size=(3000, 3))
+    queries = rng.normal(size=(500, 3))
+    first = Envelope(sites, rng.uniform(0, 1, len(sites)), 1.0)
+    values, radii = rng.uniform(0, 1, len(sites)), rng.uniform(0, 0.1, len(sites))
+    shared = Envelope(sites, values, 0.5, radii, like=first)
+    assert shared.tree.order is first.tree.order
+    assert np.array_equal(shared(queries), Envelope(sites, values, 0.5, radii)(queries))
+
+
+def test_nearest_site_among_coinciding_sites_is_exact():
+    """Sites in clusters that coincide to rounding (the circumcentres of cospherical samples)
+    and lone ones: the nearest is the brute-force nearest."""
+    from vorobound.sampling.lfs.medial import nearest_site
+
+    rng = np.random.default_rng(5)
+    centre = rng.normal(size=(40, 3))
+    sites = np.vstack(
+        [
+            np.repeat(centre, 50, axis=0) + 1e-13 * rng.normal(size=(2000, 3)),
+            rng.normal(size=(99, 3)),
+        ]
+    )
+    queries = np.vstack([rng.normal(size=(700, 3)), centre[:5] + 1e-12])
+    distance, index = nearest_site(sites, queries)
+    gaps = np.linalg.norm(queries[:, None] - sites[None], axis=2)
+    assert np.array_equal(distance, gaps.min(axis=1))
+    assert np.array_equal(gaps[np.arange(len(queries)), index], distance)
