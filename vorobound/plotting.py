@@ -152,20 +152,68 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
     ----------
     Theorem 1, eq. (29); the bounds of eq. (33)–(53).
     """
-    import math
-
-    import matplotlib
     import numpy as np
 
     gap_ratio = np.asarray(gap_ratio, dtype=float)
+    data_max = float(gap_ratio.max()) if len(gap_ratio) else 0.0
+    low = min(0.0, float(gap_ratio.min()) if len(gap_ratio) else 0.0)
+
+    def draw(ax, high):
+        if len(gap_ratio):
+            ax.hist(gap_ratio, bins=np.linspace(low, high * 1.05, 121), color="0.5", log=True)
+
+    return _gap_figure(draw, low, data_max, marks, f"{title}: {len(gap_ratio):,}", ax)
+
+
+def plot_gap_counts(edges, counts, gap_range, marks, title: str, ax=None):
+    """The same histogram from counts on fixed bins (a tiled check's merged histogram).
+
+    ``counts`` has one entry below ``edges[0]``, one per bin, and one at or above
+    ``edges[-1]``; ``gap_range`` is (min, max) of the data. Bins are grouped to about 120 bars
+    over the range shown; the values below the first edge join the first bar and those above
+    the last edge form one bar up to the maximum.
+    """
+    import numpy as np
+
+    edges, counts = np.asarray(edges, dtype=float), np.asarray(counts, dtype=np.int64)
+    data_min, data_max = gap_range
+    low = min(0.0, data_min)
+    total = int(counts.sum())
+
+    def draw(ax, high):
+        if not total:
+            return
+        shown = min(len(edges) - 1, int(np.searchsorted(edges, high * 1.05)) + 1)
+        group = max(1, -(-shown // 120))
+        bins = counts[1 : shown + 1]
+        bins = np.add.reduceat(bins, np.arange(0, shown, group))
+        lefts = edges[0:shown:group]
+        rights = np.append(lefts[1:], edges[min(shown, len(edges) - 1)])
+        bins[0] += counts[0]
+        lefts[0] = min(lefts[0], low)
+        rest = int(counts[shown + 1 :].sum())
+        if rest:
+            lefts, rights = (
+                np.append(lefts, rights[-1]),
+                np.append(rights, max(data_max, rights[-1])),
+            )
+            bins = np.append(bins, rest)
+        ax.bar(lefts, bins, width=rights - lefts, align="edge", color="0.5", log=True)
+
+    return _gap_figure(draw, low, data_max, marks, f"{title}: {total:,}", ax)
+
+
+def _gap_figure(draw, low: float, data_max: float, marks, title: str, ax=None):
+    """The gap histogram's axes: ``draw(ax, high)`` puts the bars, then the bounds' lines."""
+    import math
+
+    import matplotlib
+
     shown = [(mode, value, claim) for mode, value, claim in marks if math.isfinite(value)]
     with matplotlib.rc_context(_STYLE):
         fig, ax = _axes(ax)
-        data_max = float(gap_ratio.max()) if len(gap_ratio) else 0.0
-        low = min(0.0, float(gap_ratio.min()) if len(gap_ratio) else 0.0)
         high = max([data_max, 1e-12, *(value for _, value, _ in shown)])
-        if len(gap_ratio):
-            ax.hist(gap_ratio, bins=np.linspace(low, high * 1.05, 121), color="0.5", log=True)
+        draw(ax, high)
         for index, (mode, value, claim) in enumerate(shown):
             label = f"{mode} ({claim}): {value:.3g}"
             style = ("-", "--", "-.", ":")[index % 4]  # equal bounds stay visible
@@ -173,7 +221,7 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
         ax.set_xlim(low, high * 1.08)
         ax.set_xlabel(r"realized $(R - \hat R)\,/\,(\epsilon L_i)$")
         ax.set_ylabel("guide triangles")
-        ax.set_title(f"{title}: {len(gap_ratio):,} guide triangles")
+        ax.set_title(f"{title} guide triangles")
         ax.legend(loc="upper right")
         ax.grid(alpha=0.3)
     return fig

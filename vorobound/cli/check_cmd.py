@@ -22,6 +22,12 @@ class EngineChoice(str, Enum):
     brute = "brute"
 
 
+class TableChoice(str, Enum):
+    parquet = "parquet"
+    csv = "csv"
+    none = "none"
+
+
 def check(
     eps: Eps,
     sphere: SphereOpt = None,
@@ -54,7 +60,7 @@ def check(
         EngineChoice,
         typer.Option(
             "--engine",
-            help="Candidate triples: gudhi (weighted alpha complex, CGAL), hull (equal radii "
+            help="Candidate triples: gudhi (regular triangulation, CGAL), hull (equal radii "
             "on a sphere), brute (all overlapping triples; small inputs), auto (hull for a "
             "sphere, else gudhi if installed, else brute).",
         ),
@@ -70,6 +76,33 @@ def check(
     fmt_: Annotated[
         str, typer.Option("--format", help="Figure format for --out: png, pdf or svg.")
     ] = "png",
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            "--workers",
+            min=1,
+            help="Check --balls in tiles on this many local processes (1: tiles one after "
+            "another in this process), streaming the file: for samples too large for one "
+            "process (docs/scale.md). Same guide triangles and summary as without.",
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Check --balls in tiles on a dask.distributed cluster, e.g. "
+            "tcp://127.0.0.1:8786 (pip install 'vorobound[dask]').",
+        ),
+    ] = None,
+    table: Annotated[
+        TableChoice | None,
+        typer.Option(
+            "--table",
+            help="With --workers/--scheduler and --out: per-triangle rows as a Parquet "
+            "dataset triangles/ (default; needs pyarrow), one triangles.csv, or none. "
+            "sample.vtu then holds a share of the triangles (docs/scale.md).",
+        ),
+    ] = None,
     as_json: Json = False,
 ) -> None:
     """Sample a surface (or read balls) and measure every guide triangle against the bounds.
@@ -92,6 +125,22 @@ def check(
         checked_folder(out)
     quality = quality_params(sigma, delta_ratio, rho_f)
     params = SamplingParams(eps, quality)
+    if table is not None and workers is None and scheduler is None:
+        raise InputError("--table goes with --workers or --scheduler (a tiled check)")
+    if workers is not None or scheduler is not None:
+        return _check_tiled(
+            balls,
+            params,
+            lipschitz,
+            engine,
+            workers,
+            scheduler,
+            table,
+            out,
+            fmt_,
+            as_json,
+            (sphere, torus, mesh, lfs, sizing),
+        )
     with progress_bar(not as_json) as progress:
         shape = surface_shape(sphere, torus, mesh, lfs, sizing, balls is None, progress)
         if balls is not None:
@@ -126,6 +175,62 @@ def _write_outputs(report, out, fmt_: str) -> list:
     figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
     writers[folder / f"{GAP_HISTOGRAM_STEM}.{fmt_}"] = figure_writer(figure, fmt_)
     return write_set(writers)
+
+
+def _check_tiled(
+    balls, params, lipschitz, engine, workers, scheduler, table, out, fmt_, as_json, surfaces
+) -> None:
+    """``check --balls`` in tiles (reports/check_tiled.py); outputs as one set."""
+    from contextlib import nullcontext
+
+    from ..bounds.params import checked_lipschitz
+    from ..reports.check import GAP_HISTOGRAM_STEM
+    from ..reports.check_tiled import TiledOutputs, check_ball_file, histogram_marks
+
+    if balls is None:
+        raise InputError("--workers and --scheduler go with --balls")
+    if any(option is not None for option in surfaces):
+        raise InputError(
+            "coverage against a surface needs every ball at once: drop the surface option "
+            "or --workers/--scheduler"
+        )
+    if table is not None and out is None:
+        raise InputError("--table says how --out writes the rows: give --out too")
+    table = table or (TableChoice.parquet if _has_pyarrow() else TableChoice.none)
+    lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
+    staging = TiledOutputs(out, table.value) if out is not None else nullcontext()
+    with progress_bar(not as_json) as progress, staging as outputs:
+        report = check_ball_file(
+            balls, params, lam, engine.value, workers or 1, scheduler, outputs, progress
+        )
+        written = []
+        if outputs is not None:
+            from ..plotting import figure_writer, plot_gap_counts
+
+            g = report.guides
+            figure = plot_gap_counts(
+                report.gap_edges,
+                g.histogram,
+                (g.gap_min, g.maxima.get("gap_ratio", 0.0)),
+                histogram_marks(report),
+                report.source,
+            )
+            writers = outputs.writers(report)
+            writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{fmt_}"] = figure_writer(figure, fmt_)
+            written = outputs.publish(writers)
+        summary = report.summary() | ({} if outputs is None else {"rows": outputs.rows(report)})
+    if as_json:
+        print_json(summary | {"written": [str(p) for p in written]})
+        return
+    _print_summary(summary)
+    for path in written:
+        print(f"wrote {path}")
+
+
+def _has_pyarrow() -> bool:
+    from ..sampling.io.stream import pyarrow_available
+
+    return pyarrow_available()
 
 
 def _print_summary(s: dict) -> None:

@@ -42,22 +42,43 @@ def make_balls(centers, radii, what: str = "balls") -> Balls:
         Wrong shapes, NaN or infinite values, radii ≤ 0, duplicate centers, fewer than
         ``MIN_BALLS`` balls.
     """
+    centers, radii = checked_rows(centers, radii, what)
+    if len(radii) < MIN_BALLS:
+        raise InputError(f"{what}: need at least {MIN_BALLS} balls, got {len(radii)}")
+    order = np.lexsort(centers.T[::-1])
+    same = np.flatnonzero((np.diff(centers[order], axis=0) == 0).all(axis=1))
+    if len(same):
+        first, second = sorted((int(order[same[0]]), int(order[same[0] + 1])))
+        raise InputError(
+            f"{what}: centers {first} and {second} coincide ({len(same)} duplicate pairs)"
+        )
+    return Balls(np.ascontiguousarray(centers), np.ascontiguousarray(radii))
+
+
+def checked_rows(centers, radii, what: str = "balls", first_row: int = 0):
+    """``centers`` (n, 3) and ``radii`` (n,) as float arrays if every row is a valid ball
+    (finite, positive radius, within ``LENGTH_RANGE``); rows are numbered from ``first_row``
+    in messages (a chunk of a larger file). The checks of :func:`make_balls` that need the
+    whole set (count, duplicates) are not made here.
+    """
     centers = np.asarray(centers, dtype=float)
     radii = np.asarray(radii, dtype=float)
     if centers.ndim != 2 or centers.shape[1] != 3:
         raise InputError(f"{what}: centers must have shape (n, 3), got {centers.shape}")
     if radii.shape != (len(centers),):
         raise InputError(f"{what}: {len(centers)} centers but radii of shape {radii.shape}")
-    if len(radii) < MIN_BALLS:
-        raise InputError(f"{what}: need at least {MIN_BALLS} balls, got {len(radii)}")
+    if not len(radii):
+        return centers, radii
     bad = np.flatnonzero(~np.isfinite(centers).all(axis=1))
     if len(bad):
-        raise InputError(f"{what}: center {bad[0]} is not finite ({len(bad)} such rows)")
+        raise InputError(
+            f"{what}: center {first_row + bad[0]} is not finite ({len(bad)} such rows)"
+        )
     bad = np.flatnonzero(~(np.isfinite(radii) & (radii > 0)))
     if len(bad):
         raise InputError(
-            f"{what}: radius {bad[0]} is {float(radii[bad[0]])!r}; radii must be positive and "
-            f"finite ({len(bad)} such rows)"
+            f"{what}: radius {first_row + bad[0]} is {float(radii[bad[0]])!r}; radii must be "
+            f"positive and finite ({len(bad)} such rows)"
         )
     low, high = LENGTH_RANGE
     if radii.min() < low or radii.max() > high:
@@ -70,11 +91,4 @@ def make_balls(centers, radii, what: str = "balls") -> Balls:
             f"{what}: coordinates must lie within ±{high:g} (the supported range), got "
             f"{float(np.abs(centers).max()):g}"
         )
-    order = np.lexsort(centers.T[::-1])
-    same = np.flatnonzero((np.diff(centers[order], axis=0) == 0).all(axis=1))
-    if len(same):
-        first, second = sorted((int(order[same[0]]), int(order[same[0] + 1])))
-        raise InputError(
-            f"{what}: centers {first} and {second} coincide ({len(same)} duplicate pairs)"
-        )
-    return Balls(np.ascontiguousarray(centers), np.ascontiguousarray(radii))
+    return centers, radii

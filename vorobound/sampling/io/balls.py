@@ -4,6 +4,8 @@ Accepted inputs, each giving centers x, y, z and radii r:
 
 * CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r);
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
+* Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
+  ``radius``);
 * any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
   ``radii`` or ``r``.
 
@@ -29,7 +31,7 @@ RADIUS_NAMES = ("r", "radius", "radii")
 
 
 def read_balls(path: str | Path) -> Balls:
-    """Balls from a CSV, NPZ or meshio file (module docstring).
+    """Balls from a CSV, NPZ, Parquet or meshio file (module docstring).
 
     Raises
     ------
@@ -38,6 +40,12 @@ def read_balls(path: str | Path) -> Balls:
     InputError
         NaN, infinite or non-positive values, duplicate centers, fewer than four balls.
     """
+    centers, radii = read_ball_arrays(path)
+    return make_balls(centers, radii, f"balls {Path(path).name}")
+
+
+def read_ball_arrays(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
+    """The centers (n, 3) and radii (n,) in a ball file, unchecked (see :func:`read_balls`)."""
     path = Path(path)
     if not path.exists():
         raise ReadError(f"cannot read balls {path}: no such file")
@@ -45,12 +53,17 @@ def read_balls(path: str | Path) -> Balls:
         raise ReadError(f"cannot read balls {path}: not a regular file")
     suffix = path.suffix.lower()
     if suffix == ".csv":
-        centers, radii = _read_csv(path)
-    elif suffix == ".npz":
-        centers, radii = _read_npz(path)
-    else:
-        centers, radii = _read_meshio(path)
-    return make_balls(centers, radii, f"balls {path.name}")
+        return _read_csv(path)
+    if suffix == ".npz":
+        return _read_npz(path)
+    if suffix in (".parquet", ".pq"):
+        from .stream import ball_chunks
+
+        parts = list(ball_chunks(path))
+        if not parts:
+            return np.empty((0, 3)), np.empty(0)
+        return np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts])
+    return _read_meshio(path)
 
 
 def _read_csv(path: Path):

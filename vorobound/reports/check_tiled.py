@@ -1,0 +1,668 @@
+"""``check`` of a ball file at scale: streamed, in tiles with halos, on a pool or a cluster.
+
+:func:`check_ball_file` gives the numbers :func:`vorobound.reports.check.check_balls` gives
+(the same guide triangles bit for bit, and the same summary), without ever holding the whole
+sample, its triangles or their rows in one process:
+
+1. **Read** the file in chunks (:mod:`vorobound.sampling.io.stream`), check every row, copy
+   the balls to a temporary binary file (the spill) and keep the bounding box, the largest
+   weight W (the seeds' lifting) and a systematic subsample of the centers.
+2. **Plan** tiles by median splits of the subsample (:mod:`vorobound.sampling.guides.tiles`);
+   one pass over the spill gives each tile's core radius R_T, hence its first halo width.
+3. **Route** each ball to its own tile and to the halos it belongs to (one more pass), as one
+   shard file per tile, balls in increasing index.
+4. **Run** the tiles (:func:`vorobound.reports.tile_job.run_tile`) on a
+   ``concurrent.futures`` executor (:func:`vorobound.parallel.task_executor`: in process, a
+   local process pool, or a dask.distributed cluster), a few per worker at a time, and merge
+   their tallies (:mod:`vorobound.reports.check_tally`). Tiles whose halo turned out too thin
+   are routed and run again with the width they asked for.
+
+Memory: the driver holds chunks, the subsample and per-tile tallies (independent of the number
+of balls); a worker holds one tile. Outputs (:class:`TiledOutputs`) are per-tile row files
+written by the workers into a hidden folder, published with summary.json, a decimated VTU and
+the gap histogram as one set when every tile is done, or removed on any failure.
+
+References
+----------
+The guide triangles, sampling conditions and bounds of Section 4.1.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import json
+import resource
+import shutil
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..bounds.params import SamplingParams
+from ..bounds.targets import H3_STATUS
+from ..errors import InputError, NoGuideTriangles, VoroboundError, WriteError
+from ..files import TEMP_PREFIX, discard_folder, ensure_folder, temporary_folder, write_set
+from ..parallel import task_executor, task_result
+from ..progress import Counter, Progress
+from ..sampling.balls import MIN_BALLS
+from ..sampling.guides import tiles
+from ..sampling.guides.measure import ModeBound, mode_bounds, ratio_bounds
+from ..sampling.guides.triangles import Engine, resolve_engine
+from ..sampling.io.stream import CHUNK_ROWS, ball_chunks, pyarrow_available
+from .check import LIPSCHITZ_SOURCES, NO_RATIO_BOUND, UNDEFINED_BOUND, _finite
+from .check_tally import GuideTally, PairTally, gap_edges
+from .tile_job import TileJob, TileOutcome, TileSettings, VtuRows, run_tile
+
+TILE_BALLS = 150_000
+"""Most balls in a tile's core (a tile of 1.5·10⁵ balls takes about 0.6 GB in a worker)."""
+TILES_PER_WORKER = 4
+"""Below ``TILE_BALLS`` per tile, at least this many tiles per worker (load balance)."""
+MIN_TILE_BALLS = 20_000
+"""...but no smaller tiles than this (their halos would cost more than balance gains)."""
+IN_FLIGHT = 2
+"""Tiles submitted per worker at a time (the driver holds at most this many tiles' balls)."""
+VTU_TRIANGLES = 200_000
+"""About this many guide triangles go to the decimated VTU (all of them below it)."""
+MAX_ROUNDS = 4
+"""Runs of a tile at most (the first, then with wider halos)."""
+HALO_GROWTH = 1.25
+"""A tile run again gets this much more than the width it asked for."""
+TABLES = ("parquet", "csv", "none")
+"""How a tiled check writes its per-triangle rows."""
+_RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
+"""A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
+
+
+@dataclass(frozen=True)
+class Tiling:
+    """How a tiled check was cut and run."""
+
+    tiles: int
+    halo_balls: int
+    """Balls in halos, over the tiles' final runs (copies beyond the sample's own)."""
+    rounds: int
+    rerun: int
+    """Tile runs beyond one per tile (halos that turned out too thin)."""
+    executor: str
+    workers: int
+    """Tiles that run at once."""
+    worker_peak_bytes: dict[int, int]
+    """Peak resident memory of each process that ran tiles (by process id)."""
+    driver_peak_bytes: int
+    """Peak resident memory of the process that read, routed and merged."""
+    cpu_seconds: dict[str, float]
+    """CPU seconds per stage, summed over the tiles' runs."""
+    spill_bytes: int
+
+
+@dataclass(frozen=True)
+class TiledCheckReport:
+    """What a tiled check measured (the fields of :class:`~vorobound.reports.check.CheckReport`
+    that do not need the rows)."""
+
+    source: str
+    params: SamplingParams
+    lipschitz: float | None
+    engine: str
+    n_balls: int
+    candidates: int
+    with_seeds: int
+    half_covered: int
+    guides: GuideTally
+    bounds: list[ModeBound]
+    ratio_bounds: list[ModeBound]
+    sparsity: PairTally
+    lipschitz_pairs: PairTally
+    sparsity_exact: bool
+    """False when the smallest sparsity ratio is only known to be at least the value given
+    (the tiles' certainty, :mod:`vorobound.sampling.guides.tiles`)."""
+    tiling: Tiling
+    vtu: VtuRows | None
+    gap_edges: np.ndarray
+    """Bin edges of ``guides.histogram``."""
+    timings: dict[str, float] = field(default_factory=dict)
+    """Wall seconds per driver stage."""
+
+    def summary(self) -> dict:
+        """The JSON summary: the fields of :meth:`CheckReport.summary` (docs/samples.md) with
+        the same values, plus ``tiles`` and ``worst`` (docs/scale.md)."""
+        g, eps = self.guides, self.params.eps
+        count = g.count
+        seeded = count + self.half_covered
+        bounds = {b.mode: b.value for b in self.bounds}
+        out = {
+            "source": self.source,
+            "params": {
+                "eps": eps,
+                "sigma": self.params.sigma,
+                "delta_ratio": self.params.delta_ratio,
+                "rho_f": self.params.rho_f,
+            },
+            "seed": None,
+            "engine": self.engine,
+            "n_samples": self.n_balls,
+            "n_candidate_triples": self.candidates,
+            "n_with_seeds": self.with_seeds,
+            "n_guide_triangles": count,
+            "n_half_covered": self.half_covered,
+            "half_covered_share": self.half_covered / seeded if seeded else None,
+            "coverage_max": None,
+            "coverage_where": None,
+            "coverage_probes": 0,
+            "sparsity_min": _finite(self.sparsity.extreme),
+            "sparsity_violations": self.sparsity.violations,
+            "sparsity_worst": _pairs(self.sparsity),
+            "lipschitz": self.lipschitz,
+            "lipschitz_source": LIPSCHITZ_SOURCES["required"],
+            "lipschitz_realized": _finite(self.lipschitz_pairs.extreme),
+            "lipschitz_violations": self.lipschitz_pairs.violations,
+            "lipschitz_worst": _pairs(self.lipschitz_pairs),
+            "rho_max": _maximum(g, "rho"),
+            "quality_violations": g.counts["quality_violations"],
+            "ratio_max": _maximum(g, "quality_ratio"),
+            "ratio_violations": g.counts["ratio_violations"],
+            "ratio_bound": {
+                b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
+                | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
+                for b in self.ratio_bounds
+            },
+            "ratio_bound_violations": dict(g.ratio_bound_violations),
+            "h3_ratio_max": _maximum(g, "h3_ratio"),
+            "h3_violations": g.counts["h3_violations"],
+            "h3_premise": H3_STATUS,
+            "gap_ratio_max": _maximum(g, "gap_ratio"),
+            "gap_ratio_min": None if g.gap_min is None else _finite(g.gap_min),
+            "orthoradius_sq_max": _maximum(g, "orthoradius_sq"),
+            "bound": {
+                b.mode: {
+                    "value": _finite(b.value),
+                    "gap_ratio": _finite(b.value / eps),
+                    "claim": b.claim,
+                    "lipschitz": b.lipschitz,
+                }
+                | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
+                for b in self.bounds
+            },
+            "violations": {
+                mode: rows if _finite(bounds[mode]) is not None else None
+                for mode, rows in g.violations.items()
+            },
+            "outside_constraint_set": g.counts["outside_constraint_set"],
+            "constraint_violations": dict(g.constraint_violations),
+            "timings": {k: round(v, 3) for k, v in self.timings.items()},
+            "coverage_note": "coverage needs the surface: only the balls were given",
+            "worst": {
+                name: {"triangle": list(w.triple), "centroid": list(w.centroid)}
+                for name, w in g.where.items()
+            },
+            "tiles": self._tiles(),
+        }
+        if not self.sparsity_exact:
+            out["sparsity_note"] = (
+                "the smallest ratio is at least this (no pair closer was seen; the tiles "
+                "could not see farther)"
+            )
+        return out
+
+    def _tiles(self) -> dict:
+        t = self.tiling
+        return {
+            "count": t.tiles,
+            "halo_share": t.halo_balls / self.n_balls,
+            "rounds": t.rounds,
+            "rerun": t.rerun,
+            "executor": t.executor,
+            "workers": t.workers,
+            "driver_peak_gb": round(t.driver_peak_bytes / 1e9, 3),
+            "worker_peak_gb": round(max(t.worker_peak_bytes.values(), default=0) / 1e9, 3),
+            "workers_peak_gb_total": round(sum(t.worker_peak_bytes.values()) / 1e9, 3),
+            "cpu_seconds": {k: round(v, 3) for k, v in t.cpu_seconds.items()},
+            "spill_gb": round(t.spill_bytes / 1e9, 3),
+        }
+
+
+def _maximum(g: GuideTally, name: str) -> float | None:
+    return _finite(g.maxima[name]) if name in g.maxima else None
+
+
+def _pairs(tally: PairTally) -> list[dict]:
+    return [
+        {"i": i, "j": j, "ratio": ratio, "where": list(where)} for i, j, ratio, where in tally.worst
+    ]
+
+
+def histogram_marks(report: TiledCheckReport) -> list[tuple[str, float, str]]:
+    """(mode, bound over εL_i, claim) for each mode: the lines of the gap histogram."""
+    return [(b.mode, b.value / report.params.eps, b.claim) for b in report.bounds]
+
+
+def tile_size(balls: int, workers: int) -> int:
+    """Balls per tile: ``TILE_BALLS``, or fewer so that each worker gets ``TILES_PER_WORKER``
+    tiles, but not below ``MIN_TILE_BALLS``."""
+    if workers <= 1:
+        return TILE_BALLS
+    share = -(-balls // (TILES_PER_WORKER * workers))
+    return int(min(TILE_BALLS, max(MIN_TILE_BALLS, share)))
+
+
+def check_ball_file(
+    path: str | Path,
+    params: SamplingParams,
+    lipschitz: float | None,
+    engine: Engine | str = Engine.auto,
+    workers: int = 1,
+    scheduler: str | None = None,
+    outputs: TiledOutputs | None = None,
+    progress: Progress | None = None,
+    tile_balls: int | None = None,
+    chunk_rows: int = CHUNK_ROWS,
+) -> TiledCheckReport:
+    """Check the balls of a file in tiles (module docstring): L_i = r_i/δ.
+
+    Parameters
+    ----------
+    path : path
+        CSV, NPZ, Parquet or a meshio point set (:func:`~vorobound.sampling.io.stream.ball_chunks`).
+    params, lipschitz
+        As for :func:`~vorobound.reports.check.check_balls`.
+    engine : Engine
+        ``gudhi`` (default when installed) or ``brute``; ``hull`` needs the whole sphere.
+    workers : int
+        Processes of the local pool (1: tiles run in this process).
+    scheduler : str, optional
+        Address of a dask.distributed scheduler (then ``workers`` is ignored).
+    outputs : TiledOutputs, optional
+        Where the tiles write their rows (and what the summary says about them).
+    tile_balls : int, optional
+        Balls per tile (default :func:`tile_size`).
+    chunk_rows : int
+        Rows read at a time.
+
+    Raises
+    ------
+    NoGuideTriangles
+        No triple of balls has both seeds uncovered.
+    WorkerError
+        A worker process died or the cluster failed.
+    """
+    engine = resolve_engine(engine, False)
+    if engine is Engine.hull:
+        raise InputError(
+            "engine hull needs every ball at once (a sphere's convex hull): not in tiles"
+        )
+    path = Path(path)
+    bounds = mode_bounds(params, lipschitz)
+    ratios = ratio_bounds(params, lipschitz)
+    timings: dict[str, float] = {}
+    with tempfile.TemporaryDirectory(prefix=f"{TEMP_PREFIX}spill.") as spill_dir:
+        spill_dir = Path(spill_dir)
+        start = time.perf_counter()
+        spill = _read(path, spill_dir / "balls.f8", chunk_rows, progress)
+        timings["read"] = time.perf_counter() - start
+        if spill.count < MIN_BALLS:
+            raise InputError(
+                f"balls {path.name}: need at least {MIN_BALLS} balls, got {spill.count}"
+            )
+        with task_executor(workers, scheduler) as (executor, slots):
+            start = time.perf_counter()
+            size = tile_balls or tile_size(spill.count, slots)
+            plan = tiles.plan_tiles(spill.subsample, spill.count, size, spill.low, spill.high)
+            core_radius = _core_radii(spill, plan, chunk_rows)
+            sparsity_reach = params.sigma / params.quality.delta_ratio
+            beta = tiles.first_halo(core_radius, sparsity_reach)
+            timings["plan"] = time.perf_counter() - start
+            share = min(1.0, VTU_TRIANGLES / (2.2 * spill.count))
+            settings = TileSettings(
+                params=params,
+                lipschitz=lipschitz,
+                engine=engine.value,
+                top=spill.top,
+                bounds=tuple(bounds),
+                ratio_bounds=tuple(ratios),
+                edges=gap_edges(params, [b.value / params.eps for b in bounds]),
+                table="none" if outputs is None else outputs.table,
+                parts=None if outputs is None else str(outputs.parts),
+                vtu_share=0.0 if outputs is None else share,
+                what=f"balls {path.name}",
+            )
+            run = _Rounds(executor, slots, plan, spill, settings, chunk_rows, progress)
+            outcomes = run.all(beta, sparsity_reach, core_radius)
+            timings.update(run.seconds)
+        return _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings)
+
+
+@dataclass
+class _Spill:
+    """The balls copied to a binary file, and what the first pass learned."""
+
+    file: Path
+    count: int = 0
+    low: np.ndarray = field(default_factory=lambda: np.full(3, np.inf))
+    high: np.ndarray = field(default_factory=lambda: np.full(3, -np.inf))
+    top: float = 0.0
+    subsample: np.ndarray | None = None
+
+    def chunks(self, rows: int) -> Iterator[tuple[int, np.ndarray]]:
+        """(first row, (m, 4) x, y, z, r) of consecutive rows."""
+        table = np.memmap(self.file, dtype="<f8", mode="r", shape=(self.count, 4))
+        for first in range(0, self.count, rows):
+            yield first, np.array(table[first : first + rows])
+        del table
+
+
+def _read(path: Path, file: Path, chunk_rows: int, progress: Progress | None) -> _Spill:
+    """Pass 1: check and copy every ball; bounding box, W, subsample."""
+    spill = _Spill(file)
+    sample = tiles.Subsample()
+    counter = Counter(progress, "reading balls", None)
+    with open(file, "wb") as handle:
+        for centers, radii in ball_chunks(path, chunk_rows):
+            np.column_stack([centers, radii]).astype("<f8").tofile(handle)
+            sample.add(spill.count, centers)
+            spill.count += len(radii)
+            spill.low = np.minimum(spill.low, centers.min(axis=0))
+            spill.high = np.maximum(spill.high, centers.max(axis=0))
+            spill.top = max(spill.top, float((radii * radii).max()))
+            counter.step(len(radii))
+    spill.subsample = sample.points()
+    return spill
+
+
+def _core_radii(spill: _Spill, plan: tiles.TilePlan, chunk_rows: int) -> np.ndarray:
+    """Pass 2: the largest radius among each tile's own balls (R_T)."""
+    radius = np.zeros(plan.count)
+    for _, block in spill.chunks(chunk_rows):
+        np.maximum.at(radius, plan.owner(block[:, :3]), block[:, 3])
+    return radius
+
+
+class _Rounds:
+    """Routes and runs tiles, again with wider halos where a tile asks for one."""
+
+    def __init__(self, executor, slots, plan, spill, settings, chunk_rows, progress):
+        self.executor, self.slots, self.plan, self.spill = executor, slots, plan, spill
+        self.settings, self.chunk_rows, self.progress = settings, chunk_rows, progress
+        self.seconds = {"route": 0.0, "tiles": 0.0}
+        self.rounds, self.runs = 0, 0
+
+    def all(self, beta: np.ndarray, sparsity_reach: float, core_radius: np.ndarray) -> dict:
+        outcomes: dict[int, TileOutcome] = {}
+        todo = np.arange(self.plan.count)
+        while len(todo):
+            if self.rounds == MAX_ROUNDS:
+                raise VoroboundError(
+                    f"{len(todo)} tiles still need wider halos after {MAX_ROUNDS} runs "
+                    "(balls far from all others?): use larger tiles (tile_balls)"
+                )
+            self.rounds += 1
+            for outcome in self._run(todo, beta):
+                outcomes[outcome.tile] = outcome
+            needed = np.array([outcomes[t].needed_beta for t in range(self.plan.count)])
+            smallest = min(o.sparsity.extreme for o in outcomes.values())
+            if np.isfinite(smallest):
+                # Every tile must have seen all its pairs below the smallest ratio found.
+                needed = np.maximum(
+                    needed, (1 + tiles.REACH_RTOL) * smallest * sparsity_reach * core_radius
+                )
+            short = needed > beta
+            beta = np.where(short, np.maximum(needed, beta) * HALO_GROWTH, beta)
+            todo = np.flatnonzero(short)
+        self.beta = beta
+        return outcomes
+
+    def _run(self, todo: np.ndarray, beta: np.ndarray) -> Iterator[TileOutcome]:
+        folder = Path(tempfile.mkdtemp(prefix="shards.", dir=self.spill.file.parent))
+        start = time.perf_counter()
+        _route(self.spill, self.plan, beta, todo, folder, self.chunk_rows, self.progress)
+        self.seconds["route"] += time.perf_counter() - start
+        start = time.perf_counter()
+        counter = Counter(self.progress, "tiles", len(todo))
+        waiting = iter(todo)
+        pending: dict[concurrent.futures.Future, int] = {}
+        try:
+            while True:
+                while len(pending) < IN_FLIGHT * self.slots:
+                    tile = next(waiting, None)
+                    if tile is None:
+                        break
+                    job = _job(int(tile), folder, self.plan, beta, self.settings)
+                    pending[self.executor.submit(run_tile, job)] = int(tile)
+                if not pending:
+                    break
+                done, _ = concurrent.futures.wait(
+                    pending, return_when=concurrent.futures.FIRST_COMPLETED
+                )
+                for future in done:
+                    tile = pending.pop(future)
+                    outcome = task_result(future, f"tile {tile}")
+                    self.runs += 1
+                    counter.step()
+                    yield outcome
+        finally:
+            self.seconds["tiles"] += time.perf_counter() - start
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def _route(
+    spill: _Spill,
+    plan: tiles.TilePlan,
+    beta: np.ndarray,
+    todo: np.ndarray,
+    folder: Path,
+    chunk_rows: int,
+    progress: Progress | None,
+) -> None:
+    """Pass 3: append each ball to the shard file of its own tile and of every halo it is in
+    (only the tiles in ``todo``)."""
+    active = np.full(plan.count, -np.inf)
+    active[todo] = beta[todo]
+    counter = Counter(progress, "routing balls", spill.count)
+    for first, block in spill.chunks(chunk_rows):
+        centers, radii = block[:, :3], block[:, 3]
+        rows, tile = plan.members(centers, radii, active)
+        owner = plan.owner(centers)
+        order = np.argsort(tile, kind="stable")
+        rows, tile = rows[order], tile[order]
+        records = np.empty(len(rows), dtype=_RECORD)
+        records["id"] = first + rows
+        records["ball"] = block[rows]
+        records["core"] = owner[rows] == tile
+        cuts = np.flatnonzero(np.diff(tile)) + 1
+        for part, start in zip(np.split(records, cuts), np.concatenate([[0], cuts]), strict=True):
+            if len(part):
+                with open(folder / f"{tile[start]}.bin", "ab") as handle:
+                    part.tofile(handle)
+        counter.step(len(block))
+
+
+def _job(tile: int, folder: Path, plan, beta, settings) -> TileJob:
+    records = np.fromfile(folder / f"{tile}.bin", dtype=_RECORD)
+    (folder / f"{tile}.bin").unlink()
+    return TileJob(
+        tile=tile,
+        ids=records["id"].copy(),
+        centers=np.ascontiguousarray(records["ball"][:, :3]),
+        radii=np.ascontiguousarray(records["ball"][:, 3]),
+        core=records["core"].astype(bool),
+        lo=plan.lo[tile],
+        hi=plan.hi[tile],
+        beta=float(beta[tile]),
+        settings=settings,
+    )
+
+
+def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings):
+    """The report of the tiles' outcomes (raises NoGuideTriangles as check_balls does)."""
+    done = [outcomes[t] for t in sorted(outcomes)]
+    guides = GuideTally.merge([o.guides for o in done])
+    half = sum(o.half_covered for o in done)
+    with_seeds = sum(o.with_seeds for o in done)
+    if guides.count == 0:
+        raise NoGuideTriangles(
+            f"balls {path.name}: no guide triangle to measure ({with_seeds:,} triples of balls "
+            f"meet in a seed pair, {half:,} of them half-covered): a VoroCrust sample of a "
+            "closed surface has guide triangles all over it; are the radii δ·L too small for "
+            "the spacing of the centers?"
+        )
+    sparsity = PairTally.merge([o.sparsity for o in done], smallest=True)
+    cpu: dict[str, float] = {}
+    peaks: dict[int, int] = {}
+    for o in done:
+        for stage, seconds in o.seconds.items():
+            cpu[stage] = cpu.get(stage, 0.0) + seconds
+        peaks[o.pid] = max(peaks.get(o.pid, 0), o.peak_rss)
+    vtu = None
+    if settings.vtu_share > 0:
+        vtu = _merge_vtu([o.vtu for o in done if o.vtu is not None])
+    tiling = Tiling(
+        tiles=len(done),
+        halo_balls=sum(o.halo for o in done),
+        rounds=run.rounds,
+        rerun=run.runs - len(done),
+        executor=_executor_name(run.executor),
+        workers=run.slots,
+        worker_peak_bytes=peaks,
+        driver_peak_bytes=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+        cpu_seconds=cpu,
+        spill_bytes=spill.count * 32,
+    )
+    return TiledCheckReport(
+        source=path.name,
+        params=settings.params,
+        lipschitz=settings.lipschitz,
+        engine=engine.value,
+        n_balls=spill.count,
+        candidates=sum(o.candidates for o in done),
+        with_seeds=with_seeds,
+        half_covered=half,
+        guides=guides,
+        bounds=bounds,
+        ratio_bounds=ratios,
+        sparsity=sparsity,
+        lipschitz_pairs=PairTally.merge([o.lipschitz for o in done], smallest=False),
+        sparsity_exact=all(o.sparsity_certain > sparsity.extreme for o in done),
+        tiling=tiling,
+        vtu=vtu,
+        gap_edges=settings.edges,
+        timings=timings,
+    )
+
+
+def _executor_name(executor) -> str:
+    name = type(executor).__name__
+    return {
+        "InlineExecutor": "in process",
+        "ProcessPoolExecutor": "local process pool",
+        "ClientExecutor": "dask.distributed",
+    }.get(name, name)
+
+
+def _merge_vtu(parts: list[VtuRows]) -> VtuRows | None:
+    if not parts:
+        return None
+    return VtuRows(
+        triples=np.concatenate([p.triples for p in parts]),
+        centers=np.concatenate([p.centers for p in parts]),
+        radii=np.concatenate([p.radii for p in parts]),
+        cells={k: np.concatenate([p.cells[k] for p in parts]) for k in parts[0].cells},
+    )
+
+
+# --- Outputs ----------------------------------------------------------------------------------
+
+
+class TiledOutputs:
+    """The output folder of a tiled check while it runs (a context manager).
+
+    The tiles write their rows (``table``: ``parquet`` files, ``csv`` files, or ``none``) into
+    a hidden folder beside ``triangles``; :meth:`publish` writes summary.json, the decimated
+    sample.vtu and any extra files (the figure) and renames everything into place as one set:
+    ``triangles/`` (a Parquet dataset, one file per tile, readable by pyarrow, pandas and dask)
+    or ``triangles.csv``. Leaving the block without publishing removes the hidden folder.
+    """
+
+    def __init__(self, out: str | Path, table: str = "parquet"):
+        if table not in TABLES:
+            raise InputError(f"table: expected one of {', '.join(TABLES)}, got {table!r}")
+        if table == "parquet" and not pyarrow_available():
+            raise InputError(
+                "Parquet rows need pyarrow (pip install 'vorobound[parquet]'); "
+                "or write them as CSV (--table csv) or not at all (--table none)"
+            )
+        self.folder = Path(out)
+        self.table = table
+        self.parts: Path | None = None
+
+    def __enter__(self) -> TiledOutputs:
+        self.folder = ensure_folder(self.folder)
+        self.parts = temporary_folder(self.folder / "triangles")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.parts is not None:
+            discard_folder(self.parts)
+
+    def writers(self, report: TiledCheckReport) -> dict[Path, Callable[[Path], None]]:
+        """summary.json, sample.vtu (when it has triangles) and triangles.csv (``csv``)."""
+        summary = report.summary() | {"rows": self.rows(report)}
+        text = json.dumps(summary, indent=2, allow_nan=False) + "\n"
+        out = {self.folder / "summary.json": lambda path: path.write_text(text, "utf-8")}
+        if report.vtu is not None and len(report.vtu.triples):
+            out[self.folder / "sample.vtu"] = lambda path: _write_vtu(path, report)
+        if self.table == "csv":
+            out[self.folder / "triangles.csv"] = self._concatenate
+        return out
+
+    def publish(self, writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
+        """Write ``writers`` and move the rows into place, as one set."""
+        folders = {self.folder / "triangles": self.parts} if self.table == "parquet" else {}
+        written = write_set(writers, folders)
+        self.parts = None if folders else self.parts
+        return written
+
+    def rows(self, report: TiledCheckReport) -> dict:
+        """Where the rows went and how much of them the VTU shows (the summary's ``rows``)."""
+        shown = 0 if report.vtu is None else len(report.vtu.triples)
+        return {
+            "table": self.table,
+            "triangles": {"parquet": "triangles/", "csv": "triangles.csv"}.get(self.table),
+            "vtu_triangles": shown,
+            "vtu_selection": (
+                "all guide triangles"
+                if shown == report.guides.count
+                else "a uniform share of the guide triangles plus up to 1000 per tile that "
+                "break a bound or condition (decimated)"
+            ),
+        }
+
+    def _concatenate(self, path: Path) -> None:
+        """triangles.csv from the tiles' CSV files: one header, then every tile's rows."""
+        parts = sorted(self.parts.glob("part-*.csv"))
+        with open(path, "wb") as target:
+            for index, part in enumerate(parts):
+                with open(part, "rb") as source:
+                    header = source.readline()
+                    if index == 0:
+                        target.write(header)
+                    shutil.copyfileobj(source, target, 1 << 22)
+        if not parts:
+            raise WriteError(f"cannot write {path}: no tile wrote its rows")
+
+
+def _write_vtu(path: Path, report: TiledCheckReport) -> None:
+    from ..sampling.io.balls import fill_vtu
+
+    v = report.vtu
+    ids, first = np.unique(v.triples.ravel(), return_index=True)
+    points = v.centers.reshape(-1, 3)[first]
+    radii = v.radii.ravel()[first]
+    cells = np.searchsorted(ids, v.triples)
+    point_data = {
+        "radius": radii,
+        "lfs": radii / report.params.delta,
+        "ball_index": ids.astype(float),
+    }
+    fill_vtu(path, points, [("triangle", cells)], point_data, {k: [c] for k, c in v.cells.items()})
