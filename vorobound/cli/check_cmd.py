@@ -228,7 +228,7 @@ def _check_tiled(
 
 
 def _has_pyarrow() -> bool:
-    from ..sampling.io.stream import pyarrow_available
+    from ..sampling.io.balls import pyarrow_available
 
     return pyarrow_available()
 

@@ -51,7 +51,8 @@ from ..sampling.balls import MIN_BALLS
 from ..sampling.guides import tiles
 from ..sampling.guides.measure import ModeBound, mode_bounds, ratio_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
-from ..sampling.io.stream import CHUNK_ROWS, ball_chunks, pyarrow_available
+from ..sampling.io.balls import pyarrow_available
+from ..sampling.io.stream import CHUNK_ROWS, ball_chunks
 from .check import LIPSCHITZ_SOURCES, NO_RATIO_BOUND, UNDEFINED_BOUND, _finite
 from .check_tally import GuideTally, PairTally, gap_edges
 from .tile_job import TileJob, TileOutcome, TileSettings, VtuRows, run_tile

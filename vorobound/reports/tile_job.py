@@ -249,7 +249,7 @@ def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
 
 def write_csv_columns(path: Path, columns: dict[str, np.ndarray]) -> None:
     """A CSV with a header row (pyarrow's writer if installed, else numpy's)."""
-    from ..sampling.io.stream import pyarrow_available
+    from ..sampling.io.balls import pyarrow_available
 
     if pyarrow_available():
         import pyarrow as pa

@@ -206,8 +206,9 @@ class Subsample:
     """A systematic subsample of a stream of centers: every ``stride``-th row, the stride
     doubling whenever more than ``MAX_SUBSAMPLE`` rows are kept."""
 
-    def __init__(self, limit: int = MAX_SUBSAMPLE):
-        self.limit, self.stride, self.parts, self.kept = limit, 1, [], 0
+    def __init__(self, limit: int | None = None):
+        self.limit = MAX_SUBSAMPLE if limit is None else limit
+        self.stride, self.parts, self.kept = 1, [], 0
 
     def add(self, first_row: int, centers: np.ndarray) -> None:
         """Offer the rows ``first_row, first_row + 1, ...`` of the stream."""

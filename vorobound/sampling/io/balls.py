@@ -15,6 +15,7 @@ checked by :func:`vorobound.sampling.balls.make_balls`.
 
 from __future__ import annotations
 
+import importlib.util
 import io
 from functools import partial
 from pathlib import Path
@@ -28,6 +29,7 @@ from .meshes import quiet_meshio
 
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""
+PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
 def read_balls(path: str | Path) -> Balls:
@@ -56,14 +58,51 @@ def read_ball_arrays(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         return _read_csv(path)
     if suffix == ".npz":
         return _read_npz(path)
-    if suffix in (".parquet", ".pq"):
-        from .stream import ball_chunks
-
-        parts = list(ball_chunks(path))
-        if not parts:
-            return np.empty((0, 3)), np.empty(0)
-        return np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts])
+    if suffix in PARQUET_SUFFIXES:
+        return _read_parquet(path)
     return _read_meshio(path)
+
+
+def pyarrow_available() -> bool:
+    """True when pyarrow can be imported (Parquet files, fast CSV)."""
+    return importlib.util.find_spec("pyarrow") is not None
+
+
+def parquet_columns(path: Path):
+    """The open Parquet file and its columns x, y, z, r (names in any case; r may be radius or
+    radii)."""
+    if not pyarrow_available():
+        raise ReadError(
+            f"cannot read balls {path}: Parquet files need pyarrow "
+            "(pip install 'vorobound[parquet]')"
+        )
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        handle = pq.ParquetFile(path)
+    except (pa.ArrowException, OSError) as exc:
+        raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
+    names = {name.lower(): name for name in handle.schema_arrow.names}
+    radius = next((names[n] for n in RADIUS_NAMES if n in names), None)
+    if radius is None or not {"x", "y", "z"} <= names.keys():
+        raise ReadError(
+            f"balls {path}: need columns x, y, z and r (or radius), got "
+            f"{sorted(handle.schema_arrow.names)}"
+        )
+    return handle, [names["x"], names["y"], names["z"], radius]
+
+
+def _read_parquet(path: Path):
+    import pyarrow as pa
+
+    handle, columns = parquet_columns(path)
+    try:
+        table = handle.read(columns=columns)
+        values = [table.column(name).to_numpy() for name in columns]
+    except (pa.ArrowException, OSError) as exc:
+        raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
+    return _numeric(np.column_stack(values[:3]), path), _numeric(values[3], path)
 
 
 def _read_csv(path: Path):

@@ -18,7 +18,6 @@ names are those of :func:`vorobound.sampling.io.balls.read_balls`:
 
 from __future__ import annotations
 
-import importlib.util
 import itertools
 import zipfile
 from collections.abc import Iterator
@@ -28,17 +27,17 @@ import numpy as np
 
 from ...errors import ReadError
 from ..balls import checked_rows
-from .balls import RADIUS_NAMES, read_ball_arrays
+from .balls import (
+    PARQUET_SUFFIXES,
+    RADIUS_NAMES,
+    parquet_columns,
+    pyarrow_available,
+    read_ball_arrays,
+)
 
 CHUNK_ROWS = 1 << 20
 """Balls per chunk (32 MB of float64 centers and radii)."""
-PARQUET_SUFFIXES = (".parquet", ".pq")
 _CSV_BLOCK_BYTES = 1 << 25  # pyarrow's CSV block (about 10⁶ rows of x, y, z, r)
-
-
-def pyarrow_available() -> bool:
-    """True when pyarrow can be imported (Parquet files, fast CSV)."""
-    return importlib.util.find_spec("pyarrow") is not None
 
 
 def ball_chunks(path: str | Path, chunk_rows: int = CHUNK_ROWS) -> Iterator[tuple]:
@@ -170,25 +169,11 @@ def _csv_numpy(path: Path, chunk_rows: int):
 
 
 def _parquet(path: Path, chunk_rows: int):
-    if not pyarrow_available():
-        raise ReadError(
-            f"cannot read balls {path}: Parquet files need pyarrow "
-            "(pip install 'vorobound[parquet]')"
-        )
     import pyarrow as pa
-    import pyarrow.parquet as pq
 
+    handle, columns = parquet_columns(path)
     try:
-        handle = pq.ParquetFile(path)
-        names = {name.lower(): name for name in handle.schema_arrow.names}
-        radius = next((names[n] for n in RADIUS_NAMES if n in names), None)
-        if radius is None or not {"x", "y", "z"} <= names.keys():
-            raise ReadError(
-                f"balls {path}: need columns x, y, z and r (or radius), got "
-                f"{sorted(handle.schema_arrow.names)}"
-            )
-        wanted = [names["x"], names["y"], names["z"], radius]
-        for batch in handle.iter_batches(batch_size=chunk_rows, columns=wanted):
+        for batch in handle.iter_batches(batch_size=chunk_rows, columns=columns):
             table = np.column_stack([_float_column(batch.column(i), path) for i in range(4)])
             yield table[:, :3], table[:, 3]
     except (pa.ArrowException, OSError) as exc:

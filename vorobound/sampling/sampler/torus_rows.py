@@ -37,6 +37,8 @@ ROW_SPACING = 1.0
 """Row and point spacing h in units of εL."""
 JITTER = 0.1
 """Each point moves by up to this fraction of its row's steps, in both angles."""
+MAX_EPS = 0.1
+"""Largest ε made (the sparsity argument below needs h small against the torus)."""
 ROWS_PER_CHUNK = 64
 """Rows made at a time (a chunk holds about ROWS_PER_CHUNK·2πR/h points)."""
 
@@ -50,8 +52,8 @@ def torus_row_count(major: float, minor: float, eps: float) -> int:
 def _layout(major: float, minor: float, eps: float) -> tuple[int, np.ndarray]:
     if not (0 < minor and 2 * minor <= major and math.isfinite(major)):
         raise InputError(f"a row sample needs a torus with R >= 2r > 0, got R={major}, r={minor}")
-    if not 0 < eps <= 0.05:
-        raise InputError(f"a row sample needs 0 < eps <= 0.05, got {eps}")
+    if not 0 < eps <= MAX_EPS:
+        raise InputError(f"a row sample needs 0 < eps <= {MAX_EPS}, got {eps}")
     step = ROW_SPACING * eps * minor
     rows = math.ceil(2 * math.pi * minor / step)
     phi = (np.arange(rows) + 0.5) * (2 * math.pi / rows)
