@@ -72,7 +72,7 @@ def _tiled_rows(parts_folder) -> dict:
         table = pq.read_table(sorted(parts_folder.glob("part-*.parquet")))
         return _rows({name: table.column(name).to_numpy() for name in table.column_names})
     frames = [np.genfromtxt(p, delimiter=",", names=True) for p in parts_folder.glob("*.csv")]
-    table = np.concatenate(frames)
+    table = np.concatenate([np.atleast_1d(f) for f in frames if f.size])
     return _rows({name: table[name] for name in table.dtype.names})
 
 
@@ -120,7 +120,8 @@ def test_tiles_partition_the_balls_and_halos_follow_their_rule():
     inside = (plan.lo[owner] <= centers).all(axis=1) & (centers <= plan.hi[owner]).all(axis=1)
     assert inside.all() and plan.count >= 10
     beta = 0.05 + 0.1 * rng.random(plan.count)
-    rows, tile = plan.members(centers, radii, beta)
+    rows, tile, core = plan.members(centers, radii, beta)
+    assert np.array_equal(core, owner[rows] == tile) and np.all(np.diff(rows) >= 0)
     got = set(zip(rows.tolist(), tile.tolist(), strict=True))
     gap = np.stack([tiles.box_distance(centers, plan.lo[t], plan.hi[t]) for t in range(plan.count)])
     want = set(zip(*np.nonzero((gap <= radii + beta[:, None]).T), strict=True))
@@ -188,3 +189,25 @@ def test_memory_does_not_grow_with_the_number_of_balls(tmp_path):
         growth[eps] = int(done.stdout.split()[-1]) * 1024
     small, large = growth[0.1], growth[0.05]
     assert large < 1.25 * small + 20e6, (small, large)
+
+
+def test_a_folder_joins_a_set_of_files(tmp_path):
+    from vorobound.errors import WriteError
+    from vorobound.files import TEMP_PREFIX, temporary_folder, write_set
+
+    final = tmp_path / "rows"
+    final.mkdir()
+    (final / "old.txt").write_text("old")
+    staged = temporary_folder(final)
+    (staged / "new.txt").write_text("new")
+
+    def fail(path):
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(WriteError, match="No space left"):
+        write_set({tmp_path / "summary.json": fail}, {final: staged})
+    assert (final / "old.txt").read_text() == "old"  # the failed set changed nothing
+    written = write_set({tmp_path / "summary.json": lambda p: p.write_text("{}")}, {final: staged})
+    assert written == [tmp_path / "summary.json", final]
+    assert sorted(p.name for p in final.iterdir()) == ["new.txt"]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(TEMP_PREFIX)]

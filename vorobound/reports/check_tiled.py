@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import json
+import os
 import resource
 import shutil
 import tempfile
@@ -94,8 +95,13 @@ class Tiling:
     """Peak resident memory of each process that ran tiles (by process id)."""
     driver_peak_bytes: int
     """Peak resident memory of the process that read, routed and merged."""
+    driver_pid: int
     cpu_seconds: dict[str, float]
     """CPU seconds per stage, summed over the tiles' runs."""
+    driver_cpu_seconds: dict[str, float]
+    """CPU seconds of the driver's own passes (read, plan, route), which no worker shares."""
+    worker_busy_seconds: dict[int, float]
+    """CPU seconds of tile work per process (every run of every tile it computed)."""
     spill_bytes: int
 
 
@@ -220,7 +226,17 @@ class TiledCheckReport:
             "driver_peak_gb": round(t.driver_peak_bytes / 1e9, 3),
             "worker_peak_gb": round(max(t.worker_peak_bytes.values(), default=0) / 1e9, 3),
             "workers_peak_gb_total": round(sum(t.worker_peak_bytes.values()) / 1e9, 3),
+            "processes_peak_gb_total": round(
+                (
+                    t.driver_peak_bytes
+                    + sum(b for p, b in t.worker_peak_bytes.items() if p != t.driver_pid)
+                )
+                / 1e9,
+                3,
+            ),
             "cpu_seconds": {k: round(v, 3) for k, v in t.cpu_seconds.items()},
+            "driver_cpu_seconds": {k: round(v, 3) for k, v in t.driver_cpu_seconds.items()},
+            "busiest_worker_cpu_seconds": round(max(t.worker_busy_seconds.values(), default=0), 3),
             "spill_gb": round(t.spill_bytes / 1e9, 3),
         }
 
@@ -300,21 +316,23 @@ def check_ball_file(
     timings: dict[str, float] = {}
     with tempfile.TemporaryDirectory(prefix=f"{TEMP_PREFIX}spill.") as spill_dir:
         spill_dir = Path(spill_dir)
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         spill = _read(path, spill_dir / "balls.f8", chunk_rows, progress)
         timings["read"] = time.perf_counter() - start
+        serial = {"read": time.process_time() - cpu}
         if spill.count < MIN_BALLS:
             raise InputError(
                 f"balls {path.name}: need at least {MIN_BALLS} balls, got {spill.count}"
             )
         with task_executor(workers, scheduler) as (executor, slots):
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             size = tile_balls or tile_size(spill.count, slots)
             plan = tiles.plan_tiles(spill.subsample, spill.count, size, spill.low, spill.high)
             core_radius = _core_radii(spill, plan, chunk_rows)
             sparsity_reach = params.sigma / params.quality.delta_ratio
             beta = tiles.first_halo(core_radius, sparsity_reach)
             timings["plan"] = time.perf_counter() - start
+            serial["plan"] = time.process_time() - cpu
             share = min(1.0, VTU_TRIANGLES / (2.2 * spill.count))
             settings = TileSettings(
                 params=params,
@@ -332,7 +350,8 @@ def check_ball_file(
             run = _Rounds(executor, slots, plan, spill, settings, chunk_rows, progress)
             outcomes = run.all(beta, sparsity_reach, core_radius)
             timings.update(run.seconds)
-        return _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings)
+            serial["route"] = run.route_cpu
+        return _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings, serial)
 
 
 @dataclass
@@ -387,7 +406,10 @@ class _Rounds:
         self.executor, self.slots, self.plan, self.spill = executor, slots, plan, spill
         self.settings, self.chunk_rows, self.progress = settings, chunk_rows, progress
         self.seconds = {"route": 0.0, "tiles": 0.0}
+        self.route_cpu = 0.0
         self.rounds, self.runs = 0, 0
+        self.busy: dict[int, float] = {}
+        """CPU seconds of tile work per process id, over every run."""
 
     def all(self, beta: np.ndarray, sparsity_reach: float, core_radius: np.ndarray) -> dict:
         outcomes: dict[int, TileOutcome] = {}
@@ -411,14 +433,14 @@ class _Rounds:
             short = needed > beta
             beta = np.where(short, np.maximum(needed, beta) * HALO_GROWTH, beta)
             todo = np.flatnonzero(short)
-        self.beta = beta
         return outcomes
 
     def _run(self, todo: np.ndarray, beta: np.ndarray) -> Iterator[TileOutcome]:
         folder = Path(tempfile.mkdtemp(prefix="shards.", dir=self.spill.file.parent))
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         _route(self.spill, self.plan, beta, todo, folder, self.chunk_rows, self.progress)
         self.seconds["route"] += time.perf_counter() - start
+        self.route_cpu += time.process_time() - cpu
         start = time.perf_counter()
         counter = Counter(self.progress, "tiles", len(todo))
         waiting = iter(todo)
@@ -440,6 +462,8 @@ class _Rounds:
                     tile = pending.pop(future)
                     outcome = task_result(future, f"tile {tile}")
                     self.runs += 1
+                    spent = sum(outcome.seconds.values())
+                    self.busy[outcome.pid] = self.busy.get(outcome.pid, 0.0) + spent
                     counter.step()
                     yield outcome
         finally:
@@ -463,14 +487,13 @@ def _route(
     counter = Counter(progress, "routing balls", spill.count)
     for first, block in spill.chunks(chunk_rows):
         centers, radii = block[:, :3], block[:, 3]
-        rows, tile = plan.members(centers, radii, active)
-        owner = plan.owner(centers)
+        rows, tile, core = plan.members(centers, radii, active)
         order = np.argsort(tile, kind="stable")
         rows, tile = rows[order], tile[order]
         records = np.empty(len(rows), dtype=_RECORD)
         records["id"] = first + rows
         records["ball"] = block[rows]
-        records["core"] = owner[rows] == tile
+        records["core"] = core[order]
         cuts = np.flatnonzero(np.diff(tile)) + 1
         for part, start in zip(np.split(records, cuts), np.concatenate([[0], cuts]), strict=True):
             if len(part):
@@ -495,7 +518,7 @@ def _job(tile: int, folder: Path, plan, beta, settings) -> TileJob:
     )
 
 
-def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings):
+def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings, serial):
     """The report of the tiles' outcomes (raises NoGuideTriangles as check_balls does)."""
     done = [outcomes[t] for t in sorted(outcomes)]
     guides = GuideTally.merge([o.guides for o in done])
@@ -527,7 +550,10 @@ def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings
         workers=run.slots,
         worker_peak_bytes=peaks,
         driver_peak_bytes=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+        driver_pid=os.getpid(),
         cpu_seconds=cpu,
+        driver_cpu_seconds=serial,
+        worker_busy_seconds=dict(run.busy),
         spill_bytes=spill.count * 32,
     )
     return TiledCheckReport(

@@ -82,16 +82,23 @@ class TilePlan:
 
     def members(
         self, centers: np.ndarray, radii: np.ndarray, beta: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """(row, tile) for every ball in a tile's core or halo (module docstring), with the
-        tiles' β in ``beta``; each ball's own tile is among them (distance 0)."""
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(row, tile, core) for every ball in a tile's core or halo (module docstring), with
+        the tiles' β in ``beta`` (−inf: leave the tile out), rows increasing; ``core`` is True
+        where the tile is the ball's own."""
+        slack = 1 + HALO_RTOL
+        own = self.owner(centers)
+        mine = np.flatnonzero(0 <= (radii + beta[own]) * slack)
         if len(self.axis) == 0:
-            rows = np.arange(len(centers))
-            return rows, np.zeros(len(centers), dtype=np.int64)
+            return mine, own[mine], np.ones(len(mine), dtype=bool)
+        # A ball deeper inside its own box than it reaches belongs to no other tile (the other
+        # boxes lie outside its own): only the others are looked for in the tree.
+        depth = np.minimum(centers - self.lo[own], self.hi[own] - centers).min(axis=1)
+        reach = (radii + float(beta[np.isfinite(beta)].max(initial=0.0))) * slack
+        near = np.flatnonzero(depth <= reach)
+        found_rows, found_tiles = [mine], [own[mine]]
         reach_below = _subtree_max(self, beta)
-        rows = np.arange(len(centers))
-        node = np.zeros(len(centers), dtype=np.int64)
-        found_rows, found_tiles = [], []
+        rows, node = near, np.zeros(len(near), dtype=np.int64)
         while len(rows):
             leaf = node < 0
             found_rows.append(rows[leaf])
@@ -102,16 +109,21 @@ class TilePlan:
             coord = centers[rows, self.axis[node]]
             value = self.split[node]
             left, right = self.left[node], self.right[node]
-            slack = 1 + HALO_RTOL
             to_left = (coord - value) <= (radii[rows] + _reach(reach_below, left)) * slack
             to_right = (value - coord) <= (radii[rows] + _reach(reach_below, right)) * slack
             rows = np.concatenate([rows[to_left], rows[to_right]])
             node = np.concatenate([left[to_left], right[to_right]])
-        rows = np.concatenate(found_rows)
-        tiles = np.concatenate(found_tiles)
+        rows = np.concatenate(found_rows[1:]) if len(found_rows) > 1 else near[:0]
+        tiles = np.concatenate(found_tiles[1:]) if len(found_tiles) > 1 else near[:0]
+        other = tiles != own[rows]
+        rows, tiles = rows[other], tiles[other]
         gap = box_distance(centers[rows], self.lo[tiles], self.hi[tiles])
-        keep = gap <= (radii[rows] + beta[tiles]) * (1 + HALO_RTOL)
-        return rows[keep], tiles[keep]
+        keep = gap <= (radii[rows] + beta[tiles]) * slack
+        core = np.concatenate([np.ones(len(mine), dtype=bool), np.zeros(keep.sum(), dtype=bool)])
+        rows = np.concatenate([mine, rows[keep]])
+        tiles = np.concatenate([own[mine], tiles[keep]])
+        order = np.argsort(rows, kind="stable")
+        return rows[order], tiles[order], core[order]
 
 
 def _reach(reach_below: tuple[np.ndarray, np.ndarray], child: np.ndarray) -> np.ndarray:

@@ -15,9 +15,9 @@ the smallest power on that dual edge, its weighted alpha filtration value, is �
   is positive, the seed's power to its own balls is 0), but they cut up the long tetrahedra
   that points on a curved surface otherwise form across its inside (a sample of a cylinder has
   a Delaunay triangulation of size Θ(n^{3/2})), which makes CGAL several times faster on a
-  torus. Measured against the weighted alpha complex pruned at alpha² ≈ 0 (the same
-  triangulation plus an alpha value per simplex), it proposes about 5 % more triples on
-  surface samples and takes 30 % less time (docs/performance.md).
+  torus. Against the weighted alpha complex pruned at alpha² ≈ 0 (the same triangulation plus
+  an alpha value for every simplex) it proposes 1–5 % more triples on surface samples and
+  takes about 30 % less time (``benchmarks/bench_check.py --tile-engines``).
 * ``hull``: equal radii on a sphere. The power diagram is the Voronoi diagram of cospherical
   points, a seed's dual edge is the ray through a hull facet's normal, and a triple that is not
   a facet has points of the sphere on both sides of its plane, so both its seeds are covered:

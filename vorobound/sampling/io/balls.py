@@ -94,9 +94,9 @@ def parquet_columns(path: Path):
 
 
 def _read_parquet(path: Path):
+    handle, columns = parquet_columns(path)  # refuses first when pyarrow is missing
     import pyarrow as pa
 
-    handle, columns = parquet_columns(path)
     try:
         table = handle.read(columns=columns)
         values = [table.column(name).to_numpy() for name in columns]

@@ -169,9 +169,9 @@ def _csv_numpy(path: Path, chunk_rows: int):
 
 
 def _parquet(path: Path, chunk_rows: int):
+    handle, columns = parquet_columns(path)  # refuses first when pyarrow is missing
     import pyarrow as pa
 
-    handle, columns = parquet_columns(path)
     try:
         for batch in handle.iter_batches(batch_size=chunk_rows, columns=columns):
             table = np.column_stack([_float_column(batch.column(i), path) for i in range(4)])
