@@ -136,6 +136,9 @@ def scale(data: str | Path, sizes: list[int]) -> None:
                 for key in ("n_guide_triangles", "n_half_covered", "gap_ratio_max"):
                     assert remote["summary"][key] == one["summary"][key], key
     print("\n" + header + "\n" + "\n".join(rows))
+    saved = data / f"results-{time.strftime('%Y%m%d-%H%M%S')}.json"
+    saved.write_text(json.dumps({str(k): v for k, v in by_size.items()}, indent=1))
+    print(f"summaries of the 1-worker runs: {saved}")
     small, large = min(by_size), max(by_size)
     if large > small:
         exponent = math.log(by_size[large]["cpu"] / by_size[small]["cpu"]) / math.log(large / small)
@@ -184,10 +187,10 @@ def dask_run(path: Path, eps: float) -> dict | None:
 
 def extrapolate(measured: dict, count: int) -> None:
     """10⁸ balls on 64 workers from the measured run: the tiles' CPU per ball spread over the
-    workers, plus the driver's passes (read, plan, route: one process) per ball."""
+    workers, plus the CPU of the driver's passes (read, plan, route: one process) per ball."""
     s = measured["summary"]
     per_ball_tiles = sum(s["tiles"]["cpu_seconds"].values()) / count
-    driver = sum(s["timings"][k] for k in ("read", "plan", "route")) / count
+    driver = sum(s["tiles"]["driver_cpu_seconds"].values()) / count
     n, k = EXTRAPOLATE_BALLS, EXTRAPOLATE_WORKERS
     tiles = per_ball_tiles * n / k
     print(

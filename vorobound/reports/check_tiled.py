@@ -366,11 +366,12 @@ class _Spill:
     subsample: np.ndarray | None = None
 
     def chunks(self, rows: int) -> Iterator[tuple[int, np.ndarray]]:
-        """(first row, (m, 4) x, y, z, r) of consecutive rows."""
-        table = np.memmap(self.file, dtype="<f8", mode="r", shape=(self.count, 4))
-        for first in range(0, self.count, rows):
-            yield first, np.array(table[first : first + rows])
-        del table
+        """(first row, (m, 4) x, y, z, r) of consecutive rows (read, not mapped: a mapping
+        would count the whole file in this process's resident memory)."""
+        with open(self.file, "rb") as handle:
+            for first in range(0, self.count, rows):
+                block = np.fromfile(handle, dtype="<f8", count=4 * min(rows, self.count - first))
+                yield first, block.reshape(-1, 4)
 
 
 def _read(path: Path, file: Path, chunk_rows: int, progress: Progress | None) -> _Spill:

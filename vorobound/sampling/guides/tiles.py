@@ -31,6 +31,7 @@ A tile reports the β it needed; a driver recomputes the few tiles whose halo wa
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -152,8 +153,9 @@ def box_distance(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarr
 def plan_tiles(
     sample: np.ndarray, total: int, tile_balls: int, low: np.ndarray, high: np.ndarray
 ) -> TilePlan:
-    """Median splits of the subsample ``sample`` of ``total`` centers until each box holds
-    about ``tile_balls`` of them (half to all of it), cutting the longest side first.
+    """Splits of the subsample ``sample`` of ``total`` centers until each box holds at most
+    about ``tile_balls`` of them, cutting the longest side first: a box that needs k tiles is
+    cut at the quantile ⌊k/2⌋/k, so the tiles come out close to ``tile_balls`` each.
 
     ``low`` and ``high`` bound every center; the tiles' boxes are clipped to them.
     """
@@ -163,9 +165,11 @@ def plan_tiles(
     axis, split, left, right, lows, highs = [], [], [], [], [], []
 
     def build(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> int:
-        if len(points) * scale > tile_balls and len(points) >= 2:
+        parts = math.ceil(len(points) * scale / tile_balls)
+        if parts > 1 and len(points) >= 2:
+            rank = max(1, len(points) * (parts // 2) // parts)
             for dim in np.argsort(hi - lo)[::-1]:
-                value = float(np.partition(points[:, dim], len(points) // 2)[len(points) // 2])
+                value = float(np.partition(points[:, dim], rank)[rank])
                 below = points[:, dim] < value
                 if below.any() and not below.all():
                     node = len(axis)

@@ -80,7 +80,8 @@ def parquet_columns(path: Path):
     import pyarrow.parquet as pq
 
     try:
-        handle = pq.ParquetFile(path)
+        # Without pre-buffering, streaming a file holds about one column chunk at a time.
+        handle = pq.ParquetFile(path, pre_buffer=False, buffer_size=1 << 22)
     except (pa.ArrowException, OSError) as exc:
         raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
     names = {name.lower(): name for name in handle.schema_arrow.names}
