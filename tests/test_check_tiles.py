@@ -13,7 +13,8 @@ import pytest
 
 from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.reports.check import check_balls, triangle_columns
-from vorobound.reports.check_tiled import TiledOutputs, check_ball_file
+from vorobound.reports.check_tiled import check_ball_file
+from vorobound.reports.tiled_outputs import TiledOutputs
 from vorobound.sampling.balls import make_balls
 from vorobound.sampling.guides import tiles
 from vorobound.sampling.io.balls import pyarrow_available, read_balls, write_balls

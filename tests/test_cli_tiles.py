@@ -155,7 +155,7 @@ def test_unreachable_scheduler_is_one_line(run_cli, torus_file, monkeypatch):
 
 
 def test_parquet_without_pyarrow_is_refused(run_cli, torus_file, tmp_path, monkeypatch):
-    import vorobound.reports.check_tiled as tiled
+    import vorobound.reports.tiled_outputs as tiled
 
     monkeypatch.setattr(tiled, "pyarrow_available", lambda: False)
     code, _, err = run_cli(
@@ -216,7 +216,11 @@ def _start_tiled(rows_file, out: Path, marker: str) -> subprocess.Popen:
 @pytest.mark.slow
 @pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs Linux /proc")
 @pytest.mark.parametrize("how", ["kill a worker", "ctrl-c"])
-def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how):
+@pytest.mark.parametrize("delay", [0.0, 2.0])
+def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how, delay):
+    """Stopped as the workers start, or while they compute tiles."""
+    import time
+
     from test_outputs_and_processes import _processes_with, _wait_until
 
     out = tmp_path / "out"
@@ -226,6 +230,8 @@ def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how):
         lambda: out.exists() and any(out.iterdir()) and len(_workers(marker)) == 2, 120
     )
     assert started, "the tiles did not start"
+    time.sleep(delay)
+    assert proc.poll() is None, "the run ended before it could be stopped"
     if how == "kill a worker":
         os.kill(_workers(marker)[0], signal.SIGKILL)
     else:

@@ -122,7 +122,9 @@ def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
     for process in processes:
         with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
             process.join(5)
-    pool.shutdown(wait=False, cancel_futures=True)
+    # With its workers gone the pool's manager thread ends at once; waiting for it releases
+    # the pool's semaphores before this process exits (else the resource tracker warns).
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 @contextlib.contextmanager

@@ -185,7 +185,9 @@ def _check_tiled(
 
     from ..bounds.params import checked_lipschitz
     from ..reports.check import GAP_HISTOGRAM_STEM
-    from ..reports.check_tiled import TiledOutputs, check_ball_file, histogram_marks
+    from ..reports.check_tiled import check_ball_file
+    from ..reports.tiled_outputs import TiledOutputs
+    from ..reports.tiled_report import histogram_marks
 
     if balls is None:
         raise InputError("--workers and --scheduler go with --balls")

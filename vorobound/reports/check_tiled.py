@@ -18,7 +18,8 @@ sample, its triangles or their rows in one process:
    are routed and run again with the width they asked for.
 
 Memory: the driver holds chunks, the subsample and per-tile tallies (independent of the number
-of balls); a worker holds one tile. Outputs (:class:`TiledOutputs`) are per-tile row files
+of balls); a worker holds one tile. Outputs
+(:class:`~vorobound.reports.tiled_outputs.TiledOutputs`) are per-tile row files
 written by the workers into a hidden folder, published with summary.json, a decimated VTU and
 the gap histogram as one set when every tile is done, or removed on any failure.
 
@@ -30,33 +31,31 @@ The guide triangles, sampling conditions and bounds of Section 4.1.
 from __future__ import annotations
 
 import concurrent.futures
-import json
 import os
 import resource
 import shutil
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..bounds.params import SamplingParams
-from ..bounds.targets import H3_STATUS
-from ..errors import InputError, NoGuideTriangles, VoroboundError, WriteError
-from ..files import TEMP_PREFIX, discard_folder, ensure_folder, temporary_folder, write_set
+from ..errors import InputError, NoGuideTriangles, VoroboundError
+from ..files import TEMP_PREFIX
 from ..parallel import task_executor, task_result
 from ..progress import Counter, Progress
 from ..sampling.balls import MIN_BALLS
 from ..sampling.guides import tiles
-from ..sampling.guides.measure import ModeBound, mode_bounds, ratio_bounds
+from ..sampling.guides.measure import mode_bounds, ratio_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
-from ..sampling.io.balls import pyarrow_available
 from ..sampling.io.stream import CHUNK_ROWS, ball_chunks
-from .check import LIPSCHITZ_SOURCES, NO_RATIO_BOUND, UNDEFINED_BOUND, _finite
 from .check_tally import GuideTally, PairTally, gap_edges
 from .tile_job import TileJob, TileOutcome, TileSettings, VtuRows, run_tile
+from .tiled_outputs import TiledOutputs
+from .tiled_report import TiledCheckReport, Tiling
 
 TILE_BALLS = 150_000
 """Most balls in a tile's core (a tile of 1.5·10⁵ balls takes about 0.6 GB in a worker)."""
@@ -72,188 +71,8 @@ MAX_ROUNDS = 4
 """Runs of a tile at most (the first, then with wider halos)."""
 HALO_GROWTH = 1.25
 """A tile run again gets this much more than the width it asked for."""
-TABLES = ("parquet", "csv", "none")
-"""How a tiled check writes its per-triangle rows."""
 _RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
 """A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
-
-
-@dataclass(frozen=True)
-class Tiling:
-    """How a tiled check was cut and run."""
-
-    tiles: int
-    halo_balls: int
-    """Balls in halos, over the tiles' final runs (copies beyond the sample's own)."""
-    rounds: int
-    rerun: int
-    """Tile runs beyond one per tile (halos that turned out too thin)."""
-    executor: str
-    workers: int
-    """Tiles that run at once."""
-    worker_peak_bytes: dict[int, int]
-    """Peak resident memory of each process that ran tiles (by process id)."""
-    driver_peak_bytes: int
-    """Peak resident memory of the process that read, routed and merged."""
-    driver_pid: int
-    cpu_seconds: dict[str, float]
-    """CPU seconds per stage, summed over the tiles' runs."""
-    driver_cpu_seconds: dict[str, float]
-    """CPU seconds of the driver's own passes (read, plan, route), which no worker shares."""
-    worker_busy_seconds: dict[int, float]
-    """CPU seconds of tile work per process (every run of every tile it computed)."""
-    spill_bytes: int
-
-
-@dataclass(frozen=True)
-class TiledCheckReport:
-    """What a tiled check measured (the fields of :class:`~vorobound.reports.check.CheckReport`
-    that do not need the rows)."""
-
-    source: str
-    params: SamplingParams
-    lipschitz: float | None
-    engine: str
-    n_balls: int
-    candidates: int
-    with_seeds: int
-    half_covered: int
-    guides: GuideTally
-    bounds: list[ModeBound]
-    ratio_bounds: list[ModeBound]
-    sparsity: PairTally
-    lipschitz_pairs: PairTally
-    sparsity_exact: bool
-    """False when the smallest sparsity ratio is only known to be at least the value given
-    (the tiles' certainty, :mod:`vorobound.sampling.guides.tiles`)."""
-    tiling: Tiling
-    vtu: VtuRows | None
-    gap_edges: np.ndarray
-    """Bin edges of ``guides.histogram``."""
-    timings: dict[str, float] = field(default_factory=dict)
-    """Wall seconds per driver stage."""
-
-    def summary(self) -> dict:
-        """The JSON summary: the fields of :meth:`CheckReport.summary` (docs/samples.md) with
-        the same values, plus ``tiles`` and ``worst`` (docs/scale.md)."""
-        g, eps = self.guides, self.params.eps
-        count = g.count
-        seeded = count + self.half_covered
-        bounds = {b.mode: b.value for b in self.bounds}
-        out = {
-            "source": self.source,
-            "params": {
-                "eps": eps,
-                "sigma": self.params.sigma,
-                "delta_ratio": self.params.delta_ratio,
-                "rho_f": self.params.rho_f,
-            },
-            "seed": None,
-            "engine": self.engine,
-            "n_samples": self.n_balls,
-            "n_candidate_triples": self.candidates,
-            "n_with_seeds": self.with_seeds,
-            "n_guide_triangles": count,
-            "n_half_covered": self.half_covered,
-            "half_covered_share": self.half_covered / seeded if seeded else None,
-            "coverage_max": None,
-            "coverage_where": None,
-            "coverage_probes": 0,
-            "sparsity_min": _finite(self.sparsity.extreme),
-            "sparsity_violations": self.sparsity.violations,
-            "sparsity_worst": _pairs(self.sparsity),
-            "lipschitz": self.lipschitz,
-            "lipschitz_source": LIPSCHITZ_SOURCES["required"],
-            "lipschitz_realized": _finite(self.lipschitz_pairs.extreme),
-            "lipschitz_violations": self.lipschitz_pairs.violations,
-            "lipschitz_worst": _pairs(self.lipschitz_pairs),
-            "rho_max": _maximum(g, "rho"),
-            "quality_violations": g.counts["quality_violations"],
-            "ratio_max": _maximum(g, "quality_ratio"),
-            "ratio_violations": g.counts["ratio_violations"],
-            "ratio_bound": {
-                b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
-                | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
-                for b in self.ratio_bounds
-            },
-            "ratio_bound_violations": dict(g.ratio_bound_violations),
-            "h3_ratio_max": _maximum(g, "h3_ratio"),
-            "h3_violations": g.counts["h3_violations"],
-            "h3_premise": H3_STATUS,
-            "gap_ratio_max": _maximum(g, "gap_ratio"),
-            "gap_ratio_min": None if g.gap_min is None else _finite(g.gap_min),
-            "orthoradius_sq_max": _maximum(g, "orthoradius_sq"),
-            "bound": {
-                b.mode: {
-                    "value": _finite(b.value),
-                    "gap_ratio": _finite(b.value / eps),
-                    "claim": b.claim,
-                    "lipschitz": b.lipschitz,
-                }
-                | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
-                for b in self.bounds
-            },
-            "violations": {
-                mode: rows if _finite(bounds[mode]) is not None else None
-                for mode, rows in g.violations.items()
-            },
-            "outside_constraint_set": g.counts["outside_constraint_set"],
-            "constraint_violations": dict(g.constraint_violations),
-            "timings": {k: round(v, 3) for k, v in self.timings.items()},
-            "coverage_note": "coverage needs the surface: only the balls were given",
-            "worst": {
-                name: {"triangle": list(w.triple), "centroid": list(w.centroid)}
-                for name, w in g.where.items()
-            },
-            "tiles": self._tiles(),
-        }
-        if not self.sparsity_exact:
-            out["sparsity_note"] = (
-                "the smallest ratio is at least this (no pair closer was seen; the tiles "
-                "could not see farther)"
-            )
-        return out
-
-    def _tiles(self) -> dict:
-        t = self.tiling
-        return {
-            "count": t.tiles,
-            "halo_share": t.halo_balls / self.n_balls,
-            "rounds": t.rounds,
-            "rerun": t.rerun,
-            "executor": t.executor,
-            "workers": t.workers,
-            "driver_peak_gb": round(t.driver_peak_bytes / 1e9, 3),
-            "worker_peak_gb": round(max(t.worker_peak_bytes.values(), default=0) / 1e9, 3),
-            "workers_peak_gb_total": round(sum(t.worker_peak_bytes.values()) / 1e9, 3),
-            "processes_peak_gb_total": round(
-                (
-                    t.driver_peak_bytes
-                    + sum(b for p, b in t.worker_peak_bytes.items() if p != t.driver_pid)
-                )
-                / 1e9,
-                3,
-            ),
-            "cpu_seconds": {k: round(v, 3) for k, v in t.cpu_seconds.items()},
-            "driver_cpu_seconds": {k: round(v, 3) for k, v in t.driver_cpu_seconds.items()},
-            "busiest_worker_cpu_seconds": round(max(t.worker_busy_seconds.values(), default=0), 3),
-            "spill_gb": round(t.spill_bytes / 1e9, 3),
-        }
-
-
-def _maximum(g: GuideTally, name: str) -> float | None:
-    return _finite(g.maxima[name]) if name in g.maxima else None
-
-
-def _pairs(tally: PairTally) -> list[dict]:
-    return [
-        {"i": i, "j": j, "ratio": ratio, "where": list(where)} for i, j, ratio, where in tally.worst
-    ]
-
-
-def histogram_marks(report: TiledCheckReport) -> list[tuple[str, float, str]]:
-    """(mode, bound over εL_i, claim) for each mode: the lines of the gap histogram."""
-    return [(b.mode, b.value / report.params.eps, b.claim) for b in report.bounds]
 
 
 def tile_size(balls: int, workers: int) -> int:
@@ -597,100 +416,3 @@ def _merge_vtu(parts: list[VtuRows]) -> VtuRows | None:
         radii=np.concatenate([p.radii for p in parts]),
         cells={k: np.concatenate([p.cells[k] for p in parts]) for k in parts[0].cells},
     )
-
-
-# --- Outputs ----------------------------------------------------------------------------------
-
-
-class TiledOutputs:
-    """The output folder of a tiled check while it runs (a context manager).
-
-    The tiles write their rows (``table``: ``parquet`` files, ``csv`` files, or ``none``) into
-    a hidden folder beside ``triangles``; :meth:`publish` writes summary.json, the decimated
-    sample.vtu and any extra files (the figure) and renames everything into place as one set:
-    ``triangles/`` (a Parquet dataset, one file per tile, readable by pyarrow, pandas and dask)
-    or ``triangles.csv``. Leaving the block without publishing removes the hidden folder.
-    """
-
-    def __init__(self, out: str | Path, table: str = "parquet"):
-        if table not in TABLES:
-            raise InputError(f"table: expected one of {', '.join(TABLES)}, got {table!r}")
-        if table == "parquet" and not pyarrow_available():
-            raise InputError(
-                "Parquet rows need pyarrow (pip install 'vorobound[parquet]'); "
-                "or write them as CSV (--table csv) or not at all (--table none)"
-            )
-        self.folder = Path(out)
-        self.table = table
-        self.parts: Path | None = None
-
-    def __enter__(self) -> TiledOutputs:
-        self.folder = ensure_folder(self.folder)
-        self.parts = temporary_folder(self.folder / "triangles")
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self.parts is not None:
-            discard_folder(self.parts)
-
-    def writers(self, report: TiledCheckReport) -> dict[Path, Callable[[Path], None]]:
-        """summary.json, sample.vtu (when it has triangles) and triangles.csv (``csv``)."""
-        summary = report.summary() | {"rows": self.rows(report)}
-        text = json.dumps(summary, indent=2, allow_nan=False) + "\n"
-        out = {self.folder / "summary.json": lambda path: path.write_text(text, "utf-8")}
-        if report.vtu is not None and len(report.vtu.triples):
-            out[self.folder / "sample.vtu"] = lambda path: _write_vtu(path, report)
-        if self.table == "csv":
-            out[self.folder / "triangles.csv"] = self._concatenate
-        return out
-
-    def publish(self, writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
-        """Write ``writers`` and move the rows into place, as one set."""
-        folders = {self.folder / "triangles": self.parts} if self.table == "parquet" else {}
-        written = write_set(writers, folders)
-        self.parts = None if folders else self.parts
-        return written
-
-    def rows(self, report: TiledCheckReport) -> dict:
-        """Where the rows went and how much of them the VTU shows (the summary's ``rows``)."""
-        shown = 0 if report.vtu is None else len(report.vtu.triples)
-        return {
-            "table": self.table,
-            "triangles": {"parquet": "triangles/", "csv": "triangles.csv"}.get(self.table),
-            "vtu_triangles": shown,
-            "vtu_selection": (
-                "all guide triangles"
-                if shown == report.guides.count
-                else "a uniform share of the guide triangles plus up to 1000 per tile that "
-                "break a bound or condition (decimated)"
-            ),
-        }
-
-    def _concatenate(self, path: Path) -> None:
-        """triangles.csv from the tiles' CSV files: one header, then every tile's rows."""
-        parts = sorted(self.parts.glob("part-*.csv"))
-        with open(path, "wb") as target:
-            for index, part in enumerate(parts):
-                with open(part, "rb") as source:
-                    header = source.readline()
-                    if index == 0:
-                        target.write(header)
-                    shutil.copyfileobj(source, target, 1 << 22)
-        if not parts:
-            raise WriteError(f"cannot write {path}: no tile wrote its rows")
-
-
-def _write_vtu(path: Path, report: TiledCheckReport) -> None:
-    from ..sampling.io.balls import fill_vtu
-
-    v = report.vtu
-    ids, first = np.unique(v.triples.ravel(), return_index=True)
-    points = v.centers.reshape(-1, 3)[first]
-    radii = v.radii.ravel()[first]
-    cells = np.searchsorted(ids, v.triples)
-    point_data = {
-        "radius": radii,
-        "lfs": radii / report.params.delta,
-        "ball_index": ids.astype(float),
-    }
-    fill_vtu(path, points, [("triangle", cells)], point_data, {k: [c] for k, c in v.cells.items()})
