@@ -25,6 +25,8 @@ growth exponent of CPU time with N and the extrapolation to 10⁸ balls on 64 wo
 measured per-ball costs. ``--tile-engines`` times, on one tile of 1.5·10⁵ balls, GUDHI's
 regular triangulation (``DelaunayComplex``, the engine) against the weighted alpha complex
 pruned at alpha² ≤ 10⁻⁶·r_max² (the previous engine), with the guide triangles of each.
+``--speedup N`` runs 1 and 2 workers alternately N times on 10⁶ balls, with the load average
+around each run (the second core is often taken by other jobs on the shared machine).
 
 Scale targets (issue 23): 10⁶ balls ≤ 60 CPU-s end to end, outputs ≤ 15 % extra; 2 workers
 ≥ 1.7× faster than 1 at 10⁶; 10⁷ balls complete with peak ≤ 6 GB; CPU growth exponent from
@@ -170,12 +172,17 @@ def main() -> None:
         help="--scale: folder for the input files (made once)",
     )
     parser.add_argument("--tile-engines", action="store_true", help="engines inside one tile")
+    parser.add_argument(
+        "--speedup", type=int, default=0, help="--scale: 1 and 2 workers at 10⁶, N times"
+    )
     args = parser.parse_args()
-    if args.scale or args.tile_engines:
+    if args.scale or args.tile_engines or args.speedup:
         import bench_scale
 
         if args.tile_engines:
             bench_scale.tile_engines(args.data)
+        if args.speedup:
+            bench_scale.speedup(args.data, args.speedup)
         if args.scale:
             bench_scale.scale(args.data, [int(float(n)) for n in args.sizes.split(",")])
         return

@@ -146,6 +146,22 @@ def scale(data: str | Path, sizes: list[int]) -> None:
     extrapolate(by_size[large], large)
 
 
+def speedup(data: str | Path, repeats: int) -> None:
+    """1 and 2 workers alternately on the 10⁶-ball sample, ``repeats`` times."""
+    path, eps = sample_file(data, 10**6)
+    for repeat in range(repeats):
+        one = run(path, eps, "--workers", "1")
+        two = run(path, eps, "--workers", "2")
+        print(
+            f"run {repeat + 1}: 1 worker {one['wall']:.1f} s wall, {one['cpu']:.1f} CPU-s "
+            f"(load {one['load'][0]:.2f} → {one['load'][1]:.2f}); 2 workers {two['wall']:.1f} s "
+            f"wall, {two['cpu']:.1f} CPU-s (load {two['load'][0]:.2f} → {two['load'][1]:.2f}): "
+            f"{one['wall'] / two['wall']:.2f}x faster; idle-machine model "
+            f"{idle_speedup(one, two):.2f}x",
+            flush=True,
+        )
+
+
 def idle_speedup(one: dict, two: dict) -> float:
     """What 2 workers would gain on an idle 2-core machine, from CPU times (which the shared
     machine's load does not inflate much): the 1-worker run takes its CPU time; the 2-worker run

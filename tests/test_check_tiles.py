@@ -77,12 +77,12 @@ def _tiled_rows(parts_folder) -> dict:
     return _rows({name: table[name] for name in table.dtype.names})
 
 
-def _compare(path, eps, tmp_path, **tiled):
-    params = SamplingParams(eps, QualityParams())
-    untiled = check_balls(read_balls(path), params, 1.0, source=path.name)
+def _compare(path, eps, tmp_path, quality=None, lipschitz=1.0, **tiled):
+    params = SamplingParams(eps, quality or QualityParams())
+    untiled = check_balls(read_balls(path), params, lipschitz, source=path.name)
     table = "parquet" if pyarrow_available() else "csv"
     with TiledOutputs(tmp_path / "out", table) as outputs:
-        report = check_ball_file(path, params, 1.0, outputs=outputs, **tiled)
+        report = check_ball_file(path, params, lipschitz, outputs=outputs, **tiled)
         got = _tiled_rows(outputs.parts)
     want = _rows(triangle_columns(untiled))
     assert got.keys() == want.keys()
@@ -101,6 +101,18 @@ def test_tiled_check_equals_the_untiled_one(case, tmp_path):
     path = make(tmp_path / f"{case}.npz")
     report = _compare(path, eps, tmp_path, tile_balls=max(200, len(read_balls(path)) // 6))
     assert report.tiling.tiles >= 4
+
+
+def test_violations_and_worst_pairs_are_counted_once(tmp_path):
+    """σ = 0.95 and λ = 0.05 for a sample made with σ = 0.75 and 1-Lipschitz L: many pairs
+    break both, near tile borders too; counts and worst lists agree with the untiled check."""
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.1, tmp_path / "t.npz")
+    report = _compare(
+        path, 0.1, tmp_path, quality=QualityParams(sigma=0.95), lipschitz=0.05, tile_balls=500
+    )
+    s = report.summary()
+    assert s["sparsity_violations"] > 100 and s["lipschitz_violations"] > 100
+    assert len(s["sparsity_worst"]) == len(s["lipschitz_worst"]) == 10
 
 
 def test_tiles_smaller_than_a_ball(tmp_path):
