@@ -113,6 +113,7 @@ def filler_effect() -> dict:
 
     from vorobound.sampling.balls import make_balls
     from vorobound.sampling.guides import triangles as guide
+    from vorobound.sampling.guides.seeds import classify
     from vorobound.sampling.sampler.maximal import sample_surface
     from vorobound.sampling.surfaces.analytic import TorusShape
 
@@ -127,6 +128,12 @@ def filler_effect() -> dict:
             found[label] = guide.gudhi_triples(balls)
             out[label] = {"wall": time.perf_counter() - start, "cpu": _cpu_seconds() - cpu0}
     out["same_candidates"] = bool(np.array_equal(found["with"], found["without"]))
+    guides = {}
+    for label, triples in found.items():
+        seeded = classify(balls, triples)
+        guides[label] = seeded.triples[seeded.guide]
+        out[label]["candidates"] = len(triples)
+    out["same_guides"] = bool(np.array_equal(guides["with"], guides["without"]))
     return out
 
 
@@ -203,7 +210,8 @@ def main() -> None:
             f"GUDHI on the torus (3, 1) at ε = 0.03 ({r['n_samples']:,} balls): "
             f"with filler points {w['wall']:.1f} s wall / {w['cpu']:.1f} s CPU, without "
             f"{wo['wall']:.1f} s / {wo['cpu']:.1f} s (CPU ratio {wo['cpu'] / w['cpu']:.2f}); "
-            f"same candidate triangles: {r['same_candidates']}"
+            f"candidates {w['candidates']:,} and {wo['candidates']:,} (the same: "
+            f"{r['same_candidates']}); the same guide triangles: {r['same_guides']}"
         )
         return
     print(f"{os.cpu_count()} cores; each case in its own process")
