@@ -224,3 +224,18 @@ def test_a_folder_joins_a_set_of_files(tmp_path):
     assert written == [tmp_path / "summary.json", final]
     assert sorted(p.name for p in final.iterdir()) == ["new.txt"]
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(TEMP_PREFIX)]
+
+
+def test_row_sample_is_sparse_and_covers():
+    from vorobound.sampling.sampler import conditions
+    from vorobound.sampling.sampler.torus_rows import torus_row_count
+
+    eps = 0.05  # 126 rows: two chunks
+    parts = list(torus_rows(3.0, 1.0, eps))
+    centers = np.concatenate([c for c, _ in parts])
+    assert len(centers) == torus_row_count(3.0, 1.0, eps) and len(parts) > 1
+    lfs = np.ones(len(centers))  # L = r = 1 on the torus (3, 1)
+    assert conditions.sparsity(centers, lfs, eps, 0.75).extreme >= 1
+    probes, probe_lfs = TorusShape(3.0, 1.0).random_points(50_000, np.random.default_rng(1))
+    assert conditions.coverage(centers, eps, probes, probe_lfs)[0] < 1
+    assert np.allclose(np.concatenate([r for _, r in parts]), 2 * eps)

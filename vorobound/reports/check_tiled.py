@@ -165,6 +165,7 @@ def check_ball_file(
                 parts=None if outputs is None else str(outputs.parts),
                 vtu_share=0.0 if outputs is None else share,
                 what=f"balls {path.name}",
+                total=spill.count,
             )
             run = _Rounds(executor, slots, plan, spill, settings, chunk_rows, progress)
             outcomes = run.all(beta, sparsity_reach, core_radius)
@@ -346,7 +347,7 @@ def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings
     with_seeds = sum(o.with_seeds for o in done)
     if guides.count == 0:
         raise NoGuideTriangles(
-            f"balls {path.name}: no guide triangle to measure ({with_seeds:,} triples of balls "
+            f"{path.name}: no guide triangle to measure ({with_seeds:,} triples of balls "
             f"meet in a seed pair, {half:,} of them half-covered): a VoroCrust sample of a "
             "closed surface has guide triangles all over it; are the radii δ·L too small for "
             "the spacing of the centers?"

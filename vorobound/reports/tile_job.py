@@ -62,6 +62,8 @@ class TileSettings:
     """Share of the guide triangles kept (uniformly) for the decimated VTU; 0: none."""
     what: str
     """The input's name, for messages."""
+    total: int
+    """Balls in the whole set."""
 
 
 @dataclass(frozen=True)
@@ -157,8 +159,8 @@ def _run(job: TileJob) -> TileOutcome:
         sparse = conditions.sparsity(balls.centers, lfs, s.params.eps, s.params.sigma, near)
         lipschitz = conditions.lipschitz(balls.centers, lfs, s.lipschitz, near)
         neighbour_reach = float(near.farthest[core].max())
-        if len(balls) < conditions.NEIGHBOURS + 1:
-            neighbour_reach = job.beta  # too few balls to be sure: ask for a wider halo
+        if len(balls) < min(conditions.NEIGHBOURS + 1, s.total):
+            neighbour_reach = job.beta  # fewer balls than neighbours: ask for a wider halo
     vtu = None
     with clock("rows"):
         if s.table != "none":

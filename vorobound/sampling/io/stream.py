@@ -81,11 +81,14 @@ def ball_chunks(path: str | Path, chunk_rows: int = CHUNK_ROWS) -> Iterator[tupl
             yield centers, radii
 
 
-def _header(path: Path) -> tuple[list[int], bool]:
-    """Columns of x, y, z, r and whether the first line is a header (as read_balls decides)."""
+def _header(path: Path) -> tuple[list[int], bool, bool]:
+    """Columns of x, y, z, r, whether the first line is a header (as read_balls decides), and
+    whether any line follows it."""
     try:
         with open(path, encoding="utf-8-sig") as handle:
-            line = next((text for text in handle if text.strip()), None)
+            lines = (text for text in handle if text.strip())
+            line = next(lines, None)
+            more = next(lines, None) is not None
     except (OSError, UnicodeDecodeError) as exc:
         raise ReadError(
             f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
@@ -101,15 +104,18 @@ def _header(path: Path) -> tuple[list[int], bool]:
             raise ReadError(
                 f"balls {path}: the header must name x, y, z and r, got {line.strip()!r}"
             ) from None
-        return [cells.index("x"), cells.index("y"), cells.index("z"), cells.index(radius)], True
-    return [0, 1, 2, 3], False
+        columns = [cells.index("x"), cells.index("y"), cells.index("z"), cells.index(radius)]
+        return columns, True, more
+    return [0, 1, 2, 3], False, True
 
 
 def _csv_arrow(path: Path, chunk_rows: int):
     import pyarrow as pa
     from pyarrow import csv
 
-    columns, header = _header(path)
+    columns, header, rows = _header(path)
+    if not rows:
+        return
     with open(path, "rb") as handle:
         start = handle.read(3)
     options = csv.ReadOptions(
@@ -118,8 +124,11 @@ def _csv_arrow(path: Path, chunk_rows: int):
         skip_rows=1 if header else 0,
         encoding="utf-8-sig" if start == b"\xef\xbb\xbf" else "utf8",
     )
+    # No text stands for a missing value: "nan" and "inf" are numbers (then refused as balls
+    # are), an empty cell is not a number.
+    convert = csv.ConvertOptions(null_values=[], quoted_strings_can_be_null=False)
     try:
-        reader = csv.open_csv(path, read_options=options)
+        reader = csv.open_csv(path, read_options=options, convert_options=convert)
         for batch in reader:
             if batch.num_columns <= max(columns):
                 raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {batch.num_columns}")
@@ -144,7 +153,7 @@ def _float_column(column, path: Path) -> np.ndarray:
 
 
 def _csv_numpy(path: Path, chunk_rows: int):
-    columns, header = _header(path)
+    columns, header, _ = _header(path)
     try:
         with open(path, encoding="utf-8-sig") as handle:
             lines = (line for line in handle if line.strip())

@@ -11,11 +11,11 @@ distance r from every point, the z axis at ρ ≥ R − r ≥ r). Row k is the c
 n_k = ⌈2πρ_k/h⌉ points at angles (j + ½ + u)·2π/n_k, and every point is moved by up to
 ``JITTER`` of its row's steps in both angles (u and the moves are uniform random).
 
-* σ-sparse for σ ≤ (1 − 2·JITTER)·ROW_SPACING·(1 − h²/(24 L²)) / (1 + h/(2π ρ_min))... in
-  practice: two points of one row are at least (1 − 2·JITTER) of a step apart along the row,
-  two points of different rows at least (1 − 2·JITTER)·Δφ apart in tube angle, and a step is
-  within a factor 1 − h/(2πρ) of h; chords lose h²/24 relative to arcs. With the defaults
-  (h = εL, jitter 0.1) that is ≥ 0.79·εL for ε ≤ 0.05: σ = 3/4 holds.
+* σ-sparse: two points of one row are at least (1 − 2·JITTER) of a step apart along it, a
+  step being at least h·(1 − h/(2πρ)); two points of different rows are at least
+  (1 − 2·JITTER)·Δφ apart in tube angle; chords are shorter than arcs by a factor
+  1 − O(h²/L²). With the defaults (h = εL, jitter 0.1) every pair is at least 0.79·εL apart for
+  ε ≤ ``MAX_EPS``: σ = 3/4 holds.
 * an ε-sample: a surface point is within half a row step in φ and half a point step in θ of a
   lattice site, and the site's point within JITTER steps of it, so within
   (½ + JITTER)·√2·h ≈ 0.85·εL.
