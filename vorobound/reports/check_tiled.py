@@ -7,7 +7,7 @@ sample, its triangles or their rows in one process:
 1. **Read** the file in chunks (:mod:`vorobound.sampling.io.stream`), check every row, copy
    the balls to a temporary binary file (the spill) and keep the bounding box, the largest
    weight W (the seeds' lifting) and a systematic subsample of the centers.
-2. **Plan** tiles by median splits of the subsample (:mod:`vorobound.sampling.guides.tiles`);
+2. **Plan** tiles by quantile splits of the subsample (:mod:`vorobound.sampling.guides.tiles`);
    one pass over the spill gives each tile's core radius R_T, hence its first halo width.
 3. **Route** each ball to its own tile and to the halos it belongs to (one more pass), as one
    shard file per tile, balls in increasing index.
@@ -58,7 +58,7 @@ from .tiled_outputs import TiledOutputs
 from .tiled_report import TiledCheckReport, Tiling
 
 TILE_BALLS = 150_000
-"""Most balls in a tile's core (a tile of 1.5·10⁵ balls takes about 0.6 GB in a worker)."""
+"""Most balls in a tile's core (a worker computing such tiles peaks at about 0.8 GB)."""
 TILES_PER_WORKER = 4
 """Below ``TILE_BALLS`` per tile, at least this many tiles per worker (load balance)."""
 MIN_TILE_BALLS = 20_000

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bounds.params import SamplingParams
-from ..errors import InputError
+from ..errors import InputError, WriteError
 from ..geometry.threads import limited_threads
 from ..sampling.balls import Balls
 from ..sampling.guides import tiles
@@ -240,13 +240,20 @@ def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
     s = job.settings
     columns = guide_columns(guides, job.ids[guides.triples])
     path = Path(s.parts) / f"part-{job.tile:05d}.{'csv' if s.table == 'csv' else 'parquet'}"
-    if s.table == "parquet":
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+    try:
+        if s.table == "parquet":
+            import pyarrow as pa
+            import pyarrow.parquet as pq
 
-        pq.write_table(pa.table(columns), path, compression="snappy")
-    else:
-        write_csv_columns(path, columns)
+            pq.write_table(pa.table(columns), path, compression="snappy")
+        else:
+            write_csv_columns(path, columns)
+    except OSError as exc:
+        raise WriteError(
+            f"cannot write the rows of tile {job.tile} into {s.parts}: "
+            f"{exc.strerror or exc} (on a cluster the output folder must be on a file system "
+            "its workers share)"
+        ) from None
 
 
 def write_csv_columns(path: Path, columns: dict[str, np.ndarray]) -> None:

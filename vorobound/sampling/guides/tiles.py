@@ -1,6 +1,6 @@
 """Tiles with halos: a guide-triangle search split over space, with the answer of the whole.
 
-Space is cut into boxes by a k-d tree of median splits (from a subsample of the centers) until
+Space is cut into boxes by a k-d tree of quantile splits (from a subsample of the centers) until
 each box holds about ``tile_balls`` centers, so tiles follow the density of the sample, which
 for a VoroCrust sample follows its radii (r = δL, spacing ≈ εL). Each ball belongs to one tile,
 the leaf whose half-open box holds its center (the *core*); a tile is computed on its core
@@ -39,8 +39,8 @@ import numpy as np
 from ...errors import InputError
 
 HALO_FACTOR = 3.0
-"""First guess of β_T in units of R_T (surface samples need about 2: twice the distance to the
-16th neighbour, which is about one radius r = 2εL)."""
+"""First guess of β_T in units of R_T (surface samples need about 2.5–2.7: twice the distance to
+the 16th neighbour, which is a little more than one radius r = 2εL)."""
 HALO_RTOL = 1e-9
 """Relative slack of the halo test (rounding of the distances to the box)."""
 REACH_RTOL = 1e-6
