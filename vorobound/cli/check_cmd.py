@@ -91,7 +91,7 @@ def check(
         typer.Option(
             "--scheduler",
             help="Check --balls in tiles on a dask.distributed cluster, e.g. "
-            "tcp://127.0.0.1:8786 (pip install 'vorobound[dask]').",
+            "tcp://127.0.0.1:8786 (needs the dask extra of vorobound).",
         ),
     ] = None,
     table: Annotated[
