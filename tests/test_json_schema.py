@@ -85,6 +85,25 @@ def test_file_outputs_follow_the_schema(run_cli, tmp_path):
     written = json.loads((tmp_path / "out" / "summary.json").read_text())
     _validate(written)
     assert written == printed  # summary.json is the command's JSON
+    code, out, err = run_cli(
+        "check",
+        "--balls",
+        str(tmp_path / "s.npz"),
+        "--eps",
+        "0.2",
+        "--workers",
+        "1",
+        "--out",
+        str(tmp_path / "tiled"),
+        "--table",
+        "csv",
+        "--json",
+    )
+    assert code in (0, 1), err
+    tiled = json.loads(out)
+    _validate(tiled)
+    assert tiled["n_guide_triangles"] == printed["n_guide_triangles"]
+    assert json.loads((tmp_path / "tiled" / "summary.json").read_text()) == tiled
 
 
 def test_a_broken_object_is_rejected():

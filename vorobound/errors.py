@@ -66,3 +66,8 @@ class VoroboundWarning(RuntimeWarning):
     Other runtime warnings (numpy's floating-point notices, chatter from readers) are
     silenced by the command line.
     """
+
+
+class WorkerError(VoroboundError):
+    """A worker process or the cluster running a computation failed (killed, out of memory,
+    unreachable); nothing was written."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import stat
 import tempfile
 from collections.abc import Callable, Iterator
@@ -138,12 +139,18 @@ def write_text(path: str | os.PathLike, text: str) -> Path:
     return Path(path)
 
 
-def write_set(writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
+def write_set(
+    writers: dict[Path, Callable[[Path], None]], folders: dict[Path, Path] | None = None
+) -> list[Path]:
     """Write several files as a set: each writer fills a temporary path, then all are renamed.
 
     ``writers`` maps each final path to a function that writes the file at the path it is given.
     If any writer fails (or the run is interrupted) before the renames, no final path changes.
+    ``folders`` maps final folder paths to finished temporary folders (made with
+    :func:`temporary_folder` beside them) that join the set: each replaces its final folder
+    (a previous one is moved aside and removed once the set is in place).
     """
+    folders = {Path(k): Path(v) for k, v in (folders or {}).items()}
     direct = {Path(path) for path in writers if _direct(Path(path))}  # checked before writing
     temps: dict[Path, Path] = {}
     try:
@@ -160,7 +167,10 @@ def write_set(writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
                 _discard(temp)
         raise
     pending = [(path, temp) for path, temp in temps.items() if path not in direct]
+    old_folders = []
     try:
+        for final, temp in folders.items():
+            old_folders.append(_publish_folder(temp, final))
         while pending:
             path, temp = pending[0]
             _publish(temp, path)
@@ -169,4 +179,46 @@ def write_set(writers: dict[Path, Callable[[Path], None]]) -> list[Path]:
         for _, temp in pending:
             _discard(temp)
         raise
-    return [Path(p) for p in writers]
+    finally:
+        for old in old_folders:
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+    return [Path(p) for p in writers] + list(folders)
+
+
+def temporary_folder(final: str | os.PathLike) -> Path:
+    """An empty hidden folder beside ``final`` to fill and then publish with :func:`write_set`
+    (its name starts with ``TEMP_PREFIX``; remove it with :func:`discard_folder` on failure)."""
+    final = Path(final)
+    if final.exists() and not final.is_dir():
+        raise WriteError(f"cannot write {final}: it is a file, not a folder")
+    try:
+        return Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{final.name}.", dir=final.parent))
+    except OSError as exc:
+        raise WriteError(f"cannot write {final}: {exc.strerror or exc}") from None
+
+
+def discard_folder(folder: str | os.PathLike) -> None:
+    """Remove a temporary folder and everything in it (no error if it is gone)."""
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+def _publish_folder(temp: Path, final: Path) -> Path | None:
+    """Rename ``temp`` onto ``final``; a previous ``final`` is renamed aside first and returned
+    (the caller removes it)."""
+    old = None
+    try:
+        if final.exists():
+            old = Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{final.name}.old.", dir=final.parent))
+            os.replace(final, old / final.name)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(temp, 0o777 & ~umask)
+        os.replace(temp, final)
+    except OSError as exc:
+        if old is not None and not final.exists():
+            with contextlib.suppress(OSError):
+                os.replace(old / final.name, final)
+        discard_folder(temp)
+        raise WriteError(f"cannot write {final}: {exc.strerror or exc}") from None
+    return old

@@ -1,14 +1,18 @@
-"""Worker processes that never outlive their parent.
+"""Worker processes that never outlive their parent, and one executor interface for tasks.
 
 Pools start workers with the ``spawn`` method (no inherited threads or locks), each worker
 asks the kernel to kill it when its parent dies (Linux ``PR_SET_PDEATHSIG``), and leaving the
 pool's block on an exception (Ctrl-C included) terminates the workers at once instead of
 waiting for their current task. If the parent is killed outright, multiprocessing's resource
 tracker still removes the pool's semaphores, without its "leaked semaphore" warning.
+:func:`task_executor` gives the same ``concurrent.futures`` interface over this process, such
+a pool, or a dask.distributed cluster.
 """
 
 from __future__ import annotations
 
+import concurrent.futures
+import concurrent.futures.process
 import contextlib
 import ctypes
 import multiprocessing
@@ -80,3 +84,125 @@ def process_pool(workers: int) -> Iterator[multiprocessing.pool.Pool]:
         raise
     pool.close()
     pool.join()
+
+
+# --- One executor interface for tasks: in process, a local process pool, or a dask cluster ----
+
+
+class InlineExecutor(concurrent.futures.Executor):
+    """Runs each task at once in this process (one worker: no start-up, no copies)."""
+
+    def submit(self, fn, /, *args, **kwargs) -> concurrent.futures.Future:
+        future: concurrent.futures.Future = concurrent.futures.Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except Exception as exc:  # Ctrl-C and other BaseExceptions propagate at once
+            future.set_exception(exc)
+        return future
+
+
+@contextlib.contextmanager
+def task_executor(
+    workers: int = 1, scheduler: str | None = None
+) -> Iterator[tuple[concurrent.futures.Executor, int]]:
+    """A ``concurrent.futures`` executor for independent tasks, and how many run at once.
+
+    * ``scheduler`` (an address such as ``tcp://127.0.0.1:8786``): a dask.distributed cluster,
+      through its ``concurrent.futures`` interface (``Client.get_executor``); needs the
+      ``dask`` extra. Its workers are the cluster's.
+    * else ``workers`` > 1: a process pool of spawned workers that die with this process
+      (:func:`_die_with_parent`); leaving the block on an exception (Ctrl-C included) kills
+      them at once.
+    * else: :class:`InlineExecutor`.
+
+    A worker that dies (killed, out of memory) makes its task's ``result()`` raise; see
+    :func:`task_result`.
+    """
+    if scheduler is not None:
+        with _dask_executor(scheduler) as found:
+            yield found
+        return
+    if workers <= 1:
+        yield InlineExecutor(), 1
+        return
+    pool = concurrent.futures.ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_die_with_parent,
+        initargs=(os.getpid(),),
+    )
+    try:
+        yield pool, workers
+    except BaseException:
+        _kill_pool(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """Stop a process pool now: kill its workers rather than wait for their tasks."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            process.kill()
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
+            process.join(5)
+    # With its workers gone the pool's manager thread ends at once; waiting for it releases
+    # the pool's semaphores before this process exits (else the resource tracker warns).
+    pool.shutdown(wait=True, cancel_futures=True)
+
+
+@contextlib.contextmanager
+def _dask_executor(address: str) -> Iterator[tuple[concurrent.futures.Executor, int]]:
+    from .errors import InputError, WorkerError
+
+    try:
+        from distributed import Client
+    except ImportError:
+        raise InputError(
+            "--scheduler needs dask.distributed: pip install 'vorobound[dask]'"
+        ) from None
+    try:
+        client = Client(address, timeout=DASK_CONNECT_SECONDS, set_as_default=False)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise WorkerError(f"cannot reach the dask scheduler at {address}: {reason}") from None
+    try:
+        executor = client.get_executor(pure=False)
+        slots = max(1, sum(client.nthreads().values()))
+        try:
+            yield executor, slots
+        except BaseException:
+            executor.shutdown(wait=False)
+            raise
+        executor.shutdown(wait=True)
+    finally:
+        with contextlib.suppress(Exception):
+            client.close()
+
+
+DASK_CONNECT_SECONDS = 10
+"""How long to wait for a dask scheduler to answer."""
+
+
+def task_result(future: concurrent.futures.Future, what: str):
+    """``future.result()``, with a lost worker (killed, out of memory, a dask worker that died
+    ``allowed-failures`` times) turned into one :class:`~vorobound.errors.WorkerError` naming
+    ``what`` (the task)."""
+    from .errors import WorkerError
+
+    try:
+        return future.result()
+    except concurrent.futures.process.BrokenProcessPool:
+        raise WorkerError(
+            f"a worker process died while computing {what} (killed, or out of memory?); "
+            "nothing was written"
+        ) from None
+    except Exception as exc:
+        if type(exc).__name__ in ("KilledWorker", "CommClosedError", "FutureCancelledError"):
+            raise WorkerError(
+                f"the dask cluster lost {what} ({type(exc).__name__}: "
+                f"{' '.join(str(exc).split())}); nothing was written"
+            ) from None
+        raise

@@ -5,7 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from .files import atomic_path, ensure_folder, write_set
-from .reports.figure_data import ComparisonData, Figure3Data, gap_histogram_data
+from .reports.figure_data import (
+    HISTOGRAM_MARGIN,
+    ComparisonData,
+    Figure3Data,
+    gap_histogram_data,
+)
 
 COLUMN_WIDTH_IN = 3.5
 """One column of a two-column paper, in inches."""
@@ -239,19 +244,68 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
         elif data.bins is not None:
             ax.hist(data.values, bins=data.bins, color="0.5", log=True)
             ax.set_ylim(bottom=0.5)  # a bin of one triangle stays visible
-        for index, (mode, value, claim) in enumerate(data.marks):
-            label = f"{mode} ({claim}): {value:.3g}"
-            style = ("-", "--", "-.", ":")[index % 4]  # equal bounds stay visible
-            ax.axvline(value, color=f"C{index}", linewidth=1.2, linestyle=style, label=label)
-        ax.set_xlim(*data.xlim)
-        ax.set_xlabel(r"realized $(R - \hat R)\,/\,(\epsilon L_i)$")
-        ax.set_ylabel("guide triangles")
-        ax.set_title(f"{title}: {data.count:,} guide triangles")
-        _fixed_ticks(ax)
-        if entries:
-            _legend_outside(ax, columns=1, first=data.note)
-        ax.grid(alpha=0.3)
+        _gap_axes(ax, data.marks, data.xlim, f"{title}: {data.count:,}", data.note)
     return fig
+
+
+def plot_gap_counts(edges, counts, gap_range, marks, title: str, ax=None):
+    """The same histogram from counts on fixed bins (a tiled check's merged histogram).
+
+    ``counts`` has one entry below ``edges[0]``, one per bin, and one at or above
+    ``edges[-1]``; ``gap_range`` is (min, max) of the data. Bins are grouped to about 120 bars
+    over the range shown; the values below the first edge join the first bar and those above
+    the last edge form one bar up to the maximum.
+    """
+    import math
+
+    import matplotlib
+    import numpy as np
+
+    edges, counts = np.asarray(edges, dtype=float), np.asarray(counts, dtype=np.int64)
+    data_min, data_max = gap_range
+    low = min(0.0, data_min)
+    total = int(counts.sum())
+    shown = tuple((m, float(v), c) for m, v, c in marks if math.isfinite(v))
+    high = max([data_max, 1e-12, *(value for _, value, _ in shown)])
+    with matplotlib.rc_context(_STYLE):
+        fig, ax = _axes(ax, legend_rows=len(shown))
+        if total:
+            shown_bins = min(len(edges) - 1, int(np.searchsorted(edges, high * 1.05)) + 1)
+            group = max(1, -(-shown_bins // 120))
+            bins = counts[1 : shown_bins + 1]
+            bins = np.add.reduceat(bins, np.arange(0, shown_bins, group))
+            lefts = edges[0:shown_bins:group]
+            rights = np.append(lefts[1:], edges[min(shown_bins, len(edges) - 1)])
+            bins[0] += counts[0]
+            lefts[0] = min(lefts[0], low)
+            rest = int(counts[shown_bins + 1 :].sum())
+            if rest:
+                lefts, rights = (
+                    np.append(lefts, rights[-1]),
+                    np.append(rights, max(data_max, rights[-1])),
+                )
+                bins = np.append(bins, rest)
+            ax.bar(lefts, bins, width=rights - lefts, align="edge", color="0.5", log=True)
+            ax.set_ylim(bottom=0.5)
+        margin = HISTOGRAM_MARGIN * (high - low)
+        _gap_axes(ax, shown, (low - margin, high + margin), f"{title}: {total:,}", None)
+    return fig
+
+
+def _gap_axes(ax, marks, xlim, title: str, note: str | None) -> None:
+    """The bounds' lines, labels, ticks and legend of a gap histogram."""
+    for index, (mode, value, claim) in enumerate(marks):
+        label = f"{mode} ({claim}): {value:.3g}"
+        style = ("-", "--", "-.", ":")[index % 4]  # equal bounds stay visible
+        ax.axvline(value, color=f"C{index}", linewidth=1.2, linestyle=style, label=label)
+    ax.set_xlim(*xlim)
+    ax.set_xlabel(r"realized $(R - \hat R)\,/\,(\epsilon L_i)$")
+    ax.set_ylabel("guide triangles")
+    ax.set_title(f"{title} guide triangles")
+    _fixed_ticks(ax)
+    if len(marks) + (note is not None):
+        _legend_outside(ax, columns=1, first=note)
+    ax.grid(alpha=0.3)
 
 
 def plot_reconstruct_quality(distributions: dict, title: str):

@@ -3,6 +3,7 @@ against every bound."""
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -63,6 +64,8 @@ class CheckResult(Result):
     """:class:`vorobound.reports.check.CheckReport`."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
+    extra: dict = field(repr=False, default_factory=dict)
+    """More of the JSON (a tiled check's ``rows``: where its per-triangle rows are)."""
 
     @property
     def failures(self) -> dict[str, int]:
@@ -78,7 +81,7 @@ class CheckResult(Result):
         return f"{self.n_failures:,} violations: " + "; ".join(found)
 
     def payload(self) -> dict:
-        summary = self.report.summary()
+        summary = self.report.summary() | self.extra
         found = failures(summary)
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
@@ -116,6 +119,9 @@ def check(
     engine: str = "auto",
     out: str | os.PathLike | None = None,
     figure_format: str = "png",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    table: str | None = None,
     progress: Progress | None = None,
 ) -> CheckResult:
     """Sample a surface (or read ``balls``) and measure every guide triangle against the
@@ -129,6 +135,12 @@ def check(
     folder for triangles.csv, summary.json, sample.vtu and the gap histogram, written as one
     set. ``lipschitz`` is the λ that L = r/δ of ``balls`` should satisfy (default 1); a
     sampled surface uses its own λ.
+
+    With ``workers`` (local processes; 1 runs the tiles one after another here) or
+    ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
+    halos (docs/scale.md): the same guide triangles and summary, memory bounded by the tile.
+    ``table`` then says how ``out`` holds the per-triangle rows: a Parquet dataset
+    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``.
     """
     from ..checks import checked_lipschitz, checked_seed
     from ..errors import InputError
@@ -139,6 +151,29 @@ def check(
     seed = checked_seed(seed)
     quality = QualityParams(sigma, delta_ratio, rho_f)
     params = quality.at(eps)
+    tiled = workers is not None or scheduler is not None
+    if table is not None and not tiled:
+        raise InputError("table goes with workers or scheduler (a tiled check)")
+    if tiled:
+        if balls is None:
+            raise InputError("workers and scheduler go with balls")
+        if any(v is not None for v in (sphere, torus, mesh, lfs, sizing)):
+            raise InputError(
+                "coverage against a surface needs every ball at once: drop the surface option "
+                "or workers/scheduler"
+            )
+        return _check_tiled(
+            balls,
+            params,
+            lipschitz,
+            engine,
+            workers,
+            scheduler,
+            table,
+            out,
+            figure_format,
+            progress,
+        )
     shape = sample_shape(
         sphere=sphere,
         torus=torus,
@@ -184,7 +219,6 @@ def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
     """triangles.csv, summary.json (the result's JSON), sample.vtu and the gap histogram,
     written as one set; the result names them."""
     import dataclasses
-    import json
 
     from ..files import ensure_folder, write_set
     from ..plotting import figure_writer, plot_gap_histogram
@@ -199,4 +233,82 @@ def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
     text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
     writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
     write_set(writers)
+    return result
+
+
+TABLES = ("parquet", "csv", "none")
+"""How a tiled check's ``out`` holds the per-triangle rows."""
+
+
+def _check_tiled(
+    balls, params, lipschitz, engine, workers, scheduler, table, out, figure_format, progress
+) -> CheckResult:
+    """``balls`` checked in tiles (vorobound.reports.check_tiled), outputs as one set."""
+    import dataclasses
+    from contextlib import nullcontext
+
+    from ..checks import checked_count, checked_lipschitz
+    from ..errors import InputError
+    from ..plotting import figure_writer, plot_gap_counts
+    from ..reports.check import GAP_HISTOGRAM_STEM
+    from ..reports.check_tiled import check_ball_file
+    from ..reports.tiled_outputs import TiledOutputs
+    from ..reports.tiled_report import histogram_marks
+    from ..sampling.io.balls import pyarrow_available
+
+    if workers is not None:
+        workers = checked_count(workers, "workers", 1, 1 << 16)
+    if table is not None and out is None:
+        raise InputError("table says how out writes the rows: give out too")
+    table = table or ("parquet" if pyarrow_available() else "none")
+    if table not in TABLES:
+        raise InputError(f"table: expected parquet, csv or none, got {table!r}")
+    lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
+    params = params.but(lipschitz=lam)
+    staging = TiledOutputs(out, table) if out is not None else nullcontext()
+    with staging as outputs:
+        report = check_ball_file(balls, params, engine, workers or 1, scheduler, outputs, progress)
+        summary = report.summary()
+        result = CheckResult(
+            source=report.source,
+            n_samples=summary["n_samples"],
+            n_guide_triangles=summary["n_guide_triangles"],
+            n_half_covered=summary["n_half_covered"],
+            gap_ratio_max=summary["gap_ratio_max"],
+            ratio_max=summary["ratio_max"],
+            coverage_max=summary["coverage_max"],
+            n_failures=sum(failures(summary).values()),
+            report=report,
+            asked={
+                "seed": None,
+                "engine": engine,
+                "balls": os.fspath(balls),
+                "workers": workers,
+                "scheduler": scheduler,
+                "table": table,
+            },
+        )
+        if outputs is not None:
+            g = report.guides
+            figure = plot_gap_counts(
+                report.gap_edges,
+                g.histogram,
+                (g.gap_min, g.maxima.get("gap_ratio", 0.0)),
+                histogram_marks(report),
+                report.source,
+            )
+            writers = outputs.writers(report)
+            writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(
+                figure, figure_format
+            )
+            folders = ["triangles"] if table == "parquet" else []
+            written = [*map(os.fspath, writers), *(os.fspath(outputs.folder / f) for f in folders)]
+            result = dataclasses.replace(
+                result, written=tuple(written), extra={"rows": outputs.rows(report)}
+            )
+            text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
+            writers[outputs.folder / "summary.json"] = lambda path: path.write_text(
+                text, encoding="utf-8"
+            )
+            outputs.publish(writers)
     return result

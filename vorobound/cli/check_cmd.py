@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
@@ -28,6 +29,12 @@ from .options import (
 )
 from .progress import progress_bar
 from .render import emit, fmt, print_table
+
+
+class TableChoice(str, Enum):
+    parquet = "parquet"
+    csv = "csv"
+    none = "none"
 
 
 def check(
@@ -71,6 +78,34 @@ def check(
         ),
     ] = None,
     figure_format: FigureFormatOpt = FigureFormat.png,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            "--workers",
+            metavar="N",
+            help="Check --balls in tiles on this many local processes (1: tiles one after "
+            "another in this process), streaming the file: for samples too large for one "
+            "process (docs/scale.md). Same guide triangles and summary as without.",
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            metavar="ADDRESS",
+            help="Check --balls in tiles on a dask.distributed cluster, e.g. "
+            "tcp://127.0.0.1:8786 (needs the dask extra of vorobound).",
+        ),
+    ] = None,
+    table: Annotated[
+        TableChoice | None,
+        typer.Option(
+            "--table",
+            help="With --workers/--scheduler and --out: per-triangle rows as a Parquet "
+            "dataset triangles/ (default; needs pyarrow), one triangles.csv, or none. "
+            "sample.vtu then holds a share of the triangles (docs/scale.md).",
+        ),
+    ] = None,
     as_json: Json = False,
 ) -> int:
     """Sample a surface (or read balls) and measure every guide triangle against the bounds.
@@ -97,6 +132,9 @@ def check(
             engine=engine.value,
             out=out,
             figure_format=figure_format.value,
+            workers=workers,
+            scheduler=scheduler,
+            table=None if table is None else table.value,
             progress=progress,
         )
     return emit(result, as_json, _show)

@@ -1,11 +1,36 @@
 """Row chunks of a batch, run on a pool of threads (the numpy and compiled kernels release
-the GIL, so threads run them in parallel)."""
+the GIL, so threads run them in parallel), and the number of threads a computation may use.
+
+:func:`thread_count` is that number for every threaded step of the library (these thread
+pools, scipy's k-d tree queries): one per core, unless a caller set a budget with
+:func:`limited_threads`, as the workers of a tiled check do (one thread each, since the
+processes themselves share the cores).
+"""
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+
+_BUDGET: contextvars.ContextVar[int | None] = contextvars.ContextVar("threads", default=None)
+
+
+def thread_count() -> int:
+    """Threads a computation may use: the budget of :func:`limited_threads`, else the cores."""
+    return _BUDGET.get() or os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def limited_threads(count: int) -> Iterator[None]:
+    """Within the block (in this thread), :func:`thread_count` is ``count``."""
+    token = _BUDGET.set(max(1, int(count)))
+    try:
+        yield
+    finally:
+        _BUDGET.reset(token)
 
 
 def chunk_bounds(n_rows: int, rows_per_chunk: int) -> list[tuple[int, int]]:
@@ -14,10 +39,11 @@ def chunk_bounds(n_rows: int, rows_per_chunk: int) -> list[tuple[int, int]]:
 
 
 def run_in_threads(task: Callable[[tuple[int, int]], None], bounds: list[tuple[int, int]]) -> None:
-    """Call ``task(bounds[i])`` for every chunk, on up to one thread per core."""
-    if len(bounds) <= 1:
+    """Call ``task(bounds[i])`` for every chunk, on up to :func:`thread_count` threads."""
+    workers = min(len(bounds), thread_count())
+    if workers <= 1:
         for chunk in bounds:
             task(chunk)
         return
-    with ThreadPoolExecutor(max_workers=min(len(bounds), os.cpu_count() or 1)) as pool:
+    with ThreadPoolExecutor(max_workers=workers) as pool:
         list(pool.map(task, bounds))

@@ -26,7 +26,7 @@ from .inputs import real_array
 from .invariants import invariants_from_edges, invariants_from_points
 from .precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE, tiered
 from .result import WeightedTriangles
-from .threads import chunk_bounds, run_in_threads
+from .threads import chunk_bounds, run_in_threads, thread_count
 
 CHUNK_ROWS = 1 << 16
 """Rows per chunk: about 40 temporaries of 512 kB each, per worker thread."""
@@ -216,7 +216,7 @@ def _run_chunked(
     n = first.shape[-1]
     rows = CHUNK_ROWS
     if spread:
-        rows = min(rows, max(_MIN_SPREAD_ROWS, -(-n // (os.cpu_count() or 1))))
+        rows = min(rows, max(_MIN_SPREAD_ROWS, -(-n // thread_count())))
     bounds = chunk_bounds(n, rows) or [(0, 0)]
 
     def compute(b):

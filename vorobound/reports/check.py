@@ -338,11 +338,17 @@ def _coverage(shape, balls: Balls, eps: float, guides, seed):
 
 def triangle_columns(report: CheckReport) -> dict[str, np.ndarray]:
     """The columns of triangles.csv, one row per guide triangle."""
-    g = report.guides
+    return guide_columns(report.guides)
+
+
+def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> dict:
+    """The columns of triangles.csv for measured guide triangles; ``triples`` replaces their
+    ball indices (a tile's rows carry the indices of the whole set)."""
+    triples = g.triples if triples is None else triples
     columns = {
-        "a_index": g.triples[:, 0],
-        "b_index": g.triples[:, 1],
-        "c_index": g.triples[:, 2],
+        "a_index": triples[:, 0],
+        "b_index": triples[:, 1],
+        "c_index": triples[:, 2],
         "lfs_i": g.lfs[:, 0],
         "lfs_j": g.lfs[:, 1],
         "lfs_k": g.lfs[:, 2],

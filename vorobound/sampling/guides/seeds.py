@@ -17,11 +17,13 @@ Eq. (2), (5) (orthoball and its center); the guide triangles of Section 4.1.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...geometry import WeightedTriangles, weighted_triangles
+from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from ..balls import Balls
 
@@ -32,6 +34,9 @@ COVER_RTOL = 1e-9
 """A seed is uncovered when its power to every other ball is ≥ COVER_RTOL·r_min². A seed on a
 fourth sphere up to rounding counts as covered, so a degenerate configuration (four spheres
 through one point) yields no guide triangle whichever way a triangulation breaks the tie."""
+SEARCH_POWER = 4 * COVER_RTOL
+"""The coverage search looks for other balls up to this power over W (a few times the cover
+tolerance, far above rounding)."""
 SEED_CHUNK = 1 << 18
 """Triples classified at a time (bounds the memory of the coverage queries)."""
 
@@ -99,7 +104,10 @@ def seed_pairs(balls: Balls, triples: np.ndarray) -> tuple[WeightedTriangles, np
 
 
 def classify(
-    balls: Balls, triples: np.ndarray, progress: Progress | None = None
+    balls: Balls,
+    triples: np.ndarray,
+    progress: Progress | None = None,
+    top: float | None = None,
 ) -> SeededTriangles:
     """Seeds of every triple and which of them no other ball covers.
 
@@ -111,6 +119,9 @@ def classify(
         Ball indices.
     progress : Progress, optional
         Reports the triples classified.
+    top : float, optional
+        W of the lifting (default: the largest weight of ``balls``). A tile of a larger set
+        passes the whole set's W, so its rounding, hence its answer, is the whole set's.
 
     References
     ----------
@@ -119,8 +130,8 @@ def classify(
     from scipy.spatial import cKDTree
 
     triples = np.asarray(triples, dtype=np.int64).reshape(-1, 3)
-    tree = cKDTree(lifted_balls(balls))
-    top = float(balls.weights.max())
+    top = float(balls.weights.max()) if top is None else float(top)
+    tree = cKDTree(lifted_balls(balls, top))
     counter = Counter(progress, "seeds", len(triples))
     parts = []
     for start in range(0, max(len(triples), 1), SEED_CHUNK):
@@ -138,18 +149,28 @@ def classify(
     return _concat(parts)
 
 
-def lifted_balls(balls: Balls) -> np.ndarray:
-    """The balls as 4-D points whose squared distance to (s, 0) is the power of s plus W."""
+def lifted_balls(balls: Balls, top: float | None = None) -> np.ndarray:
+    """The balls as 4-D points whose squared distance to (s, 0) is the power of s plus W = top
+    (default: the largest weight)."""
     weights = balls.weights
-    height = np.sqrt(np.maximum(weights.max() - weights, 0.0))
+    top = float(weights.max()) if top is None else top
+    height = np.sqrt(np.maximum(top - weights, 0.0))
     return np.column_stack([balls.centers, height])
 
 
 def other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Smallest power of each point to a ball outside its own triple."""
+    """Smallest power of each point to a ball outside its own triple, where it is below
+    SEARCH_POWER·W (+inf where it is not: the point is uncovered either way).
+
+    The search stops at that power (lifted distance √((1 + SEARCH_POWER)·W)), which a seed's own
+    balls (power 0) are within and a covering ball (power < COVER_RTOL·r_min² ≤ COVER_RTOL·W)
+    too, so the answer to "covered?" is that of the unbounded search, and so is the power
+    wherever it is below the bound.
+    """
     query = np.column_stack([points, np.zeros(len(points))])
     count = min(4, tree.n)
-    dist, index = tree.query(query, k=count, workers=-1)
+    bound = math.sqrt(top * (1 + SEARCH_POWER))
+    dist, index = tree.query(query, k=count, distance_upper_bound=bound, workers=thread_count())
     power = dist * dist - top
     own = (index[:, :, None] == rows[:, None, :]).any(axis=2)
     return np.where(own, np.inf, power).min(axis=1)

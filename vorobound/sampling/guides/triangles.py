@@ -6,15 +6,18 @@ has power 0 to its three balls and ≥ 0 to all others, so it lies on the power-
 to the triple: the triple is a triangle of the regular (weighted Delaunay) triangulation, and
 the smallest power on that dual edge, its weighted alpha filtration value, is ≤ 0.
 
-* ``gudhi``: GUDHI's weighted alpha complex (CGAL) up to a small positive alpha². Space is cut
-  into slabs, each triangulated with the balls within a margin around it (a seed lies within
-  r_max of its three centers, and dropping far balls uncovers nothing near the slab), and the
-  slabs run in threads (GUDHI releases the GIL). Filler points of weight 0, kept more than
-  r_max away from every center, fill the space around the balls: they cannot claim a seed
-  (their power there is positive, the seed's power to its own balls is 0), but they cut up the
-  long tetrahedra that points on a curved surface otherwise form across its inside (a sample
-  of a cylinder has a Delaunay triangulation of size Θ(n^{3/2})), which makes CGAL several
-  times faster on a torus.
+* ``gudhi``: the triangles of GUDHI's regular triangulation (``DelaunayComplex`` with weights,
+  CGAL's exact predicates; no filtration values are computed). Space is cut into slabs, each
+  triangulated with the balls within a margin around it (a seed lies within r_max of its three
+  centers, and dropping far balls uncovers nothing near the slab), and the slabs run in
+  threads (GUDHI releases the GIL). Filler points of weight 0, kept more than r_max away from
+  every center, fill the space around the balls: they cannot claim a seed (their power there
+  is positive, the seed's power to its own balls is 0), but they cut up the long tetrahedra
+  that points on a curved surface otherwise form across its inside (a sample of a cylinder has
+  a Delaunay triangulation of size Θ(n^{3/2})), which makes CGAL several times faster on a
+  torus. Against the weighted alpha complex pruned at alpha² ≈ 0 (the same triangulation plus
+  an alpha value for every simplex) it proposes 1–5 % more triples on surface samples and
+  takes about 30 % less time (``benchmarks/bench_check.py --tile-engines``).
 * ``hull``: equal radii on a sphere. The power diagram is the Voronoi diagram of cospherical
   points, a seed's dual edge is the ray through a hull facet's normal, and a triple that is not
   a facet has points of the sphere on both sides of its plane, so both its seeds are covered:
@@ -27,20 +30,17 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import os
 from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
 
 from ...errors import InputError
+from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from ..balls import Balls
 from .seeds import SeededTriangles, classify
 
-ALPHA_SLACK = 1e-6
-"""The alpha complex keeps triangles up to alpha² = ALPHA_SLACK·r_max² (not 0), so rounding of
-GUDHI's fast filtration values cannot drop a triangle whose seed is uncovered."""
 SLAB_POINTS = 200_000
 """Balls per slab of the ``gudhi`` engine (bounds its memory; at least one slab per core)."""
 SLAB_MARGIN = 2.0
@@ -168,19 +168,18 @@ def hull_triples(balls: Balls) -> np.ndarray:
 
 
 def gudhi_triples(balls: Balls, progress: Progress | None = None) -> np.ndarray:
-    """Triangles of GUDHI's weighted alpha complex with alpha² ≤ ALPHA_SLACK·r_max², by slab."""
+    """Triangles of GUDHI's regular triangulation of ``balls``, by slab (module docstring)."""
     from concurrent.futures import ThreadPoolExecutor
 
     slabs = _slabs(balls)
     counter = Counter(progress, "regular triangulation", len(slabs))
 
     def run(members: np.ndarray) -> np.ndarray:
-        triples = members[_alpha_triangles(balls.centers[members], balls.weights[members])]
+        triples = members[regular_triangles(balls.centers[members], balls.weights[members])]
         counter.step()
         return triples
 
-    workers = min(len(slabs), os.cpu_count() or 1)
-    with ThreadPoolExecutor(workers) as pool:
+    with ThreadPoolExecutor(min(len(slabs), thread_count())) as pool:
         found = list(pool.map(run, slabs))
     return _distinct_rows(np.sort(np.concatenate(found), axis=1))
 
@@ -196,7 +195,7 @@ def _distinct_rows(rows: np.ndarray) -> np.ndarray:
 def _slabs(balls: Balls) -> list[np.ndarray]:
     """Ball indices of each slab (cut along the widest axis at count quantiles), with margin."""
     count = len(balls)
-    pieces = max(math.ceil(count / SLAB_POINTS), min(os.cpu_count() or 1, count // 10_000), 1)
+    pieces = max(math.ceil(count / SLAB_POINTS), min(thread_count(), count // 10_000), 1)
     centers = balls.centers
     axis = int(np.argmax(np.ptp(centers, axis=0)))
     coord = centers[:, axis]
@@ -209,21 +208,25 @@ def _slabs(balls: Balls) -> list[np.ndarray]:
     ]
 
 
-def _alpha_triangles(centers: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Local indices of the triangles of the weighted alpha complex at alpha² ≤ slack."""
+def regular_triangles(centers: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Local indices (m, 3) of the triangles of the regular triangulation of the weighted
+    points, computed with filler points (module docstring) that the result leaves out."""
     import gudhi
 
-    radius = math.sqrt(float(weights.max()))
-    filler = filler_points(centers, radius)
-    complex_ = gudhi.AlphaComplex(
+    filler = filler_points(centers, math.sqrt(float(weights.max())))
+    complex_ = gudhi.DelaunayComplex(
         points=np.vstack([centers, filler]),
         weights=np.concatenate([weights, np.zeros(len(filler))]),
         precision="fast",
     )
-    tree = complex_.create_simplex_tree(max_alpha_square=ALPHA_SLACK * float(weights.max()))
+    tree = complex_.create_simplex_tree()
+    del complex_
     tree.prune_above_dimension(2)
-    found = [simplex for simplex, _ in tree.get_skeleton(2) if len(simplex) == 3]
-    triangles = np.array(found, dtype=np.int64).reshape(-1, 3)
+    flat: list[int] = []
+    for simplex, _ in tree.get_skeleton(2):
+        if len(simplex) == 3:
+            flat.extend(simplex)
+    triangles = np.array(flat, dtype=np.int64).reshape(-1, 3)
     return triangles[(triangles < len(centers)).all(axis=1)]
 
 
@@ -259,7 +262,7 @@ def filler_points(centers: np.ndarray, radius: float) -> np.ndarray:
         ]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         grid += rng.uniform(-FILLER_JITTER, FILLER_JITTER, grid.shape) * spacing
-        dist, _ = tree.query(grid, distance_upper_bound=far, workers=-1)
+        dist, _ = tree.query(grid, distance_upper_bound=far, workers=thread_count())
         levels.append(grid[(dist >= near) & (dist < far)])
         if spacing > extent:
             return np.vstack(levels)

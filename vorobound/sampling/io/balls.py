@@ -5,6 +5,8 @@ Accepted inputs, each giving centers x, y, z and radii r:
 * CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
   separated by commas, semicolons or tabs (:mod:`.tables`);
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
+* Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
+  ``radius``);
 * any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
   ``radii`` or ``r``.
 
@@ -14,6 +16,7 @@ checked by :func:`vorobound.sampling.balls.make_balls`.
 
 from __future__ import annotations
 
+import importlib.util
 from functools import partial
 from pathlib import Path
 
@@ -27,10 +30,11 @@ from .tables import DELIMITER_NAMES, read_number_table
 
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""
+PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
 def read_balls(path: str | Path) -> Balls:
-    """Balls from a CSV, NPZ or meshio file (module docstring).
+    """Balls from a CSV, NPZ, Parquet or meshio file (module docstring).
 
     Raises
     ------
@@ -39,20 +43,69 @@ def read_balls(path: str | Path) -> Balls:
     InputError
         NaN, infinite or non-positive values, duplicate centers, fewer than four balls.
     """
+    centers, radii, lines = read_ball_arrays(path)
+    return make_balls(centers, radii, f"balls {Path(path).name}", lines=lines)
+
+
+def read_ball_arrays(path: str | Path):
+    """The centers (n, 3) and radii (n,) in a ball file, unchecked (see :func:`read_balls`),
+    and the file line of each row for a CSV (None for other formats)."""
     path = Path(path)
     if not path.exists():
         raise ReadError(f"cannot read balls {path}: no such file")
     if not path.is_file():
         raise ReadError(f"cannot read balls {path}: not a regular file")
     suffix = path.suffix.lower()
-    lines = None
     if suffix == ".csv":
-        centers, radii, lines = _read_csv(path)
-    elif suffix == ".npz":
-        centers, radii = _read_npz(path)
-    else:
-        centers, radii = _read_meshio(path)
-    return make_balls(centers, radii, f"balls {path.name}", lines=lines)
+        return _read_csv(path)
+    if suffix == ".npz":
+        return (*_read_npz(path), None)
+    if suffix in PARQUET_SUFFIXES:
+        return (*_read_parquet(path), None)
+    return (*_read_meshio(path), None)
+
+
+def pyarrow_available() -> bool:
+    """True when pyarrow can be imported (Parquet files, fast CSV)."""
+    return importlib.util.find_spec("pyarrow") is not None
+
+
+def parquet_columns(path: Path):
+    """The open Parquet file and its columns x, y, z, r (names in any case; r may be radius or
+    radii)."""
+    if not pyarrow_available():
+        raise ReadError(
+            f"cannot read balls {path}: Parquet files need pyarrow "
+            "(pip install 'vorobound[parquet]')"
+        )
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        # Without pre-buffering, streaming a file holds about one column chunk at a time.
+        handle = pq.ParquetFile(path, pre_buffer=False, buffer_size=1 << 22)
+    except (pa.ArrowException, OSError) as exc:
+        raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
+    names = {name.lower(): name for name in handle.schema_arrow.names}
+    radius = next((names[n] for n in RADIUS_NAMES if n in names), None)
+    if radius is None or not {"x", "y", "z"} <= names.keys():
+        raise ReadError(
+            f"balls {path}: need columns x, y, z and r (or radius), got "
+            f"{sorted(handle.schema_arrow.names)}"
+        )
+    return handle, [names["x"], names["y"], names["z"], radius]
+
+
+def _read_parquet(path: Path):
+    handle, columns = parquet_columns(path)  # refuses first when pyarrow is missing
+    import pyarrow as pa
+
+    try:
+        table = handle.read(columns=columns)
+        values = [table.column(name).to_numpy() for name in columns]
+    except (pa.ArrowException, OSError) as exc:
+        raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
+    return _numeric(np.column_stack(values[:3]), path), _numeric(values[3], path)
 
 
 def _read_csv(path: Path):

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...geometry.threads import thread_count
+
 PROBES_PER_SAMPLE = 4
 """Random probe points per sample for the coverage measurement."""
 MIN_PROBES = 100_000
@@ -54,26 +56,48 @@ class Neighbours:
     """Each sample's ``NEIGHBOURS`` nearest samples, as distinct pairs (shared by the checks)."""
 
     pairs: np.ndarray
-    """(m, 2) pairs (i, j), i < j."""
+    """(m, 2) pairs (i, j), each pair of the set once."""
     gap: np.ndarray
     """|p_i − p_j| per pair."""
     tree: object
     """The points' cKDTree."""
     farthest: np.ndarray
     """Distance from each point to the last of its neighbours."""
+    owned: np.ndarray | None = None
+    """The points whose pairs these are (None: all; see :func:`neighbours`)."""
 
 
-def neighbours(points: np.ndarray) -> Neighbours:
-    """Pairs of each point with its ``NEIGHBOURS`` nearest points."""
+def neighbours(points: np.ndarray, owned: np.ndarray | None = None) -> Neighbours:
+    """Pairs of each point with its ``NEIGHBOURS`` nearest points.
+
+    With ``owned`` (a mask), only the pairs that the owned points answer for: i → j for owned
+    i and j among its neighbours, unless j < i and i is among j's neighbours too (then j
+    answers for the pair). Over a partition of the points into owned sets, each pair of the
+    whole set is then answered for exactly once, provided every owned point's neighbours, and
+    their neighbours up to the distance of the owned point, are among ``points`` (the tiles'
+    halo rule, :mod:`vorobound.sampling.guides.tiles`).
+    """
     from scipy.spatial import cKDTree
 
     tree = cKDTree(points)
     count = min(NEIGHBOURS + 1, len(points))
-    dist, near = tree.query(points, k=count, workers=-1)
-    first = np.repeat(np.arange(len(points)), count - 1)
-    pairs = _unique_pairs(first, near[:, 1:].ravel(), len(points))
+    dist, near = tree.query(points, k=count, workers=thread_count())
+    if owned is None:
+        first = np.repeat(np.arange(len(points)), count - 1)
+        pairs = _unique_pairs(first, near[:, 1:].ravel(), len(points))
+    else:
+        sources = np.flatnonzero(owned)
+        first = np.repeat(sources, count - 1)
+        second = near[sources, 1:].ravel()
+        # i is among j's neighbours when closer than j's last one (the lists decide ties).
+        apart, last = dist[sources, 1:].ravel(), dist[second, -1]
+        mutual = apart < last
+        tied = np.flatnonzero(apart == last)
+        mutual[tied] = (near[second[tied], 1:] == first[tied, None]).any(axis=1)
+        keep = (first < second) | ~mutual
+        pairs = np.column_stack([first[keep], second[keep]])
     gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
-    return Neighbours(pairs, gap, tree, dist[:, -1])
+    return Neighbours(pairs, gap, tree, dist[:, -1], owned)
 
 
 def sparsity(
@@ -82,9 +106,11 @@ def sparsity(
     """min over all pairs of |p_i − p_j|/(σε·min(L_i, L_j)) and the pairs below 1 (exact).
 
     With U the smallest ratio among nearest neighbours (an upper bound on the minimum, made at
-    least 1), a pair below U is closer than U·σε·L to its endpoint of smaller L, so it is among
-    that endpoint's ``NEIGHBOURS`` nearest points unless even the farthest of them is that
-    close; such points are searched in full.
+    least 1), a pair below U is closer than U·σε·L to either endpoint, so it is among that
+    endpoint's ``NEIGHBOURS`` nearest points unless even the farthest of them is that close;
+    such points are searched in full. With ``near.owned``, pairs are searched from the owned
+    points only, the minimum is over the pairs found, and a pair below 1 counts when its
+    smaller index is owned (its other owner does not count it).
 
     References
     ----------
@@ -94,13 +120,16 @@ def sparsity(
     near = near or neighbours(points)
     pairs, gap = near.pairs, near.gap
     ratio = gap / (unit * np.minimum(lfs[pairs[:, 0]], lfs[pairs[:, 1]]))
-    reach = max(float(ratio.min()), 1.0) * unit * lfs
+    reach = max(float(ratio.min()) if len(ratio) else 1.0, 1.0) * unit * lfs
 
     def measure(i, j, gap):
         return gap / (unit * np.minimum(lfs[i], lfs[j]))
 
     pairs, ratio = _complete(points, near, reach, pairs, ratio, measure)
-    return _report(pairs, ratio, ratio < 1, smallest=True)
+    broken = ratio < 1
+    if near.owned is not None:
+        broken &= near.owned[pairs.min(axis=1)]
+    return _report(pairs, ratio, broken, smallest=True)
 
 
 def lipschitz(
@@ -129,9 +158,12 @@ def _unique_pairs(first: np.ndarray, second: np.ndarray, count: int) -> np.ndarr
 
 
 def _complete(points, near: Neighbours, reach, pairs, ratio, measure):
-    """Add the pairs within ``reach[i]`` of points whose neighbour list ends inside it."""
+    """Add the pairs within ``reach[i]`` of (owned) points whose neighbour list ends inside it."""
     tree = near.tree
-    short = np.flatnonzero(near.farthest < reach)
+    short = near.farthest < reach
+    if near.owned is not None:
+        short &= near.owned
+    short = np.flatnonzero(short)
     extra = []
     for start in range(0, len(short), _SEARCH_BLOCK):
         rows = short[start : start + _SEARCH_BLOCK]
@@ -176,7 +208,7 @@ def coverage(
     """
     from scipy.spatial import cKDTree
 
-    dist, _ = cKDTree(points).query(probes, workers=-1)
+    dist, _ = cKDTree(points).query(probes, workers=thread_count())
     ratio = dist / (eps * probe_lfs)
     at = int(np.argmax(ratio))
     return float(ratio[at]), probes[at]
