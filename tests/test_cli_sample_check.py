@@ -34,7 +34,7 @@ def test_check_torus_writes_every_output(run_cli, tmp_path):
     assert summary["n_guide_triangles"] > 0 and summary["outside_constraint_set"] == 0
     assert set(summary["bound"]) == {"paper", "rigorous", "tight", "tight_lipschitz"}
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["gap_histogram.png", "sample.vtu", "summary.json", "triangles.csv"]
+    assert names == ["gap_histogram.png", "sample.vtu", "summary.json", "triangles.parquet"]
     assert json.loads((out / "summary.json").read_text())["n_samples"] == summary["n_samples"]
     mesh = meshio.read(out / "sample.vtu")  # the VTU round-trips through meshio
     assert len(mesh.points) == summary["n_samples"]
@@ -43,8 +43,11 @@ def test_check_torus_writes_every_output(run_cli, tmp_path):
     rho = mesh.cell_data_dict["rho"]["triangle"]
     assert rho.max() == pytest.approx(summary["rho_max"], rel=1e-12)
     assert {"radius", "lfs"} <= mesh.point_data.keys()
-    table = np.loadtxt(out / "triangles.csv", delimiter=",", skiprows=1, ndmin=2)
-    assert len(table) == summary["n_guide_triangles"]
+    import pyarrow.parquet as pq
+
+    rows = pq.read_table(out / "triangles.parquet")
+    assert rows.num_rows == summary["n_guide_triangles"]
+    assert float(rows.column("rho").to_numpy().max()) == pytest.approx(summary["rho_max"])
 
 
 def test_sample_then_check_the_balls(run_cli, tmp_path):
@@ -173,3 +176,25 @@ def test_sample_refuses_a_bad_output_name_before_work(run_cli, tmp_path):
     )
     assert code == 2 and ".npz, .vtu or .csv" in stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("table", ["npz", "csv"])
+def test_the_per_triangle_table_formats_agree(run_cli, tmp_path, table):
+    """Compact by default; CSV on request with 10 significant digits; the same rows."""
+    out = tmp_path / table
+    code, stdout, _ = run_cli(
+        "check", "--torus", "3,1", "--eps", "0.25", "--out", str(out), "--table", table, "--json"
+    )
+    assert code in (0, 1)
+    summary = json.loads(stdout)
+    if table == "npz":
+        rows = np.load(out / "triangles.npz")
+        rho = rows["rho"]
+    else:
+        text = (out / "triangles.csv").read_text().splitlines()
+        header = text[0].split(",")
+        rho = np.loadtxt(text[1:], delimiter=",", ndmin=2)[:, header.index("rho")]
+        assert max(len(v) for v in text[1].split(",")) <= 17  # no 17-digit noise
+    assert len(rho) == summary["n_guide_triangles"]
+    assert rho.max() == pytest.approx(summary["rho_max"], rel=1e-9)
+    assert summary["params"]["table"] == table

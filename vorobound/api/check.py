@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
+from ..reports.check import TABLES
 from .result import Result, checked_outputs, frame, params_json
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
@@ -131,10 +132,11 @@ def check(
     measured: realized ρ = R/(δL_i), gap (R − R̂)/(εL_i) of Theorem 1, R/R̂, whether it lies
     in the constraint set (33)–(36), H3, sparsity and λ-Lipschitz, and whether it exceeds each
     mode's bound at this ε. The sample is checked for coverage, sparsity and Lipschitz L.
-    ``ok`` is False when any of that fails (the paper's invalid chain aside). ``out`` names a
-    folder for triangles.csv, summary.json, sample.vtu and the gap histogram, written as one
-    set. ``lipschitz`` is the λ that L = r/δ of ``balls`` should satisfy (default 1); a
-    sampled surface uses its own λ.
+    ``ok`` is False when any of that fails (the paper's invalid chain aside). ``out`` names
+    a folder for the per-triangle rows (``table``: triangles.parquet where pyarrow is
+    installed, else triangles.npz; triangles.csv or none on request), summary.json,
+    sample.vtu and the gap histogram, written as one set. ``lipschitz`` is the λ that L =
+    r/δ of ``balls`` should satisfy (default 1); a sampled surface uses its own λ.
 
     With ``workers`` (local processes; 1 runs the tiles one after another here) or
     ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
@@ -152,8 +154,8 @@ def check(
     quality = QualityParams(sigma, delta_ratio, rho_f)
     params = quality.at(eps)
     tiled = workers is not None or scheduler is not None
-    if table is not None and not tiled:
-        raise InputError("table goes with workers or scheduler (a tiled check)")
+    if table is not None and out is None:
+        raise InputError("table says how out writes the per-triangle rows: give out too")
     if tiled:
         if balls is None:
             raise InputError("workers and scheduler go with balls")
@@ -197,6 +199,8 @@ def check(
             raise InputError("lipschitz goes with balls (a surface's L has a known λ)")
         report = check_surface(shape, params.eps, quality, seed, engine, progress)
         asked = {"seed": seed, "engine": engine}
+    table = _checked_table(table, TABLES, out)
+    asked["table"] = table if out is not None else None
     summary = report.summary()
     result = CheckResult(
         source=report.source,
@@ -211,13 +215,24 @@ def check(
         asked=asked,
     )
     if out is not None:
-        result = write_outputs(result, out, figure_format)
+        result = write_outputs(result, out, figure_format, table)
     return result
 
 
-def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
-    """triangles.csv, summary.json (the result's JSON), sample.vtu and the gap histogram,
-    written as one set; the result names them."""
+def _checked_table(table: str | None, allowed: tuple[str, ...], out) -> str:
+    """The per-triangle table format asked for, or the compact default."""
+    from ..errors import InputError
+    from ..reports.check import default_table
+
+    table = table or default_table()
+    if table not in allowed:
+        raise InputError(f"table: expected {', '.join(allowed)}, got {table!r}")
+    return table
+
+
+def write_outputs(result: CheckResult, out, figure_format: str, table: str) -> CheckResult:
+    """The per-triangle rows (``table``), summary.json (the result's JSON), sample.vtu and the
+    gap histogram, written as one set; the result names them."""
     import dataclasses
 
     from ..files import ensure_folder, write_set
@@ -226,7 +241,7 @@ def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
 
     report = result.report
     folder = ensure_folder(out)
-    writers = output_writers(report, folder)
+    writers = output_writers(report, folder, table)
     figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
     writers[folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
     result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
@@ -236,8 +251,8 @@ def write_outputs(result: CheckResult, out, figure_format: str) -> CheckResult:
     return result
 
 
-TABLES = ("parquet", "csv", "none")
-"""How a tiled check's ``out`` holds the per-triangle rows."""
+TILED_TABLES = ("parquet", "csv", "none")
+"""How a tiled check's ``out`` holds the per-triangle rows (one file per tile)."""
 
 
 def _check_tiled(
@@ -248,7 +263,6 @@ def _check_tiled(
     from contextlib import nullcontext
 
     from ..checks import checked_count, checked_lipschitz
-    from ..errors import InputError
     from ..plotting import figure_writer, plot_gap_counts
     from ..reports.check import GAP_HISTOGRAM_STEM
     from ..reports.check_tiled import check_ball_file
@@ -258,11 +272,9 @@ def _check_tiled(
 
     if workers is not None:
         workers = checked_count(workers, "workers", 1, 1 << 16)
-    if table is not None and out is None:
-        raise InputError("table says how out writes the rows: give out too")
-    table = table or ("parquet" if pyarrow_available() else "none")
-    if table not in TABLES:
-        raise InputError(f"table: expected parquet, csv or none, got {table!r}")
+    if table is None and not pyarrow_available():
+        table = "none"
+    table = _checked_table(table, TILED_TABLES, out)
     lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
     params = params.but(lipschitz=lam)
     staging = TiledOutputs(out, table) if out is not None else nullcontext()

@@ -33,6 +33,7 @@ from .render import emit, fmt, print_table
 
 class TableChoice(str, Enum):
     parquet = "parquet"
+    npz = "npz"
     csv = "csv"
     none = "none"
 
@@ -73,8 +74,9 @@ def check(
         typer.Option(
             "--out",
             metavar="DIR",
-            help="Folder for triangles.csv, summary.json, sample.vtu (ParaView) and "
-            "gap_histogram.<figure format>, written as one set.",
+            help="Folder for the per-triangle rows (triangles.parquet or .npz; --table), "
+            "summary.json, sample.vtu (ParaView) and gap_histogram.<figure format>, written as "
+            "one set.",
         ),
     ] = None,
     figure_format: FigureFormatOpt = FigureFormat.png,
@@ -101,9 +103,11 @@ def check(
         TableChoice | None,
         typer.Option(
             "--table",
-            help="With --workers/--scheduler and --out: per-triangle rows as a Parquet "
-            "dataset triangles/ (default; needs pyarrow), one triangles.csv, or none. "
-            "sample.vtu then holds a share of the triangles (docs/scale.md).",
+            help="How --out holds the per-triangle rows: parquet (default where pyarrow is "
+            "installed), npz (the default without it), csv (10 significant digits) or none. "
+            "In tiles (--workers/--scheduler): a Parquet dataset triangles/, one "
+            "triangles.csv or none, and sample.vtu holds a share of the triangles "
+            "(docs/scale.md).",
         ),
     ] = None,
     as_json: Json = False,

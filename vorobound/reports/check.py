@@ -14,7 +14,6 @@ Section 4.1.
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable
 from contextlib import contextmanager
@@ -374,16 +373,6 @@ def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> di
     return columns
 
 
-def _write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
-    names = list(columns)
-    formats = ["%d" if columns[n].dtype.kind in "iub" else "%.17g" for n in names]
-    table = np.column_stack([columns[n].astype(float) for n in names]) if names else None
-    with open(path, "w", encoding="utf-8", newline="") as handle:
-        handle.write(",".join(names) + "\n")
-        if table is not None and len(table):
-            np.savetxt(handle, table, fmt=formats, delimiter=",")
-
-
 def _write_vtu(path: Path, report: CheckReport) -> None:
     g = report.guides
     count = len(report.balls)
@@ -401,25 +390,34 @@ def _write_vtu(path: Path, report: CheckReport) -> None:
     fill_vtu(path, report.balls.centers, cells, point_data, cell_data)
 
 
-def output_writers(report: CheckReport, out_dir: str | Path) -> dict[Path, Callable]:
-    """Writers of triangles.csv, summary.json and sample.vtu in ``out_dir`` (each takes the
-    temporary path to fill), for :func:`vorobound.files.write_set`.
+TABLES = ("parquet", "npz", "csv", "none")
+"""How ``--out`` holds the per-triangle rows: triangles.parquet, triangles.npz (the compact
+default without pyarrow), triangles.csv (10 significant digits), or not at all."""
 
-    The gap histogram (``GAP_HISTOGRAM_STEM``) is drawn by the plotting layer from
-    :func:`histogram_marks` and joins the same set in the command line.
+
+def default_table() -> str:
+    """Parquet where pyarrow is installed, else NPZ."""
+    from ..sampling.io.balls import pyarrow_available
+
+    return "parquet" if pyarrow_available() else "npz"
+
+
+def output_writers(report: CheckReport, out_dir: str | Path, table: str = "npz") -> dict:
+    """Writers of the per-triangle rows (``table``) and sample.vtu in ``out_dir`` (each takes
+    the temporary path to fill), for :func:`vorobound.files.write_set`.
+
+    The summary (the command's JSON) and the gap histogram (``GAP_HISTOGRAM_STEM``, drawn by
+    the plotting layer from :func:`histogram_marks`) join the same set in the workflow.
     """
+    from ..sampling.io.columns import READABLE_PRECISION, columns_writer
+
     out = Path(out_dir)
-    columns = triangle_columns(report)
-    summary = json.dumps(report.summary(), indent=2, allow_nan=False) + "\n"
-
-    def write_summary(path: Path) -> None:
-        path.write_text(summary, encoding="utf-8")
-
-    return {
-        out / "triangles.csv": lambda path: _write_csv(path, columns),
-        out / "summary.json": write_summary,
-        out / "sample.vtu": lambda path: _write_vtu(path, report),
-    }
+    writers: dict[Path, Callable] = {}
+    if table != "none":
+        path = out / f"triangles.{table}"
+        writers[path] = columns_writer(path, triangle_columns(report), READABLE_PRECISION)
+    writers[out / "sample.vtu"] = lambda path: _write_vtu(path, report)
+    return writers
 
 
 def histogram_marks(report: CheckReport) -> list[tuple[str, float, str]]:

@@ -3,7 +3,6 @@ seed CSV, the JSON summary, and the data of the quality figure."""
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable
 from pathlib import Path
 
@@ -82,10 +81,10 @@ def _write_seeds_vtu(path: Path, report: ReconstructReport) -> None:
 
 
 def _write_seeds_csv(path: Path, report: ReconstructReport) -> None:
-    from ..sampling.io.balls import fill_csv
+    from ..sampling.io.columns import fill_csv
 
     names, table = seed_table(report.seeds)
-    fill_csv(path, names, table)
+    fill_csv(path, dict(zip(names, table.T, strict=True)))
 
 
 def output_writers(report: ReconstructReport, out_dir: str | Path) -> dict[Path, Callable]:
@@ -94,13 +93,11 @@ def output_writers(report: ReconstructReport, out_dir: str | Path) -> dict[Path,
     :func:`vorobound.files.write_set`. The quality figure (``QUALITY_FIGURE_STEM``) joins the
     set in the command line."""
     out = Path(out_dir)
-    summary = json.dumps(report.summary(), indent=2, allow_nan=False) + "\n"
     writers = {
         out / "mhat.vtu": lambda path: _write_mhat_vtu(path, report),
         out / "mhat.ply": lambda path: _write_mhat_ply(path, report),
         out / "seeds.vtu": lambda path: _write_seeds_vtu(path, report),
         out / "seeds.csv": lambda path: _write_seeds_csv(path, report),
-        out / "summary.json": lambda path: path.write_text(summary, encoding="utf-8"),
     }
     return writers
 

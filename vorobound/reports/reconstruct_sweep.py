@@ -7,7 +7,6 @@ The ε* of every mode and target, eq. (33)–(55), and property H3.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -223,8 +222,6 @@ def sweep_writers(sweep: ReconstructSweep, out_dir: str | Path) -> dict[Path, Ca
     """Writers of sweep.csv and summary.json (the figure joins them in the command line)."""
     out = Path(out_dir)
     text = sweep_csv(sweep)
-    summary = json.dumps(sweep.summary(), indent=2, allow_nan=False) + "\n"
     return {
         out / "sweep.csv": lambda path: path.write_text(text, encoding="utf-8"),
-        out / "summary.json": lambda path: path.write_text(summary, encoding="utf-8"),
     }

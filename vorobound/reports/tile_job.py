@@ -240,10 +240,9 @@ def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
     path = Path(s.parts) / f"part-{job.tile:05d}.{'csv' if s.table == 'csv' else 'parquet'}"
     try:
         if s.table == "parquet":
-            import pyarrow as pa
-            import pyarrow.parquet as pq
+            from ..sampling.io.columns import fill_parquet
 
-            pq.write_table(pa.table(columns), path, compression="snappy")
+            fill_parquet(path, columns)
         else:
             write_csv_columns(path, columns)
     except OSError as exc:
@@ -255,18 +254,10 @@ def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
 
 
 def write_csv_columns(path: Path, columns: dict[str, np.ndarray]) -> None:
-    """A CSV with a header row (pyarrow's writer if installed, else numpy's)."""
-    from ..sampling.io.balls import pyarrow_available
+    """The tile's rows as CSV, as an untiled check writes them."""
+    from ..sampling.io.columns import READABLE_PRECISION, fill_csv
 
-    if pyarrow_available():
-        import pyarrow as pa
-        from pyarrow import csv
-
-        csv.write_csv(pa.table(columns), path)
-        return
-    from .check import _write_csv
-
-    _write_csv(path, columns)
+    fill_csv(path, columns, READABLE_PRECISION)
 
 
 def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:

@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import InputError, ReadError
-from ...files import atomic_open, checked_destination, write_set
+from ...files import checked_destination, write_set
 from ..balls import Balls, make_balls
+from .columns import columns_writer
 from .meshes import quiet_meshio
 from .tables import DELIMITER_NAMES, read_number_table
 
@@ -209,20 +210,15 @@ def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray
     All three formats read back with :func:`read_balls`.
     """
     path = checked_output(path)
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
-        names = ["x", "y", "z", "r", *point_data]
-        table = np.column_stack([balls.centers, balls.radii, *point_data.values()])
-        return write_set({path: partial(fill_csv, names=names, table=table)})[0]
-    arrays = {"radius": balls.radii, **point_data}
-    if suffix == ".npz":
-        x, y, z = balls.centers.T
-        with atomic_open(path, "wb") as handle:
-            np.savez_compressed(handle, x=x, y=y, z=z, **arrays)
-        return path
-    cells = [("vertex", np.arange(len(balls)).reshape(-1, 1))]
-    fill = partial(fill_vtu, points=balls.centers, cells=cells, point_data=arrays)
-    return write_set({path: fill})[0]
+    if path.suffix.lower() == ".vtu":
+        cells = [("vertex", np.arange(len(balls)).reshape(-1, 1))]
+        arrays = {"radius": balls.radii, **point_data}
+        fill = partial(fill_vtu, points=balls.centers, cells=cells, point_data=arrays)
+        return write_set({path: fill})[0]
+    x, y, z = balls.centers.T
+    radius = "r" if path.suffix.lower() == ".csv" else "radius"
+    columns = {"x": x, "y": y, "z": z, radius: balls.radii, **point_data}
+    return write_set({path: columns_writer(path, columns)})[0]
 
 
 def checked_output(path: str | Path) -> Path:
@@ -240,10 +236,3 @@ def fill_vtu(path: Path, points, cells, point_data: dict, cell_data: dict | None
 
     mesh = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data or {})
     meshio.write(path, mesh, file_format="vtu")
-
-
-def fill_csv(path: Path, names: list[str], table: np.ndarray) -> None:
-    """Write a CSV with a header of ``names`` and full-precision rows at ``path`` as it is (a
-    writer for :func:`~vorobound.files.write_set`)."""
-    with open(path, "w", encoding="utf-8", newline="") as handle:
-        np.savetxt(handle, table, fmt="%.17g", delimiter=",", header=",".join(names), comments="")

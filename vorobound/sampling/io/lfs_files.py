@@ -11,7 +11,8 @@ import numpy as np
 from ...errors import InputError
 from ...files import checked_destination, write_set
 from ..lfs.estimate import LfsEstimate
-from .balls import fill_csv, fill_vtu
+from .balls import fill_vtu
+from .columns import fill_csv
 
 FORMATS = (".csv", ".vtu")
 """Output suffixes understood by :func:`write_lfs`."""
@@ -43,7 +44,8 @@ def write_lfs(path: str | Path, estimate: LfsEstimate) -> Path:
 
 
 def _write_csv(path: Path, estimate: LfsEstimate) -> None:
-    fill_csv(path, ["x", "y", "z", "lfs"], np.column_stack([estimate.mesh.points, estimate.lfs]))
+    x, y, z = estimate.mesh.points.T
+    fill_csv(path, {"x": x, "y": y, "z": z, "lfs": estimate.lfs})
 
 
 def _write_vtu(path: Path, estimate: LfsEstimate) -> None:

@@ -1,0 +1,73 @@
+"""Columns of numbers written to a file whose suffix says the format: the one path by which
+vorobound writes tables (balls, L per vertex, per-triangle rows).
+
+``.csv`` (a header row; integers as integers, floats with ``precision`` significant digits),
+``.npz`` (one named array per column, ``np.savez_compressed``) and ``.parquet`` (one column
+each, snappy-compressed; needs pyarrow). Each ``fill_*`` fills the path it is given, so
+:func:`vorobound.files.write_set` makes it atomic.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import InputError, MissingDependency
+
+FULL_PRECISION = 17
+"""Significant digits that round-trip every float64 (inputs such as ball files)."""
+READABLE_PRECISION = 10
+"""Significant digits of measured results written as text (per-triangle rows)."""
+
+
+def fill_csv(path: Path, columns: dict[str, np.ndarray], precision: int = FULL_PRECISION) -> None:
+    """A CSV with a header row; integer and boolean columns as integers."""
+    names = list(columns)
+    arrays = [np.asarray(columns[n]) for n in names]
+    formats = ["%d" if a.dtype.kind in "iub" else f"%.{precision}g" for a in arrays]
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        handle.write(",".join(names) + "\n")
+        if arrays and len(arrays[0]):
+            table = np.column_stack([a.astype(float) for a in arrays])
+            np.savetxt(handle, table, fmt=formats, delimiter=",")
+
+
+def fill_npz(path: Path, columns: dict[str, np.ndarray], precision: int | None = None) -> None:
+    """One named array per column (compressed); ``precision`` does not apply."""
+    with open(path, "wb") as handle:
+        np.savez_compressed(handle, **{name: np.asarray(a) for name, a in columns.items()})
+
+
+def fill_parquet(path: Path, columns: dict[str, np.ndarray], precision: int | None = None) -> None:
+    """A Parquet file, one column each (needs pyarrow)."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        raise MissingDependency(
+            f"cannot write {path}: Parquet needs pyarrow (pip install 'vorobound[parquet]')"
+        ) from None
+    table = pa.table({name: np.asarray(a) for name, a in columns.items()})
+    pq.write_table(table, path, compression="snappy")
+
+
+FILLERS: dict[str, Callable] = {".csv": fill_csv, ".npz": fill_npz, ".parquet": fill_parquet}
+"""The writer of each suffix."""
+
+
+def table_format(path: str | Path, allowed: tuple[str, ...] = tuple(FILLERS)) -> str:
+    """The suffix of ``path`` if it names a table format in ``allowed``; else InputError."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in allowed:
+        raise InputError(f"cannot write {path}: a table file must end in {', '.join(allowed)}")
+    return suffix
+
+
+def columns_writer(
+    path: str | Path, columns: dict[str, np.ndarray], precision: int = FULL_PRECISION
+) -> Callable[[Path], None]:
+    """A writer for :func:`vorobound.files.write_set` of ``columns`` in ``path``'s format."""
+    return partial(FILLERS[table_format(path)], columns=columns, precision=precision)
