@@ -95,3 +95,26 @@ def test_the_import_graph_has_no_cycle():
     for node in sorted(graph):
         if node not in state:
             visit(node, [node])
+
+
+def test_every_k_d_tree_query_uses_the_one_thread_setting():
+    """scipy's k-d tree queries take their worker count from geometry.threads.thread_count
+    (VOROBOUND_THREADS, or a tiled check's budget), never a literal."""
+    literal = [
+        f"{path.relative_to(PACKAGE)}:{number}"
+        for path in PACKAGE.rglob("*.py")
+        for number, line in enumerate(path.read_text().splitlines(), 1)
+        if "workers=-1" in line.replace(" ", "")
+    ]
+    assert not literal, literal
+
+
+def test_the_thread_setting_reads_the_environment(monkeypatch):
+    from vorobound.geometry.threads import limited_threads, thread_count
+
+    monkeypatch.setenv("VOROBOUND_THREADS", "1")
+    assert thread_count() == 1
+    with limited_threads(3):
+        assert thread_count() == 3
+    monkeypatch.setenv("VOROBOUND_THREADS", "zero")
+    assert thread_count() >= 1

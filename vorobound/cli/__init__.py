@@ -145,9 +145,9 @@ NATIVE_WORKER_WAIT = 60.0
 
 
 def _wait_for_native_workers() -> None:
-    """Let scipy's k-d tree worker threads (``workers=-1``) finish before the main thread
-    unwinds: they write into arrays that the unwinding frees, so raising while they run can
-    crash the process instead of exiting with 130. They finish their share of one query."""
+    """Let scipy's k-d tree worker threads finish before the main thread unwinds: they write
+    into arrays that the unwinding frees, so raising while they run can crash the process
+    instead of exiting with 130. They finish their share of one query."""
     deadline = time.monotonic() + NATIVE_WORKER_WAIT
     for thread in threading.enumerate():
         target = getattr(thread, "_target", None)

@@ -2,9 +2,10 @@
 the GIL, so threads run them in parallel), and the number of threads a computation may use.
 
 :func:`thread_count` is that number for every threaded step of the library (these thread
-pools, scipy's k-d tree queries): one per core, unless a caller set a budget with
-:func:`limited_threads`, as the workers of a tiled check do (one thread each, since the
-processes themselves share the cores).
+pools, every scipy k-d tree query: ``workers=thread_count()``): one per core, or
+``VOROBOUND_THREADS`` when set, unless a caller set a budget with :func:`limited_threads`, as
+the workers of a tiled check do (one thread each, since the processes themselves share the
+cores).
 """
 
 from __future__ import annotations
@@ -18,9 +19,20 @@ from concurrent.futures import ThreadPoolExecutor
 _BUDGET: contextvars.ContextVar[int | None] = contextvars.ContextVar("threads", default=None)
 
 
+THREADS_VARIABLE = "VOROBOUND_THREADS"
+"""Environment variable that caps the threads of every step (a positive integer)."""
+
+
 def thread_count() -> int:
-    """Threads a computation may use: the budget of :func:`limited_threads`, else the cores."""
-    return _BUDGET.get() or os.cpu_count() or 1
+    """Threads a computation may use: the budget of :func:`limited_threads`, else
+    ``VOROBOUND_THREADS``, else the cores."""
+    budget = _BUDGET.get()
+    if budget:
+        return budget
+    setting = os.environ.get(THREADS_VARIABLE, "").strip()
+    if setting.isdigit() and int(setting) > 0:
+        return int(setting)
+    return os.cpu_count() or 1
 
 
 @contextlib.contextmanager

@@ -36,6 +36,7 @@ import numpy as np
 
 from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
 from ...errors import InputError, VoroboundError, VoroboundWarning
+from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from ..io.meshes import TriangleMesh
 from ..surfaces.base import SurfaceCounts
@@ -698,7 +699,7 @@ def _checked_poles(centres, owners, sample, caster, patches):
     leaves cells unbounded toward the others; their far Voronoi vertices are not medial."""
     from scipy.spatial import cKDTree
 
-    radius = cKDTree(sample).query(centres, workers=-1)[0]
+    radius = cKDTree(sample).query(centres, workers=thread_count())[0]
     # Query each distinct centre once: the poles of a sphere are all its centre, which is
     # equally close to every face (no pruning in the AABB tree: quadratic time).
     # (to 1e-9 of the unit-sized prepared mesh, far inside POLE_EMPTY_RTOL).
@@ -799,7 +800,7 @@ def _local_slope(points, lfs, slope: float, neighbours: int = 12) -> np.ndarray:
     k = min(neighbours + 1, len(points))
     if k < 2:
         return np.zeros(len(points))
-    dist, index = cKDTree(points).query(points, k=k, workers=-1)
+    dist, index = cKDTree(points).query(points, k=k, workers=thread_count())
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(lfs[index[:, 1:]] - lfs[:, None]) / dist[:, 1:]
     ratio = np.where(np.isfinite(ratio), ratio, 0.0)
@@ -884,7 +885,7 @@ def _patch_limit(site_points, site_patches, raw, kind, queries) -> np.ndarray:
         return out
     tree = cKDTree(site_points[inner])
     k = min(16, len(inner))
-    _, index = tree.query(site_points[queries], k=k, workers=-1)
+    _, index = tree.query(site_points[queries], k=k, workers=thread_count())
     candidates = inner[index.reshape(len(queries), -1)]
     candidate_patch = site_patches[candidates, 0]
     for column in range(site_patches.shape[1]):
@@ -907,7 +908,7 @@ def _nearest_allowed(pole_points, pole_labels, queries, query_labels, allowed) -
         if not len(todo):
             break
         k_eff = min(k, len(pole_points))
-        dist, index = tree.query(queries[todo], k=k_eff, workers=-1)
+        dist, index = tree.query(queries[todo], k=k_eff, workers=thread_count())
         dist, index = dist.reshape(len(todo), -1), index.reshape(len(todo), -1)
         ok = allowed[query_labels[todo][:, None], pole_labels[index]]
         found = ok.any(axis=1)
@@ -921,7 +922,9 @@ def _nearest_allowed(pole_points, pole_labels, queries, query_labels, allowed) -
             mine = todo[query_labels[todo] == label]
             keep = allowed[label, pole_labels]
             if keep.any():
-                out[mine] = cKDTree(pole_points[keep]).query(queries[mine], workers=-1)[0]
+                out[mine] = cKDTree(pole_points[keep]).query(queries[mine], workers=thread_count())[
+                    0
+                ]
     return out
 
 
@@ -943,7 +946,7 @@ def _feature_lfs(query_points, query_curves, radius, patches: Patches, feature) 
         if not len(todo):
             break
         k_eff = min(k, len(feature.points))
-        dist, index = tree.query(query_points[todo], k=k_eff, workers=-1)
+        dist, index = tree.query(query_points[todo], k=k_eff, workers=thread_count())
         dist, index = dist.reshape(len(todo), -1), index.reshape(len(todo), -1)
         near = np.zeros(index.shape, dtype=bool)
         for column in range(query_curves.shape[1]):

@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ...geometry.threads import chunk_bounds, run_in_threads
+from ...geometry.threads import chunk_bounds, run_in_threads, thread_count
 from ...progress import Counter, Progress
 
 LEAF_SIZE = 8
@@ -226,7 +226,9 @@ class Envelope:
         out = np.empty(len(queries))
         for start in range(0, len(queries), START_BLOCK):
             block = queries[start : start + START_BLOCK]
-            index = self._nearest.query(block, k=k, workers=-1)[1].reshape(len(block), k)
+            index = self._nearest.query(block, k=k, workers=thread_count())[1].reshape(
+                len(block), k
+            )
             # The distances as the tree's own search computes them (the same rounding).
             distance = np.linalg.norm(block[:, None] - tree.sites[index], axis=2)
             beyond = np.maximum(distance - tree.radii[index], 0)

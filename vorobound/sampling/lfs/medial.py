@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from .delaunay import delaunay_tetrahedra
 
@@ -189,7 +190,7 @@ def nearest_spacing(points: np.ndarray) -> np.ndarray:
     """Distance from each point to its nearest other point, at least SPACING_FLOOR."""
     from scipy.spatial import cKDTree
 
-    distance = cKDTree(points).query(points, k=2, workers=-1)[0][:, 1]
+    distance = cKDTree(points).query(points, k=2, workers=thread_count())[0][:, 1]
     return np.maximum(distance, SPACING_FLOOR)
 
 
@@ -211,7 +212,7 @@ def nearest_site(sites: np.ndarray, queries: np.ndarray) -> tuple[np.ndarray, np
     if len(first) == len(sites) or largest > LARGEST_CLUSTER:
         # No clusters, or one so large (a sphere's poles are all its centre) that measuring
         # its members for every query would take more memory and time than the tree.
-        return cKDTree(sites).query(queries, workers=-1)
+        return cKDTree(sites).query(queries, workers=thread_count())
     spread = float(np.linalg.norm(sites - sites[first][cluster], axis=1).max())
     order = np.argsort(cluster, kind="stable")
     start = np.searchsorted(cluster[order], np.arange(len(first) + 1))
@@ -222,7 +223,7 @@ def nearest_site(sites: np.ndarray, queries: np.ndarray) -> tuple[np.ndarray, np
         todo = np.arange(lo, min(lo + chunk, len(queries)))
         k = min(NEAREST_CLUSTERS, len(first))
         while len(todo):
-            reach, near = tree.query(queries[todo], k=k, workers=-1)
+            reach, near = tree.query(queries[todo], k=k, workers=thread_count())
             reach, near = reach.reshape(len(todo), k), near.reshape(len(todo), k)
             # Every member lies within `spread` of its cluster's first site.
             slack = 2 * spread * (1 + 1e-9) + 1e-15 * reach[:, :1]

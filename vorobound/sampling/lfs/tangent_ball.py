@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...geometry.threads import thread_count
+
 NEAREST = 16
 """Pieces tried first per point and group (then four times as many, as long as needed)."""
 PAIR_CHUNK = 2_000_000
@@ -182,7 +184,7 @@ class _TriangleGroup:
                 return
             k_eff = min(k, len(self.pieces))
             dist, index = self.tree.query(
-                around, k=k_eff, distance_upper_bound=float(reach.max()), workers=-1
+                around, k=k_eff, distance_upper_bound=float(reach.max()), workers=thread_count()
             )
             dist, index = dist.reshape(len(users), -1), index.reshape(len(users), -1)
             valid = (index < len(self.pieces)) & (dist <= reach[:, None])

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from .lattice import SPARSITY_SLACK, Candidates
 
@@ -138,7 +139,9 @@ def _conflicts_with(tree, tree_lfs, points, lfs, ids, eps, sigma) -> np.ndarray:
     against every tree point within the candidate's radius.
     """
     own = conflict_radius(eps, sigma, lfs[ids], lfs[ids])
-    dist, near = tree.query(points[ids], k=1, distance_upper_bound=float(own.max()), workers=-1)
+    dist, near = tree.query(
+        points[ids], k=1, distance_upper_bound=float(own.max()), workers=thread_count()
+    )
     hit = near < tree.n
     conflict = np.zeros(len(ids), dtype=bool)
     conflict[hit] = dist[hit] < conflict_radius(eps, sigma, lfs[ids][hit], tree_lfs[near[hit]])
