@@ -31,6 +31,7 @@ def test_every_command_prints_a_table_for_people(run_cli, args, expected):
     assert expected in out
 
 
+@pytest.mark.slow
 def test_tight_sweep_on_two_processes_matches_the_closed_form(run_cli):
     """Optimizer rows computed by two worker processes come back in order and agree with the
     closed form (computed in this process)."""

@@ -18,6 +18,7 @@ KEYS = {
 """The keys other programs rely on (issue 22)."""
 
 
+@pytest.mark.slow
 def test_torus_writes_the_set_and_seed_file_measures_the_same(run_cli, tmp_path):
     out = tmp_path / "out"
     code, stdout, stderr = run_cli(

@@ -157,6 +157,7 @@ def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):
     assert not out.exists()  # nothing half-written
 
 
+@pytest.mark.slow
 def test_check_a_mesh_with_estimated_lfs(run_cli, tmp_path):
     from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 

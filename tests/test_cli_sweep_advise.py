@@ -113,6 +113,7 @@ def test_unreadable_mesh_file_is_one_line(run_cli, tmp_path):
     assert code == 2 and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_a_mode_without_eps_star_does_not_abort_the_advice(run_cli):
     """σ = 1.8: the rigorous chain has no admissible ε; the tight rows and the
     recommendation (from the tight closed form's proven lower bound) still come out."""

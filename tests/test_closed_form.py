@@ -46,6 +46,7 @@ def _random_parameter_sets(count: int, seed: int) -> list[tuple]:
     return out
 
 
+@pytest.mark.slow
 def test_closed_form_matches_the_optimizer_at_random_parameter_sets():
     sets = _random_parameter_sets(20, seed=20261129)
     assert sum(lam is not None and lam < 1e-3 for *_, lam in sets) >= 2  # tiny λ included

@@ -9,22 +9,26 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts"))
 import update_docs  # noqa: E402
 
+SLOW_EXAMPLES = {"lfs_points", "lfs_accuracy", "samples_table"}
+"""Examples whose check takes several seconds (run with -m slow, as CI does)."""
 CASES = [
-    (doc, name, block)
+    pytest.param(
+        doc, name, block, marks=[pytest.mark.slow] if Path(name).stem in SLOW_EXAMPLES else []
+    )
     for doc in update_docs.documents()
     for name, block in update_docs.blocks(doc.read_text())
 ]
 
 
 def test_the_docs_have_example_blocks():
-    assert {name for _, name, _ in CASES} >= {
+    assert {case.values[1] for case in CASES} >= {
         "docs/examples/reproduce_table.py",
         "docs/examples/core_snippet.py",
     }
 
 
 @pytest.mark.parametrize(
-    "doc, name, block", CASES, ids=[f"{d.name}:{Path(n).stem}" for d, n, _ in CASES]
+    "doc, name, block", CASES, ids=[f"{c.values[0].name}:{Path(c.values[1]).stem}" for c in CASES]
 )
 def test_block_matches_its_example(doc, name, block):
     module = update_docs.load(name)

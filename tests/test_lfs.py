@@ -94,6 +94,7 @@ def test_sphere_with_fitted_midpoints_keeps_the_targets():
 
 
 @pytest.mark.parametrize("shape", [(3.0, 1.0), (1.5, 1.0)])
+@pytest.mark.slow
 def test_torus_vertices_meet_the_accuracy_targets(torus_estimates, shape):
     _, estimate, exact = torus_estimates[shape]
     errors = relative_errors(estimate, exact)
@@ -111,6 +112,7 @@ def test_fitted_midpoints_make_the_coarse_torus_meet_the_targets(coarse_torus):
     assert np.median(after) <= MEDIAN_RTOL and after.max() <= WORST_RTOL
 
 
+@pytest.mark.slow
 def test_fitted_midpoints_on_the_coarse_torus_with_l_switching(jittered_torus):
     """Documented: the median meets the target; the largest error (near the symmetry axis)
     falls with the midpoints but stays near the target."""
@@ -132,6 +134,7 @@ def test_overestimates_stay_small_where_the_largest_error_misses_the_target():
     assert signed.max() < 0.01
 
 
+@pytest.mark.slow
 def test_torus_with_l_switching_is_resolved_on_both_branches(torus_estimates):
     mesh, estimate, exact = torus_estimates[(1.5, 1.0)]
     near_axis = exact < 0.9  # L = distance to the axis there, not the tube radius
@@ -140,6 +143,7 @@ def test_torus_with_l_switching_is_resolved_on_both_branches(torus_estimates):
     assert estimate.lfs.min() == pytest.approx(0.5, rel=WORST_RTOL)
 
 
+@pytest.mark.slow
 def test_jittered_torus_keeps_the_median_target():
     mesh = torus_mesh(1.5, 1.0, 192, 64, jitter=0.2, seed=3)
     errors = relative_errors(
@@ -200,6 +204,7 @@ def test_fitted_midpoints_lie_on_the_smooth_surface(shape, mesh, deviation_rtol)
     assert np.median(deviation) < 0.01 * np.median(chord)  # flat midpoints: 100 times farther
 
 
+@pytest.mark.slow
 def test_midpoint_budget_takes_the_longest_edges():
     mesh = torus_mesh(1.5, 1.0, 48, 16, jitter=0.2, seed=4)
     prepared = prepare_mesh(mesh)
@@ -329,12 +334,14 @@ def test_cube_sharp_edges_are_found_and_warned():
     assert np.allclose(estimate.lfs, 1.0, rtol=1e-6)
 
 
+@pytest.mark.slow
 def test_sharp_angle_is_a_threshold():
     mesh = cube_mesh(1.0, 2)
     assert len(quiet_estimate(mesh, sharp_angle=89.0).sharp_edges) == 24
     assert len(quiet_estimate(mesh, sharp_angle=91.0).sharp_edges) == 0
 
 
+@pytest.mark.slow
 def test_advise_surface_from_the_estimate_matches_the_analytic_torus(torus_estimates):
     """The quantity advise uses, ∫ dA / L², from the estimate vs the analytic torus."""
     mesh, estimate, exact = torus_estimates[(1.5, 1.0)]

@@ -141,6 +141,7 @@ def test_repeated_crossings_are_dropped_in_order():
 
 
 @pytest.mark.parametrize("kind", ["envelope", "cap"])
+@pytest.mark.slow
 def test_envelope_and_cap_with_radii_match_brute_force(kind):
     """Several chunks of queries (run on threads), sites with radii, from the nearest sites'
     cones as first bounds: the branch and bound gives the brute-force minimum."""

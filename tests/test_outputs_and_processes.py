@@ -108,6 +108,7 @@ def figure_sets(tmp_path_factory):
     return sets
 
 
+@pytest.mark.slow
 def test_killed_figure_runs_leave_complete_files(tmp_path, figure_sets):
     """SIGKILL at several moments of a run; every file is always the old or the new one."""
     old, fresh = figure_sets["1.38"], figure_sets["1.5"]
@@ -224,6 +225,7 @@ def _peak_kb(rows_per_axis: int, out: Path) -> int:
     return int(done.stderr.split("PEAK_KB")[1].split()[0])
 
 
+@pytest.mark.slow
 def test_big_paper_sweep_runs_in_bounded_memory(tmp_path):
     small = _peak_kb(100, tmp_path / "small.csv")
     big = _peak_kb(300, tmp_path / "big.csv")
@@ -245,6 +247,7 @@ def test_devices_and_pipes_are_written_in_place_not_replaced(tmp_path):
         write_text(folder, "x")
 
 
+@pytest.mark.slow
 def test_an_interrupt_lets_the_kd_tree_worker_threads_finish_first():
     """scipy's k-d tree queries with workers=-1 run daemon threads that write into arrays the
     main thread frees when it unwinds; an interrupt must wait for them (it crashed the process

@@ -88,6 +88,7 @@ def _random_surface_balls(count, seed):
     ],
     ids=["torus-equal-radii", "torus-variable-radii", "wavy-unequal-radii"],
 )
+@pytest.mark.slow
 def test_engines_agree_with_the_reference(balls):
     reference_guides, reference_halves = _reference_guides(balls)
     assert reference_guides  # the comparison is not vacuous

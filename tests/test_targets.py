@@ -49,6 +49,7 @@ def _random_parameter_sets(count: int, seed: int) -> list[tuple]:
     return out
 
 
+@pytest.mark.slow
 def test_ratio_closed_form_matches_the_optimizer_at_random_parameter_sets():
     sets = _random_parameter_sets(20, seed=20261201)
     assert sum(lam is not None for *_, lam in sets) >= 10
