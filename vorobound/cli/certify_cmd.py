@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
-from .options import DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
+from .options import LAMBDA_HELP, DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
 from .progress import progress_bar
 from .render import emit, fmt, print_table
 
@@ -17,8 +17,8 @@ CertLipschitz = Annotated[
     typer.Option(
         "--lipschitz",
         metavar="LAMBDA",
-        help="Add |L_x − L_y| ≤ λ|p_x − p_y| for each pair of vertices (λ = 1: local feature "
-        "size).",
+        help=LAMBDA_HELP + "added to the constraint set between the vertices of every guide "
+        "triangle (λ = 1: a local feature size).",
     ),
 ]
 CertEps = Annotated[

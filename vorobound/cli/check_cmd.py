@@ -10,6 +10,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from .options import (
+    LAMBDA_HELP,
     DeltaRatio,
     EngineChoice,
     EngineOpt,
@@ -64,7 +65,7 @@ def check(
         typer.Option(
             "--lipschitz",
             metavar="LAMBDA",
-            help="λ that L = r/δ of --balls should satisfy, |L_i − L_j| ≤ λ|p_i − p_j| "
+            help=LAMBDA_HELP + "the λ that L = r/δ of --balls should have "
             "(default 1, as for a local feature size); a sampled surface uses its own λ.",
         ),
     ] = None,

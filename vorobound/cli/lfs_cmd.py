@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from .options import Json, Seed
+from .options import LAMBDA_HELP, Json, Seed
 from .progress import progress_bar
 from .render import emit, fmt, print_table
 
@@ -55,9 +55,9 @@ def lfs(
         typer.Option(
             "--lipschitz",
             metavar="LAMBDA",
-            help="λ in [1e-12, 1e6]: make L λ-Lipschitz, L(x) ← min_y L(y) + λ|x − y|. The "
-            "distance to the medial axis is already 1-Lipschitz; λ < 1 lowers it (a gentler "
-            "sizing field).",
+            help=LAMBDA_HELP + "the estimate is made λ-Lipschitz, L(x) ← min_y L(y) + "
+            "λ|x − y|, λ in [1e-12, 1e6]. The distance to the medial axis is already "
+            "1-Lipschitz; λ < 1 lowers it (a gentler sizing field).",
         ),
     ] = 1.0,
     sharp_angle: Annotated[

@@ -94,13 +94,16 @@ RhoF = Annotated[
     ),
 ]
 ModeOpt = Annotated[ModeChoice, typer.Option("--mode", metavar="MODES", help=MODE_HELP)]
+LAMBDA_HELP = "λ, the Lipschitz constant of L (|L(x) − L(y)| ≤ λ|x − y|): "
+"""The start of every --lipschitz help: one λ, whatever the command does with it."""
 Lipschitz = Annotated[
     float | None,
     typer.Option(
         "--lipschitz",
         metavar="LAMBDA",
-        help="Tight mode only: add |L_x − L_y| ≤ λ|p_x − p_y| for each pair (λ = 1: local "
-        "feature size; sizing fields often use 0.1–0.3).",
+        help=LAMBDA_HELP + "tight mode only, added to the constraint set between the "
+        "vertices of every guide triangle (λ = 1: a local feature size; sizing fields often use "
+        "0.1–0.3).",
     ),
 ]
 SphereOpt = Annotated[
