@@ -201,8 +201,16 @@ def check(
         asked = {"seed": seed, "engine": engine}
     table = _checked_table(table, TABLES, out)
     asked["table"] = table if out is not None else None
+    result = _result(report, asked)
+    if out is not None:
+        result = write_outputs(result, out, figure_format, table)
+    return result
+
+
+def _result(report, asked: dict) -> CheckResult:
+    """The result of a check report (whole or tiled: the same summary)."""
     summary = report.summary()
-    result = CheckResult(
+    return CheckResult(
         source=report.source,
         n_samples=summary["n_samples"],
         n_guide_triangles=summary["n_guide_triangles"],
@@ -214,9 +222,6 @@ def check(
         report=report,
         asked=asked,
     )
-    if out is not None:
-        result = write_outputs(result, out, figure_format, table)
-    return result
 
 
 def _checked_table(table: str | None, allowed: tuple[str, ...], out) -> str:
@@ -280,18 +285,9 @@ def _check_tiled(
     staging = TiledOutputs(out, table) if out is not None else nullcontext()
     with staging as outputs:
         report = check_ball_file(balls, params, engine, workers or 1, scheduler, outputs, progress)
-        summary = report.summary()
-        result = CheckResult(
-            source=report.source,
-            n_samples=summary["n_samples"],
-            n_guide_triangles=summary["n_guide_triangles"],
-            n_half_covered=summary["n_half_covered"],
-            gap_ratio_max=summary["gap_ratio_max"],
-            ratio_max=summary["ratio_max"],
-            coverage_max=summary["coverage_max"],
-            n_failures=sum(failures(summary).values()),
-            report=report,
-            asked={
+        result = _result(
+            report,
+            {
                 "seed": None,
                 "engine": engine,
                 "balls": os.fspath(balls),

@@ -130,11 +130,7 @@ class CheckReport:
             "quality_violations": int((g.rho > self.params.rho_f).sum()),
             "ratio_max": _max(g.quality_ratio),
             "ratio_violations": int((g.quality_ratio > self.params.rho_f).sum()),
-            "ratio_bound": {
-                b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
-                | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
-                for b in self.ratio_bounds
-            },
+            "ratio_bound": ratio_bound_entries(self.ratio_bounds),
             "ratio_bound_violations": {
                 mode: int(rows.sum()) for mode, rows in (g.exceeds_ratio or {}).items()
             },
@@ -144,16 +140,7 @@ class CheckReport:
             "gap_ratio_max": _max(g.gap_ratio),
             "gap_ratio_min": None if count == 0 else _finite(g.gap_ratio.min()),
             "orthoradius_sq_max": _max(g.orthoradius_sq / (self.params.delta * g.lfs[:, 0]) ** 2),
-            "bound": {
-                b.mode: {
-                    "value": _finite(b.value),
-                    "gap_ratio": _finite(b.value / eps),
-                    "claim": b.claim,
-                    "lipschitz": b.lipschitz,
-                }
-                | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
-                for b in self.bounds
-            },
+            "bound": bound_entries(self.bounds, eps),
             "violations": {
                 mode: int(rows.sum()) if _finite(bounds[mode]) is not None else None
                 for mode, rows in g.exceeds.items()
@@ -179,6 +166,29 @@ class CheckReport:
             }
             for (i, j), value in zip(report.worst, report.worst_values, strict=True)
         ]
+
+
+def bound_entries(bounds: list[ModeBound], eps: float) -> dict:
+    """The summary's ``bound``: each mode's bound on R − R̂ per unit L_i, and over ε."""
+    return {
+        b.mode: {
+            "value": _finite(b.value),
+            "gap_ratio": _finite(b.value / eps),
+            "claim": b.claim,
+            "lipschitz": b.lipschitz,
+        }
+        | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
+        for b in bounds
+    }
+
+
+def ratio_bound_entries(ratio_bounds: list[ModeBound]) -> dict:
+    """The summary's ``ratio_bound``: each mode's bound on R/R̂ (eq. (54))."""
+    return {
+        b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
+        | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
+        for b in ratio_bounds
+    }
 
 
 def _max(values: np.ndarray) -> float | None:

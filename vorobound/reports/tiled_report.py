@@ -16,7 +16,7 @@ import numpy as np
 from ..bounds.params import SamplingParams
 from ..bounds.targets import H3_STATUS
 from ..sampling.guides.measure import ModeBound
-from .check import LIPSCHITZ_SOURCES, NO_RATIO_BOUND, UNDEFINED_BOUND, _finite
+from .check import LIPSCHITZ_SOURCES, _finite, bound_entries, ratio_bound_entries
 from .check_tally import GuideTally, PairTally
 from .tile_job import VtuRows
 
@@ -114,11 +114,7 @@ class TiledCheckReport:
             "quality_violations": g.counts["quality_violations"],
             "ratio_max": _maximum(g, "quality_ratio"),
             "ratio_violations": g.counts["ratio_violations"],
-            "ratio_bound": {
-                b.mode: {"value": _finite(b.value), "claim": b.claim, "lipschitz": b.lipschitz}
-                | ({} if _finite(b.value) is not None else {"note": NO_RATIO_BOUND})
-                for b in self.ratio_bounds
-            },
+            "ratio_bound": ratio_bound_entries(self.ratio_bounds),
             "ratio_bound_violations": dict(g.ratio_bound_violations),
             "h3_ratio_max": _maximum(g, "h3_ratio"),
             "h3_violations": g.counts["h3_violations"],
@@ -126,16 +122,7 @@ class TiledCheckReport:
             "gap_ratio_max": _maximum(g, "gap_ratio"),
             "gap_ratio_min": None if g.gap_min is None else _finite(g.gap_min),
             "orthoradius_sq_max": _maximum(g, "orthoradius_sq"),
-            "bound": {
-                b.mode: {
-                    "value": _finite(b.value),
-                    "gap_ratio": _finite(b.value / eps),
-                    "claim": b.claim,
-                    "lipschitz": b.lipschitz,
-                }
-                | ({} if _finite(b.value) is not None else {"note": UNDEFINED_BOUND})
-                for b in self.bounds
-            },
+            "bound": bound_entries(self.bounds, eps),
             "violations": {
                 mode: rows if _finite(bounds[mode]) is not None else None
                 for mode, rows in g.violations.items()
