@@ -12,7 +12,7 @@ import importlib
 
 from .errors import VoroboundError
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 _LAZY = {
     # One function per command (vorobound.api): keyword arguments like the options, a result
