@@ -273,3 +273,60 @@ def test_an_interrupt_lets_the_kd_tree_worker_threads_finish_first():
         if (getattr(getattr(t, "_target", None), "__module__", "") or "").startswith("scipy.")
     ]
     assert not running
+
+
+# --- an interrupt while a pool starts its workers -------------------------------------------
+
+STARTUP_PROBE = """
+import multiprocessing.process, os, signal, sys
+from vorobound import parallel
+
+class Stop(BaseException):
+    pass
+
+def stop(signum, frame):
+    raise Stop
+
+signal.signal(signal.SIGTERM, stop)
+plain_start = multiprocessing.process.BaseProcess.start
+starts = []
+
+def start(self):
+    # SIGTERM arrives while the second worker is being started: without the shield the
+    # handler would raise before the worker has been handed its instructions.
+    starts.append(self)
+    if len(starts) == 2:
+        os.kill(os.getpid(), signal.SIGTERM)
+    plain_start(self)
+
+multiprocessing.process.BaseProcess.start = start
+try:
+    if sys.argv[1] == "pool":
+        with parallel.process_pool(2) as pool:
+            print("not interrupted")
+    else:
+        with parallel.task_executor(2) as (executor, _):
+            futures = [executor.submit(abs, -k) for k in range(4)]
+            print("not interrupted", [f.result() for f in futures])
+except Stop:
+    print("interrupted", [p.exitcode is not None for p in starts])
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs Linux /proc")
+@pytest.mark.parametrize("kind", ["pool", "executor"])
+def test_an_interrupt_during_worker_start_up_leaves_no_worker_and_no_traceback(kind):
+    marker = f"VOROBOUND_TEST_MARKER={uuid.uuid4().hex}"
+    key, value = marker.split("=")
+    done = subprocess.run(
+        [sys.executable, "-c", STARTUP_PROBE, kind],
+        env=os.environ | {key: value},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    # The signal is handled once the worker exists, and every worker started is stopped.
+    assert done.stdout.strip() == "interrupted [True, True]", done.stdout
+    assert "Traceback" not in done.stderr and "Error" not in done.stderr, done.stderr
+    assert _wait_until(lambda: not _processes_with(marker), 20), "a worker outlived its parent"

@@ -3,8 +3,11 @@
 Pools start workers with the ``spawn`` method (no inherited threads or locks), each worker
 asks the kernel to kill it when its parent dies (Linux ``PR_SET_PDEATHSIG``), and leaving the
 pool's block on an exception (Ctrl-C included) terminates the workers at once instead of
-waiting for their current task. If the parent is killed outright, multiprocessing's resource
-tracker still removes the pool's semaphores, without its "leaked semaphore" warning.
+waiting for their current task. A worker's start is shielded from Ctrl-C and SIGTERM (the
+signal is handled the moment the worker exists and is known to its pool): a start cut short
+would leave a child waiting for its instructions, which prints a traceback when the parent
+exits. If the parent is killed outright, multiprocessing's resource tracker still removes the
+pool's semaphores, without its "leaked semaphore" warning.
 :func:`task_executor` gives the same ``concurrent.futures`` interface over this process, such
 a pool, or a dask.distributed cluster.
 """
@@ -14,12 +17,15 @@ from __future__ import annotations
 import concurrent.futures
 import concurrent.futures.process
 import contextlib
+import contextvars
 import ctypes
 import multiprocessing
+import multiprocessing.context
 import multiprocessing.pool
 import os
 import signal
 import sys
+import threading
 from collections.abc import Iterator
 
 PR_SET_PDEATHSIG = 1
@@ -39,6 +45,77 @@ def _die_with_parent(parent: int) -> None:
             libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
     if os.getppid() != parent:  # the parent died before the request took effect
         os._exit(1)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM while the block runs (main thread only; elsewhere nothing to
+    do, Python runs signal handlers in the main thread) and deliver the first one caught, to
+    the handlers in place before, once it is done."""
+    held = (signal.SIGINT, signal.SIGTERM)
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = {}
+    for sig in held:
+        old = signal.getsignal(sig)
+        if old is None:  # set outside Python: cannot be restored, leave it
+            continue
+        previous[sig] = old
+        signal.signal(sig, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+        if caught:
+            signal.raise_signal(caught[0])
+
+
+class _ShieldedProcess(multiprocessing.context.SpawnProcess):
+    """A spawned worker whose start Ctrl-C and SIGTERM cannot cut short (they are handled
+    when ``start`` returns), recorded for the pool being built in this thread."""
+
+    def start(self) -> None:
+        with _signals_deferred():
+            super().start()
+            owner = _STARTING.get(None)
+            if owner is not None:
+                owner.append(self)
+
+
+class _ShieldedSpawnContext(multiprocessing.context.SpawnContext):
+    Process = _ShieldedProcess
+
+
+_STARTING: contextvars.ContextVar[list] = contextvars.ContextVar("vorobound_pool_workers")
+"""The list that records the workers started by the pool being used in this context."""
+
+
+@contextlib.contextmanager
+def _recorded_workers() -> Iterator[list]:
+    """The workers started in this context while the block runs (a pool's own threads start
+    replacements that the pool itself stops)."""
+    started: list = []
+    token = _STARTING.set(started)
+    try:
+        yield started
+    finally:
+        # A pool used inside a generator may be closed from another context.
+        with contextlib.suppress(ValueError, RuntimeError):
+            _STARTING.reset(token)
+
+
+def _kill_started(started: list) -> None:
+    """SIGKILL and reap workers that are still alive."""
+    for process in started:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            if process.is_alive():
+                process.kill()
+    for process in started:
+        with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
+            process.join(5)
 
 
 def usable_workers(requested: int, tasks: int) -> int:
@@ -73,15 +150,25 @@ def process_pool(workers: int) -> Iterator[multiprocessing.pool.Pool]:
     SIGTERM included) the workers are terminated before the exception propagates.
     """
     _start_quiet_resource_tracker()
-    pool = multiprocessing.get_context("spawn").Pool(
-        processes=workers, initializer=_die_with_parent, initargs=(os.getpid(),)
-    )
-    try:
-        yield pool
-    except BaseException:
-        pool.terminate()
-        pool.join()
-        raise
+    with _recorded_workers() as started:
+        pool = None
+        try:
+            # An interrupt while the pool is being built is handled once it is built (and
+            # known here): a pool left half-built keeps a thread that restarts its workers.
+            with _signals_deferred():
+                pool = _ShieldedSpawnContext().Pool(
+                    processes=workers, initializer=_die_with_parent, initargs=(os.getpid(),)
+                )
+            yield pool
+        except BaseException:
+            # The pool stops its own thread that replaces workers before it stops them (killing
+            # them first would have it start new ones); workers started before an interrupt
+            # inside Pool() are known only to `started`.
+            if pool is not None:
+                pool.terminate()
+                pool.join()
+            _kill_started(started)
+            raise
     pool.close()
     pool.join()
 
@@ -127,15 +214,19 @@ def task_executor(
         return
     pool = concurrent.futures.ProcessPoolExecutor(
         max_workers=workers,
-        mp_context=multiprocessing.get_context("spawn"),
+        mp_context=_ShieldedSpawnContext(),
         initializer=_die_with_parent,
         initargs=(os.getpid(),),
     )
-    try:
-        yield pool, workers
-    except BaseException:
-        _kill_pool(pool)
-        raise
+    with _recorded_workers() as started:
+        try:
+            yield pool, workers
+        except BaseException:
+            # The pool starts workers as tasks are submitted: one started just before an
+            # interrupt may not be in its table yet, but is in `started`.
+            _kill_started(started)
+            _kill_pool(pool)
+            raise
     pool.shutdown(wait=True)
 
 
