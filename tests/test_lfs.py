@@ -14,7 +14,7 @@ from vorobound.sampling.io.meshes import TriangleMesh
 from vorobound.sampling.lfs import estimate as lfs_module
 from vorobound.sampling.lfs.curved import edge_midpoints
 from vorobound.sampling.lfs.estimate import AUTO_SAMPLES, estimate_lfs
-from vorobound.sampling.lfs.lipschitz import lipschitz_envelope
+from vorobound.sampling.lfs.lipschitz import Envelope, lipschitz_envelope
 from vorobound.sampling.lfs.mesh_quality import prepare_mesh, vertex_normals
 from vorobound.sampling.lfs.patches import find_patches
 from vorobound.sampling.surfaces import analytic as surfaces
@@ -286,7 +286,8 @@ def test_vertex_values_are_one_lipschitz_and_at_stays_at_or_below_them():
 @pytest.mark.parametrize("slope", [0.1, 0.5])
 def test_lipschitz_repair_is_the_envelope_of_the_site_values(slope):
     """L at the sites is min over sites of raw + λ·distance (brute force), and ``at`` is
-    min over sites of value + λ·max(0, distance − piece radius), everywhere."""
+    min over sites of value + max(a·(x − y), λ·(distance − piece radius)), a the site's
+    fitted gradient (at most λ long), everywhere."""
     mesh = torus_mesh(1.5, 1.0, 40, 16)
     repaired = quiet_estimate(mesh, lipschitz=slope)
     assert repaired.lipschitz == slope
@@ -297,9 +298,14 @@ def test_lipschitz_repair_is_the_envelope_of_the_site_values(slope):
     brute = (sites.raw[None, :] + slope * distance).min(axis=1)
     assert np.allclose(sites.lfs[rows], brute, rtol=ROUNDING, atol=0)
     assert (sites.lfs <= sites.raw * (1 + ROUNDING)).all()
+    assert (np.linalg.norm(sites.planes, axis=1) <= slope * (1 + ROUNDING)).all()
+    assert (np.abs(sites.planes[sites.kind != 1]) == 0).all()
+    assert (np.linalg.norm(sites.planes[sites.kind == 1], axis=1) > 0).mean() > 0.5
     probes = np.random.default_rng(1).uniform(-2, 2, (200, 3))
-    gap = np.linalg.norm(probes[:, None] - sites.points[None], axis=2) - sites.radii
-    expected = (sites.values + slope * np.maximum(gap, 0)).min(axis=1)
+    offset = probes[:, None] - sites.points[None]
+    gap = np.linalg.norm(offset, axis=2) - sites.radii
+    along = (offset * sites.planes[None]).sum(axis=2)
+    expected = (sites.values + np.maximum(along, slope * gap)).min(axis=1)
     assert np.allclose(repaired.at(probes), expected, rtol=ROUNDING, atol=0)
 
 
@@ -317,6 +323,39 @@ def test_envelope_matches_brute_force(count, slope, seed):
     got = lipschitz_envelope(sites, values, slope, queries)
     brute = (values + slope * np.linalg.norm(queries[:, None] - sites[None], axis=2)).min(1)
     assert np.allclose(got, brute, rtol=1e-13, atol=1e-300)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    count=st.integers(1, 200),
+    slope=st.floats(0.01, 3),
+    seed=st.integers(0, 2**31),
+)
+def test_envelope_with_radii_and_gradients_matches_brute_force(count, slope, seed):
+    """The tree's search (nodes bounded by the floors) finds the smallest cone exactly."""
+    rng = np.random.default_rng(seed)
+    scale = rng.choice([1e-3, 1.0, 1e3])
+    sites = rng.normal(size=(count, 3)) * scale
+    values = rng.uniform(0, 10, count) * scale
+    radii = rng.uniform(0, 1, count) * scale * rng.choice([0.0, 0.3, 3.0])
+    gradients = rng.normal(size=(count, 3))
+    gradients *= (slope * rng.uniform(0, 1, count) / np.linalg.norm(gradients, axis=1))[:, None]
+    gradients[rng.uniform(size=count) < 0.3] = 0.0
+    queries = np.vstack([sites[:5], rng.normal(size=(50, 3)) * scale])
+    got = Envelope(sites, values, slope, radii, gradients=gradients)(queries)
+    offset = queries[:, None] - sites[None]
+    gap = np.linalg.norm(offset, axis=2) - radii
+    cones = values + np.maximum((offset * gradients[None]).sum(axis=2), slope * gap)
+    assert np.allclose(got, cones.min(axis=1), rtol=1e-12, atol=1e-300)
+    # Each cone is slope-Lipschitz, so their minimum is.
+    a, b = queries[:-1], queries[1:]
+    rise = np.abs(got[1:] - got[:-1])
+    assert (rise <= slope * np.linalg.norm(a - b, axis=1) * (1 + 1e-9) + 1e-300).all()
+
+
+def test_envelope_refuses_gradients_steeper_than_the_slope():
+    with pytest.raises(InputError, match="gradients"):
+        Envelope(np.zeros((1, 3)), np.ones(1), 0.5, gradients=np.array([[0.6, 0.0, 0.0]]))
 
 
 def test_cube_sharp_edges_are_found_and_warned():

@@ -68,6 +68,17 @@ curved patches the poles and the curvature need the denser sample, on flat ones 
 bound is exact at any spacing."""
 FIRST_SPACING = 1 / 25
 """Spacing of the first round of face sites, relative to the part's diagonal."""
+SLOPE_NEIGHBOURS = 12
+"""Nearest sites over which a site's local rate of change of L is taken."""
+FIT_NEIGHBOURS = 24
+"""Nearest sites among which a face site's gradient is fitted (those of its own patch)."""
+PLANE_MIN_RATE = 1e-3
+"""Face sites where L changes at less than this times λ keep a flat value (no fitted plane)."""
+FIT_SPREAD = 1e-4
+"""The fitted neighbours must spread in two directions: det/trace² of their second moments in
+the tangent plane above this (0.25 for an even spread, 0 on a line)."""
+GRADIENT_BLOCK = 1 << 16
+"""Sites whose gradients are fitted together (bounds the temporaries to about 0.1 GB)."""
 ROUNDS = 4
 """Most refinement rounds of the face sites."""
 STABLE_RTOL = 0.02
@@ -125,6 +136,9 @@ class Sites:
     """The mesh vertex a site is (index into the prepared mesh), −1 for the other sites."""
     gradient: np.ndarray
     """Local rate of change of L at each site (largest over its nearest sites, at most λ)."""
+    planes: np.ndarray
+    """(n, 3) gradient of L fitted at each face site to the nearest sites of its patch (at
+    most λ long; zero at the other sites and where no fit was possible)."""
 
 
 @dataclass(frozen=True)
@@ -182,7 +196,7 @@ class LfsEstimate:
     @cached_property
     def _field(self) -> Envelope:
         s = self.sites
-        return Envelope(s.points, s.values, self.lipschitz, s.radii)
+        return Envelope(s.points, s.values, self.lipschitz, s.radii, gradients=s.planes)
 
     def surface(self) -> SurfaceCounts:
         """Area and ∫ dA/L² from the face sites (:class:`SurfaceCounts`, what the advice
@@ -335,7 +349,9 @@ def estimate_lfs(
             fixed,
         )
         counter = Counter(progress, "L at the vertices", 1)
-        field = Envelope(sites.points, sites.values, slope, sites.radii, like=envelope)
+        field = Envelope(
+            sites.points, sites.values, slope, sites.radii, like=envelope, gradients=sites.planes
+        )
         at_vertices = field(points)
         counter.step()
         current = at_vertices[surface_ids]
@@ -574,11 +590,19 @@ def _evaluate(
         axis=1
     )
     radii[len(site_points) - len(feature.points) :] = feature.lengths / 2
-    # A site's value is spread flat over a ball of radius ρ(1 − g/λ), g the local rate of
-    # change of L: exact where L is constant (g = 0), a plain cone where L changes at the
-    # largest rate, and never above a linear L in between (docs/lfs.md).
-    gradient = _local_slope(site_points, lfs, slope) if slope > 0 else np.zeros(count)
-    radii = radii * (1 - gradient / slope) if slope > 0 else radii * 0
+    # A site's value is spread over a ball of radius ρ(1 − g/λ), g the local rate of change of
+    # L, beyond which its cone rises at λ; at a face site it follows L's tangent plane there
+    # (the gradient fitted to the nearest sites of its patch) rather than staying flat, so L
+    # between the sites is right to first order where it changes (docs/lfs.md).
+    if slope > 0:
+        site_normals = np.zeros((count, 3))
+        site_normals[ray_sites] = ray_normals
+        gradient, planes = _site_gradients(
+            site_points, lfs, site_patches[:, 0], kind, site_normals, slope
+        )
+        radii = radii * (1 - gradient / slope)
+    else:
+        gradient, planes, radii = np.zeros(count), np.zeros((count, 3)), radii * 0
     vertex = np.concatenate(
         [
             vertex_sites,
@@ -588,7 +612,19 @@ def _evaluate(
         ]
     )
     sites = Sites(
-        site_points, raw, lfs, kind, areas, medial, bound, thick, radii, lfs, vertex, gradient
+        site_points,
+        raw,
+        lfs,
+        kind,
+        areas,
+        medial,
+        bound,
+        thick,
+        radii,
+        lfs,
+        vertex,
+        gradient,
+        planes,
     )
     per_ray = balls | {
         "inward": ray.inward,
@@ -793,18 +829,64 @@ def _last_balls(memo: RoundMemo, rows: np.ndarray) -> dict:
     return out
 
 
-def _local_slope(points, lfs, slope: float, neighbours: int = 12) -> np.ndarray:
-    """Largest |L(y) − L(x)|/|y − x| over each site's nearest sites, at most ``slope``."""
+def _site_gradients(points, lfs, labels, kind, normals, slope: float):
+    """Per site: the largest |L(y) − L(x)|/|y − x| over its SLOPE_NEIGHBOURS nearest sites
+    (at most ``slope``); at face sites the tangential gradient of L (``normals``: unit normals
+    there) fitted by least squares to the sites of the same patch among its FIT_NEIGHBOURS
+    nearest (scaled to at most ``slope``; zero where fewer than three such sites or all on one
+    line)."""
     from scipy.spatial import cKDTree
 
-    k = min(neighbours + 1, len(points))
+    count = len(points)
+    slopes, planes = np.zeros(count), np.zeros((count, 3))
+    k = min(FIT_NEIGHBOURS + 1, count)
     if k < 2:
-        return np.zeros(len(points))
-    dist, index = cKDTree(points).query(points, k=k, workers=thread_count())
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.abs(lfs[index[:, 1:]] - lfs[:, None]) / dist[:, 1:]
-    ratio = np.where(np.isfinite(ratio), ratio, 0.0)
-    return np.minimum(ratio.max(axis=1), slope)
+        return slopes, planes
+    tree = cKDTree(points)
+    for start in range(0, count, GRADIENT_BLOCK):
+        rows = np.arange(start, min(start + GRADIENT_BLOCK, count))
+        few = min(SLOPE_NEIGHBOURS + 1, count)
+        dist, near = tree.query(points[rows], k=few, workers=thread_count())
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.abs(lfs[near[:, 1:]] - lfs[rows, None]) / dist[:, 1:]
+        slopes[rows] = np.minimum(np.where(np.isfinite(ratio), ratio, 0.0).max(axis=1), slope)
+        # A plane only where L changes: elsewhere it would move the value by less than
+        # PLANE_MIN_RATE times the piece radius.
+        rows = rows[(kind[rows] == 1) & (slopes[rows] > PLANE_MIN_RATE * slope)]
+        if not len(rows):
+            continue
+        near = tree.query(points[rows], k=k, workers=thread_count())[1][:, 1:]
+        change = lfs[near] - lfs[rows, None]
+        same = (labels[near] == labels[rows, None]) & (labels[rows, None] >= 0)
+        # Least squares in the tangent plane: the offsets in an orthonormal basis of it.
+        first, second = _tangent_basis(normals[rows])
+        offset = points[near] - points[rows, None]
+        u = np.einsum("nki,ni->nk", offset, first) * same
+        v = np.einsum("nki,ni->nk", offset, second) * same
+        change = change * same
+        uu, uv, vv = (u * u).sum(axis=1), (u * v).sum(axis=1), (v * v).sum(axis=1)
+        cu, cv = (u * change).sum(axis=1), (v * change).sum(axis=1)
+        det = uu * vv - uv * uv
+        # At least three sites of the patch, not all on one line.
+        good = (same.sum(axis=1) >= 3) & (det > FIT_SPREAD * (uu + vv) ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            gu = (vv * cu - uv * cv) / det
+            gv = (uu * cv - uv * cu) / det
+            gradient = gu[:, None] * first + gv[:, None] * second
+            size = np.linalg.norm(gradient, axis=1)
+            gradient *= np.minimum(1.0, slope / np.where(size > 0, size, 1.0))[:, None]
+        good &= np.isfinite(gradient).all(axis=1)
+        planes[rows[good]] = gradient[good]
+    return slopes, planes
+
+
+def _tangent_basis(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors spanning the plane normal to each of ``normals`` (unit, (n, 3))."""
+    helper = np.zeros_like(normals)
+    helper[np.arange(len(normals)), np.argmin(np.abs(normals), axis=1)] = 1.0
+    first = helper - (helper * normals).sum(axis=1)[:, None] * normals
+    first /= np.linalg.norm(first, axis=1)[:, None]
+    return first, np.cross(normals, first)
 
 
 def _vertex_size(faces, points, vertices) -> np.ndarray:
@@ -992,6 +1074,7 @@ def _result(
         values=scale * sites.values,
         vertex=sites.vertex,
         gradient=sites.gradient,
+        planes=sites.planes,
     )
     # A vertex is a site: its output is its own L (the envelope of the raw values there).
     # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower

@@ -35,7 +35,12 @@ class _ConeTree:
     """Implicit balanced k-d tree: node k at depth d holds sites order[b_d[k]:b_d[k + 1]].
 
     A site may carry a radius ρ: its cone is then value + slope·max(0, |x − y| − ρ), flat on
-    the ball of radius ρ (a site standing for a small piece of surface).
+    the ball of radius ρ (a site standing for a small piece of surface). It may also carry a
+    gradient a (|a| ≤ slope): its cone is then value + max(a·(x − y), slope·(|x − y| − ρ)),
+    the tangent plane of L inside the ball and the plain cone far away (a = 0: the flat cone).
+    Such a cone is never below floor + slope·max(0, |x − y| − ρ), floor = value − c with
+    c = |a|·slope·ρ/(slope + |a|) the deepest the plane dips before the cone takes over; the
+    nodes are bounded with the floors.
     """
 
     def __init__(
@@ -44,10 +49,14 @@ class _ConeTree:
         values: np.ndarray,
         radii: np.ndarray | None = None,
         like: _ConeTree | None = None,
+        gradients: np.ndarray | None = None,
+        floors: np.ndarray | None = None,
     ):
-        """The tree of ``sites``; ``like``, a tree of the same sites, lends its shape."""
+        """The tree of ``sites``; ``like``, a tree of the same sites, lends its shape;
+        ``floors`` (default ``values``) bound each site's cone from below (class docstring)."""
         radii = np.zeros(len(sites)) if radii is None else np.asarray(radii, dtype=float)
         self.sites, self.values, self.radii = sites, values, radii
+        self.gradients = gradients
         if like is None:
             self._shape(sites)
         else:
@@ -62,7 +71,7 @@ class _ConeTree:
         # that has it, and the largest radius.
         count, order = len(sites), self.order
         bounds = self._bounds(self.depth, count)
-        value = values[order]
+        value = (values if floors is None else floors)[order]
         best = np.minimum.reduceat(value, bounds[:-1])
         segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
         smallest = np.where(value == best[segment], np.arange(count), count)
@@ -120,9 +129,16 @@ class _ConeTree:
             slots < bounds[1:, None], order[np.minimum(slots, count - 1)], -1
         )
 
-    def _beyond(self, x: np.ndarray, site: np.ndarray) -> np.ndarray:
-        """max(0, |x − y| − ρ) for sites y."""
-        return np.maximum(np.linalg.norm(x - self.sites[site], axis=1) - self.radii[site], 0)
+    def cones(self, x: np.ndarray, site: np.ndarray, slope: float | None) -> np.ndarray:
+        """The cones of sites ``site`` at points ``x`` (same leading shape; ``x`` (..., 3)):
+        :meth:`combine` of value and the distance past the radius, or with gradients
+        value + max(a·(x − y), slope·(|x − y| − ρ))."""
+        offset = x - self.sites[site]
+        past = np.linalg.norm(offset, axis=-1) - self.radii[site]
+        if self.gradients is None or slope is None:
+            return self.combine(self.values[site], np.maximum(past, 0), slope)
+        along = (offset * self.gradients[site]).sum(axis=-1)
+        return self.values[site] + np.maximum(along, slope * past)
 
     @staticmethod
     def _bounds(depth: int, count: int) -> np.ndarray:
@@ -151,17 +167,14 @@ class _ConeTree:
             live = bound < best[pair_query]
             pair_query, node, x = pair_query[live], node[live], x[live]
             site = self.best_site[depth][node]
-            candidate = self.combine(self.values[site], self._beyond(x, site), slope)
-            np.minimum.at(best, pair_query, candidate)
+            np.minimum.at(best, pair_query, self.cones(x, site, slope))
             if depth < self.depth:
                 pair_query = np.repeat(pair_query, 2)
                 node = (2 * np.repeat(node, 2)) + np.tile([0, 1], len(node))
         sites = self.leaf_sites[node]
         valid = sites >= 0
         safe = np.where(valid, sites, 0)
-        distance = np.linalg.norm(queries[pair_query][:, None, :] - self.sites[safe], axis=2)
-        distance = np.maximum(distance - self.radii[safe], 0)
-        candidate = self.combine(self.values[safe], distance, slope)
+        candidate = self.cones(queries[pair_query][:, None, :], safe, slope)
         candidate = np.where(valid, candidate, np.inf).min(axis=1)
         np.minimum.at(best, pair_query, candidate)
         return best
@@ -169,7 +182,9 @@ class _ConeTree:
 
 class Envelope:
     """x ↦ min over sites y of value(y) + slope·max(0, |x − y| − ρ(y)), the tree built once
-    (ρ = 0 unless ``radii`` are given)."""
+    (ρ = 0 unless ``radii`` are given). With ``gradients`` a(y) (|a| ≤ slope) a site's cone
+    is value(y) + max(a·(x − y), slope·(|x − y| − ρ(y))): L's tangent plane on the site's ball,
+    the cone beyond. Each cone is slope-Lipschitz, so their minimum is too."""
 
     def __init__(
         self,
@@ -178,6 +193,7 @@ class Envelope:
         slope: float,
         radii: np.ndarray | None = None,
         like: Envelope | None = None,
+        gradients: np.ndarray | None = None,
     ):
         """``like``: an envelope of the same sites, whose tree lends its shape."""
         sites, values = _checked(sites, values, slope)
@@ -185,10 +201,27 @@ class Envelope:
             radii = np.asarray(radii, dtype=float)
             if radii.shape != values.shape or not (np.isfinite(radii).all() and (radii >= 0).all()):
                 raise InputError("site radii must be finite, ≥ 0, one per site")
+        floors = None
+        if gradients is not None:
+            gradients = np.asarray(gradients, dtype=float)
+            size = np.linalg.norm(gradients, axis=1) if gradients.ndim == 2 else None
+            if (
+                gradients.shape != sites.shape
+                or not np.isfinite(gradients).all()
+                or (size > slope * (1 + 1e-12)).any()
+            ):
+                raise InputError("site gradients must be finite, (n, 3), at most the slope long")
+            reach = np.zeros(len(sites)) if radii is None else radii
+            with np.errstate(invalid="ignore", divide="ignore"):
+                dip = np.where(size > 0, size * slope * reach / (slope + size), 0.0)
+            floors = values - dip
+            if not gradients.any():  # plain cones: skip the planes' arithmetic
+                gradients = floors = None
         shape = None
         if like is not None and np.array_equal(like.tree.sites, sites):
             shape = like.tree
-        self.tree, self.slope = _ConeTree(sites, values, radii, shape), float(slope)
+        self.tree = _ConeTree(sites, values, radii, shape, gradients, floors)
+        self.slope = float(slope)
         self._nearest = None if shape is None else like._nearest
 
     def __call__(
@@ -229,10 +262,8 @@ class Envelope:
             index = self._nearest.query(block, k=k, workers=thread_count())[1].reshape(
                 len(block), k
             )
-            # The distances as the tree's own search computes them (the same rounding).
-            distance = np.linalg.norm(block[:, None] - tree.sites[index], axis=2)
-            beyond = np.maximum(distance - tree.radii[index], 0)
-            cones = tree.combine(tree.values[index], beyond, self.slope)
+            # The cones as the tree's own search computes them (the same rounding).
+            cones = tree.cones(block[:, None], index, self.slope)
             out[start : start + len(block)] = cones.min(axis=1)
         return out
 
