@@ -139,3 +139,19 @@ def test_parquet_refusals(tmp_path, monkeypatch):
     pq.write_table(pa.table({"x": [1.0], "y": [2.0], "z": [3.0]}), path)
     with pytest.raises(ReadError, match="need columns x, y, z and r"):
         _joined(path)
+
+
+@pytest.mark.parametrize("kind", ["timestamp", "bool"])
+def test_parquet_columns_that_are_not_numbers_are_refused_whole_and_streamed(tmp_path, kind):
+    """A timestamp column was an internal error (exit 70) and a boolean one was read as 0/1
+    by read_balls; both are refused, as the streamed reader and NPZ files refuse them."""
+    pa = pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    x = pa.array(np.arange(5).astype("datetime64[s]")) if kind == "timestamp" else [True] * 5
+    path = tmp_path / "b.parquet"
+    pq.write_table(pa.table({"x": x, "y": [1.0] * 5, "z": [2.0] * 5, "r": [1.0] * 5}), path)
+    with pytest.raises(ReadError, match="not real numbers"):
+        read_ball_arrays(path)
+    with pytest.raises(ReadError, match="not a table of numbers"):
+        _joined(path)
