@@ -155,3 +155,20 @@ def test_parquet_columns_that_are_not_numbers_are_refused_whole_and_streamed(tmp
         read_ball_arrays(path)
     with pytest.raises(ReadError, match="not a table of numbers"):
         _joined(path)
+
+
+@pytest.mark.parametrize(
+    "delimiter, header",
+    [(";", "x;y;z;r"), ("\t", "x\ty\tz\tr"), (" ", ""), (",", "# my balls\n\nx,y,z,r")],
+    ids=["semicolons", "tabs", "spaces", "leading-comment"],
+)
+def test_every_csv_read_balls_reads_streams_the_same(tmp_path, csv_reader, delimiter, header):
+    """The tiled check (--workers) refused semicolon, tab and space separated files and a
+    leading comment line, all of which the whole-file check reads."""
+    centers, radii = _balls()
+    path = tmp_path / "b.csv"
+    table = np.column_stack([centers, radii])
+    np.savetxt(path, table, delimiter=delimiter, fmt="%.17g", header=header, comments="")
+    got = _joined(path)
+    want = read_ball_arrays(path)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
