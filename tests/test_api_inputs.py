@@ -77,3 +77,20 @@ def test_cheng_takes_every_accepted_seed_and_refuses_an_array_dim(run_cli):
     assert code == 0, err
     with pytest.raises(InputError, match="dim must be 2"):
         vorobound.cheng(alpha=0.3, dim=np.array([2, 3]))
+
+
+def test_check_and_reconstruct_refuse_odd_engines_and_formats_and_take_numpy_eps(tmp_path):
+    """A bad engine was a bare ValueError from the enum, an array figure_format an
+    'ambiguous truth value' ValueError, and reconstruct(eps=np.float64(...)) a TypeError."""
+    import vorobound
+
+    balls = tmp_path / "b.npz"
+    vorobound.sample(sphere=1, eps=0.2, output=balls)
+    for engine in ("abc", None, 3):
+        with pytest.raises(InputError, match="engine must be"):
+            vorobound.check(balls=balls, eps=0.2, engine=engine)
+    with pytest.raises(InputError, match="figure_format"):
+        vorobound.check(balls=balls, eps=0.2, figure_format=np.array(["png", "svg"]))
+    numpy = vorobound.reconstruct(balls=balls, eps=np.float64(0.2))
+    plain = vorobound.reconstruct(balls=balls, eps=0.2)
+    assert numpy.n_facets == plain.n_facets and numpy.topology_correct
