@@ -345,6 +345,42 @@ def test_bad_seed_files_are_refused_with_one_line(tmp_path, text, message):
     assert "\n" not in str(caught.value)
 
 
+@pytest.mark.parametrize("scale", [1e-45, 1e40, 2e49])
+def test_facets_do_not_depend_on_the_unit_of_length(scale):
+    """Circumcentres are of degree up to 6 in the coordinates: at 1e40 their rounding
+    errors overflowed and every facet was welded away, at 1e-45 they underflowed."""
+    rng = np.random.default_rng(0)
+    points = rng.random((50, 3))
+    inside = np.arange(50) % 2 == 1
+    unit, scaled = inout_facets(points, inside), inout_facets(points * scale, inside)
+    assert scaled.collapsed == unit.collapsed == 0
+    assert scaled.surface.n_facets == unit.surface.n_facets
+    np.testing.assert_array_equal(scaled.surface.seed_pairs, unit.surface.seed_pairs)
+    np.testing.assert_allclose(
+        scaled.surface.vertices, unit.surface.vertices * scale, rtol=1e-9, atol=0
+    )
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("x,y,z,region_id\n1,2,3\n4,5,6\n1,1,1\n2,2,2\n3,3,9\n", "header names 4 columns"),
+        ("x,y,z,region_id\n\n", "no rows"),
+        (
+            "".join(f"{k * 1e-60},{k % 3 * 1e-60},{k % 2 * 1e-60},1,{k % 2}\n" for k in range(6)),
+            "span less than",
+        ),
+    ],
+    ids=["header-wider-than-rows", "header-only", "tiny-span"],
+)
+def test_seed_files_that_used_to_crash_are_refused(tmp_path, text, message):
+    path = tmp_path / "seeds.csv"
+    path.write_text(text)
+    with pytest.raises(ReadError, match=message) as caught:
+        read_seed_file(path)
+    assert "\n" not in str(caught.value)
+
+
 def test_mhat_and_seeds_round_trip_through_meshio(tmp_path):
     import meshio
 

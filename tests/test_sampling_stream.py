@@ -139,3 +139,36 @@ def test_parquet_refusals(tmp_path, monkeypatch):
     pq.write_table(pa.table({"x": [1.0], "y": [2.0], "z": [3.0]}), path)
     with pytest.raises(ReadError, match="need columns x, y, z and r"):
         _joined(path)
+
+
+@pytest.mark.parametrize("kind", ["timestamp", "bool"])
+def test_parquet_columns_that_are_not_numbers_are_refused_whole_and_streamed(tmp_path, kind):
+    """A timestamp column was an internal error (exit 70) and a boolean one was read as 0/1
+    by read_balls; both are refused, as the streamed reader and NPZ files refuse them."""
+    pa = pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+
+    x = pa.array(np.arange(5).astype("datetime64[s]")) if kind == "timestamp" else [True] * 5
+    path = tmp_path / "b.parquet"
+    pq.write_table(pa.table({"x": x, "y": [1.0] * 5, "z": [2.0] * 5, "r": [1.0] * 5}), path)
+    with pytest.raises(ReadError, match="not real numbers"):
+        read_ball_arrays(path)
+    with pytest.raises(ReadError, match="not a table of numbers"):
+        _joined(path)
+
+
+@pytest.mark.parametrize(
+    "delimiter, header",
+    [(";", "x;y;z;r"), ("\t", "x\ty\tz\tr"), (" ", ""), (",", "# my balls\n\nx,y,z,r")],
+    ids=["semicolons", "tabs", "spaces", "leading-comment"],
+)
+def test_every_csv_read_balls_reads_streams_the_same(tmp_path, csv_reader, delimiter, header):
+    """The tiled check (--workers) refused semicolon, tab and space separated files and a
+    leading comment line, all of which the whole-file check reads."""
+    centers, radii = _balls()
+    path = tmp_path / "b.csv"
+    table = np.column_stack([centers, radii])
+    np.savetxt(path, table, delimiter=delimiter, fmt="%.17g", header=header, comments="")
+    got = _joined(path)
+    want = read_ball_arrays(path)
+    assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])

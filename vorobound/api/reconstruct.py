@@ -6,8 +6,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from numbers import Number
 
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
@@ -98,8 +99,10 @@ class ReconstructSweepResult(Result):
 def _eps_values(eps) -> list[float] | None:
     if eps is None:
         return None
-    if isinstance(eps, str | int | float):
+    if isinstance(eps, str | Number) or getattr(eps, "ndim", None) == 0:
         return [eps]
+    if not isinstance(eps, Iterable):
+        return [eps]  # for the check of eps to refuse
     values = list(eps)
     if not values:
         raise InputError("eps: give at least one value")

@@ -110,7 +110,7 @@ def checked_outputs(out, figure_format: str) -> None:
     from ..errors import InputError
     from ..files import checked_folder
 
-    if figure_format not in FIGURE_FORMATS:
+    if not isinstance(figure_format, str) or figure_format not in FIGURE_FORMATS:
         raise InputError(f"figure_format: expected png, pdf or svg, got {figure_format!r}")
     if out is not None:
         checked_folder(out)

@@ -12,6 +12,7 @@ import json
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from numbers import Number
 
 from ..bounds.params import checked_modes, checked_targets
 from ..errors import InputError
@@ -26,8 +27,10 @@ FORMATS = ("csv", "json")
 
 
 def _axis(value) -> tuple:
-    """A scalar or a sequence as a tuple of values."""
-    if value is None or isinstance(value, str | float | int):
+    """A scalar or a sequence as a tuple of values (numpy scalars and 0-d arrays are
+    scalars; anything not iterable is one value, for the checks to refuse or accept)."""
+    scalar = isinstance(value, str | bytes | Number) or getattr(value, "ndim", None) == 0
+    if value is None or scalar or not isinstance(value, Iterable):
         return (value,)
     return tuple(value)
 

@@ -72,10 +72,11 @@ def eps_star(
     NoAdmissibleEps
         No ε meets the target (or, as NoCrossing, every supported ε does).
     """
-    mode = checked_question(mode, quality)
-    if mode is Mode.tight:
-        from .tight.method import tight_eps_star
+    from .tight.method import checked_method, tight_eps_star
 
+    mode = checked_question(mode, quality)
+    method = checked_method(method)  # refused in every mode, though only tight uses it
+    if mode is Mode.tight:
         return tight_eps_star(quality, method, progress)
     return solve_eps_star(quality, mode)
 
@@ -116,11 +117,12 @@ def bound_at(
     EmptyConstraintSet
         When no guide triangle exists at this ε (σ(1 − ε) > √3): every bound is vacuous.
     """
+    from .tight.method import checked_method, tight_bound
+
     mode = checked_question(mode, params.quality)
+    method = checked_method(method)  # refused in every mode, though only tight uses it
     require_guide_triangles(params.eps, params.sigma)
     if mode is Mode.tight:
-        from .tight.method import tight_bound
-
         tight = tight_bound(params, method)
         return BoundAt(
             mode.value,

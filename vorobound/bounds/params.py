@@ -11,6 +11,7 @@ are listed in README's notation section.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from enum import Enum
 
@@ -68,6 +69,8 @@ def _listed(value) -> list:
     kept)."""
     if isinstance(value, str | Enum):
         value = str(getattr(value, "value", value)).split(",")
+    elif not isinstance(value, Iterable) or getattr(value, "ndim", None) == 0:
+        value = [value]  # one (bad) name, for the check to refuse
     names = [str(getattr(v, "value", v)).strip() for v in value]
     return list(dict.fromkeys(names))
 

@@ -23,6 +23,7 @@ from ..bounds.chain import chain_arrays
 from ..bounds.claims import CHAIN_CLAIM
 from ..bounds.eps_star import STATUS_OK, STATUS_REASONS, solve_eps_star_batch
 from ..bounds.params import Mode, QualityParams, Target
+from ..bounds.tight.method import checked_method
 from ..checks import (
     DELTA_RATIO_RANGE,
     EPS_RANGE,
@@ -122,11 +123,12 @@ class SweepSpec:
         set_(self, "lipschitz", _unique(checked_lipschitz(lam) for lam in self.lipschitz))
         set_(self, "lfs", QualityParams(lfs=self.lfs).lfs)
         if self.eps is not None:
+            if not self.eps:
+                raise InputError("the sweep's eps axis is empty")
             set_(self, "eps", _unique(checked_number(e, "eps", *EPS_RANGE) for e in self.eps))
         if Mode.tight not in self.modes and self.lipschitz != (None,):
             raise InputError("a Lipschitz constant applies to the tight mode only")
-        if self.method not in ("auto", "optimize"):
-            raise InputError(f"method must be auto or optimize, got {self.method!r}")
+        set_(self, "method", checked_method(self.method).value)
 
     @property
     def per_mode(self) -> int:

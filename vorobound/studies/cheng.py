@@ -16,6 +16,7 @@ growing like 1/h means the supremum is infinite (the 3-D case, see ``docs/cheng.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -135,7 +136,7 @@ class ChengResult:
 
 
 def _checked_alpha(alpha, dim) -> float:
-    if dim not in (2, 3):
+    if not isinstance(dim, numbers.Number) or dim not in (2, 3):  # an array is no dim
         raise InputError(f"dim must be 2 (triangle) or 3 (tetrahedron), got {dim!r}")
     try:
         value = float(alpha)
@@ -222,6 +223,11 @@ def _polish(start: np.ndarray, dim: int, alpha: float, bounds) -> tuple[float, n
     return float(values[best]), candidates[best]
 
 
+LEGACY_SEED_LIMIT = 1 << 32
+"""Integer seeds of numpy's legacy RandomState (what scipy makes of an int seed) are below
+this."""
+
+
 def _search(alpha: float, dim: int, seed: int):
     """Global search, local polish from several starts, and continuation in the floor."""
     from scipy.optimize import differential_evolution
@@ -236,7 +242,9 @@ def _search(alpha: float, dim: int, seed: int):
     global_run = differential_evolution(
         lambda xs: -_ratio(xs.T, dim, alpha),
         bounds,
-        seed=seed,
+        # scipy seeds a legacy RandomState from an int, which must be below 2³²: larger seeds
+        # (accepted up to 2⁶³ − 1 like every seed) go in as a Generator.
+        seed=seed if seed < LEGACY_SEED_LIMIT else np.random.default_rng(seed),
         vectorized=True,
         updating="deferred",
         polish=False,

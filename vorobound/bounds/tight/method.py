@@ -14,8 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from enum import Enum
 
-from ...checks import EPS_RANGE
-from ...errors import NoCrossing, VoroboundError
+from ...checks import EPS_RANGE, brief
+from ...errors import InputError, NoCrossing, VoroboundError
 from ...progress import Progress
 from ..claims import NUMERICAL, PROVEN
 from ..configurations import GuideConfiguration
@@ -43,6 +43,14 @@ class TightMethod(str, Enum):
     """Always the numerical optimizer."""
 
 
+def checked_method(method) -> TightMethod:
+    """``method`` as a :class:`TightMethod` (InputError names the choices)."""
+    try:
+        return TightMethod(method)
+    except (ValueError, TypeError):
+        raise InputError(f"method must be auto or optimize, got {brief(method)}") from None
+
+
 @dataclass(frozen=True)
 class TightBound:
     """The tight bound at one ε: sup R − R̂ (additive target) or sup R/R̂ (ratio target)."""
@@ -66,7 +74,7 @@ class TightBound:
 def tight_bound(params: SamplingParams, method: TightMethod | str = "auto") -> TightBound:
     """The tight bound at ``params.eps`` for ``params.target``, over the constraint set with
     ``params.lipschitz`` (see the module docstring for ``method``)."""
-    method, target, lipschitz = TightMethod(method), params.target, params.lipschitz
+    method, target, lipschitz = checked_method(method), params.target, params.lipschitz
     require_guide_triangles(params.eps, params.sigma)
     if method is TightMethod.auto:
         if target is Target.ratio:
@@ -120,7 +128,7 @@ def tight_eps_star(
     optimizer's ε* is returned (numerical), with the closed form's root as
     ``proven_lower_bound`` when guide triangles exist there (it is then proven admissible).
     """
-    method, lipschitz = TightMethod(method), quality.lipschitz
+    method, lipschitz = checked_method(method), quality.lipschitz
     feasible_start(quality, "tight")
     if lipschitz == 0:
         raise NoCrossing(

@@ -35,6 +35,7 @@ from enum import Enum
 
 import numpy as np
 
+from ...checks import brief
 from ...errors import InputError
 from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
@@ -111,7 +112,12 @@ def gudhi_available() -> bool:
 def resolve_engine(engine: Engine | str, cospherical_equal: bool) -> Engine:
     """The engine ``auto`` stands for: hull on a sphere with equal radii, else gudhi if
     installed, else brute."""
-    engine = Engine(engine)
+    try:
+        engine = Engine(engine)
+    except (ValueError, TypeError):
+        raise InputError(
+            f"engine must be auto, gudhi, hull or brute, got {brief(engine)}"
+        ) from None
     if engine is Engine.auto:
         if cospherical_equal:
             return Engine.hull

@@ -106,7 +106,8 @@ def _read_parquet(path: Path):
         values = [table.column(name).to_numpy() for name in columns]
     except (pa.ArrowException, OSError) as exc:
         raise ReadError(f"cannot read balls {path}: {' '.join(str(exc).split())}") from None
-    return _numeric(np.column_stack(values[:3]), path), _numeric(values[3], path)
+    values = [_numeric(value, path) for value in values]  # before stacking: dates, bools
+    return np.column_stack(values[:3]), values[3]
 
 
 def _read_csv(path: Path):

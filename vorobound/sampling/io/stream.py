@@ -5,9 +5,12 @@ row by row as :func:`vorobound.sampling.balls.make_balls` checks a whole set (th
 need every ball, duplicates and the count, are left to the caller). The formats and column
 names are those of :func:`vorobound.sampling.io.balls.read_balls`:
 
-* CSV: columns x, y, z, r (header optional; ``radius`` or ``radii`` for r). Parsed by pyarrow's
-  streaming CSV reader when pyarrow is installed (``pip install 'vorobound[parquet]'``), else
-  by numpy, block by block (several times slower).
+* CSV: columns x, y, z, r (header optional; ``radius`` or ``radii`` for r), separated by
+  semicolons, tabs, commas or runs of spaces as :mod:`.tables` decides from the first line;
+  blank lines and lines starting with ``#`` are skipped. Parsed by pyarrow's streaming CSV
+  reader when pyarrow is installed (``pip install 'vorobound[parquet]'``), else by numpy, block
+  by block (several times slower); by numpy for spaces, and pyarrow refuses a ``#`` line after
+  the first row of numbers.
 * NPZ: arrays x, y, z, r (or radius/radii), or points (n, 3) with radii; each array is read
   from its member of the archive a block at a time (compressed or not).
 * Parquet (``.parquet``, ``.pq``): columns x, y, z and r/radius/radii, by record batches
@@ -21,6 +24,7 @@ from __future__ import annotations
 import itertools
 import zipfile
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +38,7 @@ from .balls import (
     pyarrow_available,
     read_ball_arrays,
 )
+from .tables import cells_of, delimiter_of, is_number
 
 CHUNK_ROWS = 1 << 18
 """Balls per chunk (8 MB of float64 centers and radii; larger chunks were slower, not faster,
@@ -81,13 +86,31 @@ def ball_chunks(path: str | Path, chunk_rows: int = CHUNK_ROWS) -> Iterator[tupl
             yield centers, radii
 
 
-def _header(path: Path) -> tuple[list[int], bool, bool]:
-    """Columns of x, y, z, r, whether the first line is a header (as read_balls decides), and
-    whether any line follows it."""
+@dataclass(frozen=True)
+class _CsvLayout:
+    """Where the numbers of a ball CSV are, decided from its first line as read_balls does."""
+
+    columns: list[int]
+    """Columns of x, y, z and r."""
+    skip: int
+    """Lines before the first row of numbers (comments, blank lines and the header)."""
+    delimiter: str | None
+    """The delimiter (None: runs of spaces)."""
+    rows: bool
+    """Whether any line follows a header."""
+
+
+def _header(path: Path) -> _CsvLayout:
+    """The columns, delimiter and header of a ball CSV (as :func:`read_number_table` finds
+    them: blank lines and lines starting with ``#`` are skipped)."""
     try:
         with open(path, encoding="utf-8-sig") as handle:
-            lines = (text for text in handle if text.strip())
-            line = next(lines, None)
+            lines = (
+                (number, text)
+                for number, text in enumerate(handle)
+                if text.strip() and not text.lstrip().startswith("#")
+            )
+            number, line = next(lines, (0, None))
             more = next(lines, None) is not None
     except (OSError, UnicodeDecodeError) as exc:
         raise ReadError(
@@ -95,40 +118,44 @@ def _header(path: Path) -> tuple[list[int], bool, bool]:
         ) from None
     if line is None:
         raise ReadError(f"balls {path} is empty")
-    cells = [cell.strip().lower() for cell in line.split(",")]
-    try:
-        float(cells[0])
-    except ValueError:
-        radius = next((name for name in RADIUS_NAMES if name in cells), None)
-        if radius is None or not {"x", "y", "z"} <= set(cells):
-            raise ReadError(
-                f"balls {path}: the header must name x, y, z and r, got {line.strip()!r}"
-            ) from None
-        columns = [cells.index("x"), cells.index("y"), cells.index("z"), cells.index(radius)]
-        return columns, True, more
-    return [0, 1, 2, 3], False, True
+    delimiter = delimiter_of(line)
+    cells = [cell.strip("\"'").strip().lower() for cell in cells_of(line, delimiter)]
+    if all(is_number(cell) for cell in cells):
+        return _CsvLayout([0, 1, 2, 3], number, delimiter, True)
+    radius = next((name for name in RADIUS_NAMES if name in cells), None)
+    if radius is None or not {"x", "y", "z"} <= set(cells):
+        raise ReadError(f"balls {path}: the header must name x, y, z and r, got {line.strip()!r}")
+    columns = [cells.index("x"), cells.index("y"), cells.index("z"), cells.index(radius)]
+    return _CsvLayout(columns, number + 1, delimiter, more)
 
 
 def _csv_arrow(path: Path, chunk_rows: int):
     import pyarrow as pa
     from pyarrow import csv
 
-    columns, header, rows = _header(path)
-    if not rows:
+    layout = _header(path)
+    if not layout.rows:
         return
+    if layout.delimiter is None:  # runs of spaces: pyarrow reads one delimiter character
+        yield from _csv_numpy(path, chunk_rows)
+        return
+    columns = layout.columns
     with open(path, "rb") as handle:
         start = handle.read(3)
     options = csv.ReadOptions(
         block_size=_CSV_BLOCK_BYTES,
         autogenerate_column_names=True,
-        skip_rows=1 if header else 0,
+        skip_rows=layout.skip,
         encoding="utf-8-sig" if start == b"\xef\xbb\xbf" else "utf8",
     )
+    parse = csv.ParseOptions(delimiter=layout.delimiter)
     # No text stands for a missing value: "nan" and "inf" are numbers (then refused as balls
     # are), an empty cell is not a number.
     convert = csv.ConvertOptions(null_values=[], quoted_strings_can_be_null=False)
     try:
-        reader = csv.open_csv(path, read_options=options, convert_options=convert)
+        reader = csv.open_csv(
+            path, read_options=options, parse_options=parse, convert_options=convert
+        )
         for batch in reader:
             if batch.num_columns <= max(columns):
                 raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {batch.num_columns}")
@@ -153,18 +180,21 @@ def _float_column(column, path: Path) -> np.ndarray:
 
 
 def _csv_numpy(path: Path, chunk_rows: int):
-    columns, header, _ = _header(path)
+    layout = _header(path)
+    columns = layout.columns
     try:
         with open(path, encoding="utf-8-sig") as handle:
-            lines = (line for line in handle if line.strip())
-            if header:
-                next(lines)
+            lines = (
+                line
+                for line in itertools.islice(handle, layout.skip, None)
+                if line.strip() and not line.lstrip().startswith("#")
+            )
             while True:
                 block = list(itertools.islice(lines, chunk_rows))
                 if not block:
                     return
                 try:
-                    table = np.loadtxt(block, delimiter=",", ndmin=2)
+                    table = np.loadtxt(block, delimiter=layout.delimiter, comments=None, ndmin=2)
                 except ValueError as exc:
                     raise ReadError(f"balls {path}: not a table of numbers ({exc})") from None
                 if table.shape[1] <= max(columns):

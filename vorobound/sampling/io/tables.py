@@ -61,10 +61,10 @@ def read_number_table(path: str | Path, what: str) -> NumberTable:
     ]
     if not numbered:
         raise ReadError(f"{what} {path} is empty")
-    delimiter = _delimiter(numbered[0][1])
+    delimiter = delimiter_of(numbered[0][1])
     header = None
-    header_line, first = numbered[0][0], _cells(numbered[0][1], delimiter)
-    if not all(_is_number(cell) for cell in first):
+    header_line, first = numbered[0][0], cells_of(numbered[0][1], delimiter)
+    if not all(is_number(cell) for cell in first):
         header = tuple(cell.strip("\"'").strip().lower() for cell in first)
         numbered = numbered[1:]
     if not numbered:
@@ -91,15 +91,15 @@ def read_number_table(path: str | Path, what: str) -> NumberTable:
     return NumberTable(values, lines, header, delimiter)
 
 
-def _delimiter(line: str) -> str | None:
+def delimiter_of(line: str) -> str | None:
     return next((d for d in DELIMITERS if d in line), None)
 
 
-def _cells(line: str, delimiter: str | None) -> list[str]:
+def cells_of(line: str, delimiter: str | None) -> list[str]:
     return [cell.strip() for cell in line.split(delimiter)]
 
 
-def _is_number(text: str) -> bool:
+def is_number(text: str) -> bool:
     try:
         float(text)
     except ValueError:
@@ -110,14 +110,14 @@ def _is_number(text: str) -> bool:
 def _first_problem(numbered: list[tuple[int, str]], delimiter: str | None, source: int) -> str:
     """Where and why the rows are not a table of numbers (for the message after the path);
     ``source`` is the line the delimiter was taken from."""
-    width = len(_cells(numbered[0][1], delimiter))
+    width = len(cells_of(numbered[0][1], delimiter))
     for number, line in numbered:
-        cells = _cells(line, delimiter)
-        bad = next((cell for cell in cells if not _is_number(cell)), None)
+        cells = cells_of(line, delimiter)
+        bad = next((cell for cell in cells if not is_number(cell)), None)
         if bad is not None:
             hint = ""
             other = next((d for d in DELIMITERS if d != delimiter and d in bad), None)
-            if other == "," and _is_number(bad.replace(",", ".")):
+            if other == "," and is_number(bad.replace(",", ".")):
                 hint = " (a decimal comma? write numbers with a decimal point)"
             elif other is not None:
                 hint = (

@@ -187,6 +187,11 @@ def inout_facets(
 
     points = np.ascontiguousarray(points, dtype=float)
     inside = np.asarray(inside, dtype=bool)
+    # Every product below (circumcentres, signed volumes) is of degree up to 6 in the
+    # coordinates: it overflows or underflows for seeds far from unit size. Scaling by a power
+    # of two is exact and leaves the combinatorics unchanged.
+    unit = _power_of_two_scale(points)
+    points = points / unit
     Counter(progress, "Delaunay (qhull)", None)
     try:
         triangulation = Delaunay(points)
@@ -206,6 +211,7 @@ def inout_facets(
         points, inside, centres, radius, error, cycles
     )
     counter.step()
+    surface = replace(surface, vertices=surface.vertices * unit)
     return InOutFacets(
         surface=surface,
         unbounded=cycles.unbounded,
@@ -216,6 +222,14 @@ def inout_facets(
         delaunay_edges=cycles.edge_count,
         tetrahedra=len(simplices),
     )
+
+
+def _power_of_two_scale(points: np.ndarray) -> float:
+    """The power of two nearest above the largest absolute coordinate (1 for none or zero)."""
+    largest = float(np.abs(points).max()) if points.size else 0.0
+    if not (np.isfinite(largest) and largest > 0):
+        return 1.0
+    return float(np.ldexp(1.0, int(np.frexp(largest)[1])))
 
 
 def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

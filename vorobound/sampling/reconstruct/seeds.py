@@ -131,6 +131,8 @@ def read_seed_file(path: str | Path) -> Seeds:
         columns = [header.index("x"), header.index("y"), header.index("z"), sizing]
         columns.append(header.index(region))
         lines = lines[1:]
+        if not lines:
+            raise ReadError(f"seeds {path}: a header and no rows")
     try:
         table = np.loadtxt(io.StringIO("\n".join(lines)), delimiter=",", ndmin=2)
     except ValueError as exc:
@@ -140,6 +142,10 @@ def read_seed_file(path: str | Path) -> Seeds:
         raise ReadError(
             f"seeds {path}: no labels (rows have {width} columns; VoroCrust's seed file has "
             "x, y, z, sizing, region id)"
+        )
+    if width <= max(c for c in columns if c is not None):
+        raise ReadError(
+            f"seeds {path}: the header names {len(header)} columns but the rows have {width}"
         )
     return _checked(table, columns, path)
 
@@ -164,6 +170,11 @@ def _checked(table: np.ndarray, columns: list, path: Path) -> Seeds:
         )
     if len(points) < MIN_SEEDS:
         raise ReadError(f"{where}: need at least {MIN_SEEDS} seeds, got {len(points)}")
+    if float(np.ptp(points, axis=0).max()) < LENGTH_RANGE[0]:
+        raise ReadError(
+            f"{where}: the seeds span less than {LENGTH_RANGE[0]:g} (the supported range of "
+            "lengths)"
+        )
     inside = region == 1
     if inside.all() or not inside.any():
         only = "inside (1)" if inside.all() else "outside (0)"
