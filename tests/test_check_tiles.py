@@ -237,3 +237,16 @@ def test_row_sample_is_sparse_and_covers():
     probes, probe_lfs = TorusShape(3.0, 1.0).random_points(50_000, np.random.default_rng(1))
     assert conditions.coverage(centers, eps, probes, probe_lfs)[0] < 1
     assert np.allclose(np.concatenate([r for _, r in parts]), 2 * eps)
+
+
+def test_a_local_pool_never_starts_more_processes_than_cpus():
+    """--workers sets the tiling; the pool itself is capped at the CPU count (a typo such as
+    --workers 1000 must not start a thousand processes)."""
+    import os
+
+    from vorobound.parallel import task_executor
+
+    with task_executor(64) as (executor, slots):
+        assert slots == 64
+        assert executor._max_workers == min(64, os.cpu_count() or 1)
+        assert sorted(executor.map(abs, [-3, -1, -2])) == [1, 2, 3]

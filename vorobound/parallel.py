@@ -197,7 +197,8 @@ def task_executor(
     * ``scheduler`` (an address such as ``tcp://127.0.0.1:8786``): a dask.distributed cluster,
       through its ``concurrent.futures`` interface (``Client.get_executor``); needs the
       ``dask`` extra. Its workers are the cluster's.
-    * else ``workers`` > 1: a process pool of spawned workers that die with this process
+    * else ``workers`` > 1: a process pool of spawned workers (at most one per CPU; the
+      number returned is still ``workers``) that die with this process
       (:func:`_die_with_parent`); leaving the block on an exception (Ctrl-C included) kills
       them at once.
     * else: :class:`InlineExecutor`.
@@ -213,7 +214,8 @@ def task_executor(
         yield InlineExecutor(), 1
         return
     pool = concurrent.futures.ProcessPoolExecutor(
-        max_workers=workers,
+        # More processes than CPUs would only share them (and each holds a task's memory).
+        max_workers=min(workers, os.cpu_count() or 1),
         mp_context=_ShieldedSpawnContext(),
         initializer=_die_with_parent,
         initargs=(os.getpid(),),

@@ -88,7 +88,8 @@ def check(
             metavar="N",
             help="Check --balls in tiles on this many local processes (1: tiles one after "
             "another in this process), streaming the file: for samples too large for one "
-            "process (docs/scale.md). Same guide triangles and summary as without.",
+            "process (docs/scale.md). Same guide triangles and summary as without. N sets "
+            "the tiling; at most one process per CPU runs at once.",
         ),
     ] = None,
     scheduler: Annotated[
