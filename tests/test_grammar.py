@@ -127,3 +127,21 @@ def test_per_row_results_become_dataframes(tmp_path):
     triangles = result.to_frame()
     assert len(triangles) == result.n_guide_triangles
     assert triangles["gap_ratio"].max() == pytest.approx(result.gap_ratio_max or 0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["check", "--torus", "3,1", "--eps", "0.15", "--out", ""],
+        ["check", "--torus", "3,1", "--eps", "0.15", "--out="],
+        ["sample", "--sphere", "1", "--eps", "0.2", "-o", ""],
+    ],
+)
+def test_an_empty_output_path_is_refused_not_read_as_the_current_folder(
+    run_cli, tmp_path, monkeypatch, args
+):
+    """An unset shell variable ($OUT) gives "": typer would read it as ".", the current folder."""
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run_cli(*args)
+    assert code == 2 and "empty string" in err and len(err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []

@@ -209,6 +209,10 @@ def main(argv: list[str] | None = None) -> int:
     if not args:
         args = ["--help"]
     _tolerant_streams()
+    empty = _empty_value(args)
+    if empty is not None:
+        # typer would read "" as the current folder (an unset shell variable, most likely).
+        return _fail(f"{empty} needs a value, got an empty string", EXIT_ERROR)
     try:
         with _signals_raise_interrupted(), _warnings_as_lines():
             result = app(args=args, prog_name="vorobound", standalone_mode=False)
@@ -241,6 +245,16 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # the last line of defence: one line, traceback only on request
         return _bug(exc)
     return result if isinstance(result, int) else 0
+
+
+def _empty_value(args: list[str]) -> str | None:
+    """The option given an empty value (``--out ""`` or ``--out=``), if any."""
+    for before, arg in zip(["", *args], args, strict=False):
+        if arg == "" and before.startswith("-"):
+            return before
+        if arg.startswith("--") and arg.endswith("=") and len(arg) > 3:
+            return arg[:-1]
+    return None
 
 
 def _bug(exc: BaseException) -> int:
