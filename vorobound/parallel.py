@@ -108,7 +108,7 @@ def _recorded_workers() -> Iterator[list]:
 
 
 def _kill_started(started: list) -> None:
-    """SIGKILL and reap workers that are still alive."""
+    """SIGKILL and reap the workers that are still alive."""
     for process in started:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             if process.is_alive():
@@ -226,21 +226,16 @@ def task_executor(
         except BaseException:
             # The pool starts workers as tasks are submitted: one started just before an
             # interrupt may not be in its table yet, but is in `started`.
-            _kill_started(started)
-            _kill_pool(pool)
+            _kill_pool(pool, started)
             raise
     pool.shutdown(wait=True)
 
 
-def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor) -> None:
-    """Stop a process pool now: kill its workers rather than wait for their tasks."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    for process in processes:
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            process.kill()
-    for process in processes:
-        with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
-            process.join(5)
+def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor, started: list) -> None:
+    """Stop a process pool now: kill its workers (those in its table and those ``started``
+    but not yet in it) rather than wait for their tasks."""
+    table = list((getattr(pool, "_processes", None) or {}).values())
+    _kill_started(table + [p for p in started if p not in table])
     # With its workers gone the pool's manager thread ends at once; waiting for it releases
     # the pool's semaphores before this process exits (else the resource tracker warns).
     pool.shutdown(wait=True, cancel_futures=True)

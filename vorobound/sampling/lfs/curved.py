@@ -130,10 +130,8 @@ class _VertexFits:
         unit = np.zeros(count)
         np.maximum.at(unit, edges[:, 0], length)
         np.maximum.at(unit, edges[:, 1], length)
-        helper = np.eye(3)[np.argmin(np.abs(normals), axis=1)]
-        first = np.cross(normals, helper)
-        first /= np.linalg.norm(first, axis=1)[:, None]
-        self.frame = np.stack([first, np.cross(normals, first), normals], axis=1)
+        first, second = tangent_basis(normals)
+        self.frame = np.stack([first, second, normals], axis=1)
         self.points, self.unit = points, np.where(unit > 0, unit, 1.0)
         self.coefficients = np.zeros((count, len(_TERMS)))
         self.usable = np.zeros(count, dtype=bool)
@@ -199,3 +197,12 @@ def _nearest_rows(support, points: np.ndarray, vertices: np.ndarray):
     neighbours = np.full((len(vertices), width), -1)
     neighbours[row[keep], rank[keep]] = flat[keep]
     return neighbours, neighbours >= 0
+
+
+def tangent_basis(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors spanning the plane normal to each of ``normals`` (unit, (n, 3)), with
+    the normal a right-handed frame."""
+    helper = np.eye(3)[np.argmin(np.abs(normals), axis=1)]
+    first = np.cross(normals, helper)
+    first /= np.linalg.norm(first, axis=1)[:, None]
+    return first, np.cross(normals, first)

@@ -40,7 +40,7 @@ from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from ..io.meshes import TriangleMesh
 from ..surfaces.base import SurfaceCounts
-from .curved import edge_midpoints
+from .curved import edge_midpoints, tangent_basis
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
 from .lipschitz import DistanceCap, Envelope
 from .medial import vertex_poles
@@ -859,7 +859,7 @@ def _site_gradients(points, lfs, labels, kind, normals, slope: float):
         change = lfs[near] - lfs[rows, None]
         same = (labels[near] == labels[rows, None]) & (labels[rows, None] >= 0)
         # Least squares in the tangent plane: the offsets in an orthonormal basis of it.
-        first, second = _tangent_basis(normals[rows])
+        first, second = tangent_basis(normals[rows])
         offset = points[near] - points[rows, None]
         u = np.einsum("nki,ni->nk", offset, first) * same
         v = np.einsum("nki,ni->nk", offset, second) * same
@@ -878,15 +878,6 @@ def _site_gradients(points, lfs, labels, kind, normals, slope: float):
         good &= np.isfinite(gradient).all(axis=1)
         planes[rows[good]] = gradient[good]
     return slopes, planes
-
-
-def _tangent_basis(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors spanning the plane normal to each of ``normals`` (unit, (n, 3))."""
-    helper = np.zeros_like(normals)
-    helper[np.arange(len(normals)), np.argmin(np.abs(normals), axis=1)] = 1.0
-    first = helper - (helper * normals).sum(axis=1)[:, None] * normals
-    first /= np.linalg.norm(first, axis=1)[:, None]
-    return first, np.cross(normals, first)
 
 
 def _vertex_size(faces, points, vertices) -> np.ndarray:
