@@ -7,7 +7,7 @@ import vorobound
 
 PACKAGE = Path(vorobound.__file__).parent
 LAYERS = [
-    {"__init__", "errors", "constants", "checks", "progress", "files", "parallel"},
+    {"__init__", "errors", "constants", "rounding", "checks", "progress", "files", "parallel"},
     {"geometry"},
     {"bounds"},
     {"sampling"},
