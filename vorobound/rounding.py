@@ -76,3 +76,25 @@ def format_up(value: float | None, digits: int = DIGITS) -> str:
     if math.isinf(value):
         return "∞" if value > 0 else "−∞"
     return _text(_directed(float(value), digits, ROUND_CEILING), digits)
+
+
+DOWN = "down"
+"""Direction of an admissible ε, a certified ε, and anything that grows with them."""
+UP = "up"
+"""Direction of a bound on R/R̂ or R − R̂, and of a cost."""
+
+
+def format_toward(value: float | None, direction: str | None, digits: int = DIGITS) -> str:
+    """``value`` rounded toward safety: :data:`DOWN`, :data:`UP`, or None for a number no
+    guarantee rests on (an input parameter, a measurement), rounded to nearest as ``%g``."""
+    if direction == DOWN:
+        return format_down(value, digits)
+    if direction == UP:
+        return format_up(value, digits)
+    if direction is not None:
+        raise ValueError(f"unknown rounding direction {direction!r}")
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    if isinstance(value, float) and math.isinf(value):
+        return "∞" if value > 0 else "−∞"
+    return f"{value:.{digits}g}" if isinstance(value, float) else str(value)

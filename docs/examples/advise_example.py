@@ -2,7 +2,8 @@
 the recommended ε."""
 
 from vorobound.bounds.params import QualityParams
-from vorobound.reports.advisor import advise
+from vorobound.reports.advisor import advise, versus_baseline
+from vorobound.rounding import format_down
 from vorobound.sampling.surfaces.analytic import SphereShape
 
 COMMAND = "vorobound advise --sphere 1"
@@ -17,21 +18,20 @@ def render() -> str:
         "|---|---|---|---|---|---|---|",
     ]
     for a in advice.rows:
-        versus = a.reduction_vs_1_500
-        words = f"{versus:.2f}× fewer" if versus >= 1 else f"{1 / versus:.2f}× more"
         lines.append(
-            f"| {a.mode} | {a.target} | {a.eps_star:.5g} | {a.claim} | {a.ball_radius:.5g} "
-            f"| {a.samples_low:,.0f} – {a.samples_high:,.0f} | {words} |"
+            f"| {a.mode} | {a.target} | {format_down(a.eps_star)} | {a.claim} "
+            f"| {format_down(a.ball_radius)} | {a.samples_low:,.0f} – {a.samples_high:,.0f} "
+            f"| {versus_baseline(a.reduction_vs_1_500)} |"
         )
     h3 = advice.h3_route
-    lines.append(f"| H3 alone | (55) only | {h3.eps_star:.5g} | given H3 | | | — |")
+    lines.append(f"| H3 alone | (55) only | {format_down(h3.eps_star)} | given H3 | | | — |")
     rec = advice.recommendation
     lines += [
         "",
-        f"Recommended: ε = {rec.eps:.5g} ({rec.claim}, {rec.mode} mode, binding target "
-        f"{rec.binding_target}), ball radius {rec.ball_radius:.5g}, "
+        f"Recommended: ε = {format_down(rec.eps)} ({rec.claim}, {rec.mode} mode, binding target "
+        f"{rec.binding_target}), ball radius {format_down(rec.ball_radius)}, "
         f"{rec.samples_low:,.0f} – {rec.samples_high:,.0f} samples, "
-        f"{rec.reduction_vs_1_500:.2f}× fewer than at ε = 1/500.",
+        f"{versus_baseline(rec.reduction_vs_1_500)} than at ε = 1/500.",
     ]
     return "\n".join(lines) + "\n"
 

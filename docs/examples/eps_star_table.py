@@ -4,6 +4,7 @@ for each, and the ε up to which H3 alone gives (55)."""
 from vorobound.bounds.guarantee import eps_star
 from vorobound.bounds.params import QualityParams
 from vorobound.bounds.targets import h3_route
+from vorobound.rounding import format_down
 
 MODES = (
     ("paper (as printed)", "paper", None, "--mode paper"),
@@ -21,11 +22,13 @@ def render() -> str:
             star = eps_star(quality.but(target=target, lipschitz=lam), mode)
             command = f"vorobound solve {flags} --target {target}"
             lines.append(
-                f"| {label} | {target} | {star.eps_star:.10f} | {star.claim} | `{command}` |"
+                f"| {label} | {target} | {format_down(star.eps_star, 10)} | {star.claim} "
+                f"| `{command}` |"
             )
     h3 = h3_route(quality)
     lines.append(
-        f"| H3 alone, eq. (55) only | — | {h3.eps_star:.10f} | proven from H3 (an assumption) "
+        f"| H3 alone, eq. (55) only | — | {format_down(h3.eps_star, 10)} "
+        "| proven from H3 (an assumption) "
         "| `vorobound solve` (last row) |"
     )
     return "\n".join(lines) + "\n"

@@ -6,6 +6,7 @@ Command: ``vorobound reproduce`` (the same table, with the figures).
 
 from vorobound.bounds.params import QualityParams
 from vorobound.reports.reproduce import reproduce
+from vorobound.rounding import format_toward
 
 
 def render() -> str:
@@ -16,17 +17,17 @@ def render() -> str:
         "|---" * (len(modes) + 2) + "|",
     ]
     for row in rows:
-        cells = [_cell(row.values[s.mode]) for s in summaries]
+        cells = [_cell(row.values[s.mode], row.rounding) for s in summaries]
         quantity = row.quantity.replace("|", "\\|")
         lines.append(f"| {quantity} | {row.paper} | " + " | ".join(cells) + " |")
     lines.append("| claim | — | " + " | ".join(s.star.claim for s in summaries) + " |")
     return "\n".join(lines) + "\n"
 
 
-def _cell(value) -> str:
+def _cell(value, rounding: str) -> str:
     if value is None:
         return "—"
-    return "∞" if value == float("inf") else f"{value:.5g}"
+    return format_toward(value, rounding)
 
 
 if __name__ == "__main__":

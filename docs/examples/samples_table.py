@@ -10,6 +10,7 @@ from vorobound.bounds.params import QualityParams
 from vorobound.bounds.tight.method import tight_eps_star
 from vorobound.constants import PAPER_EPS
 from vorobound.reports.check import check_surface
+from vorobound.rounding import format_down, format_up
 from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
 CASES = (
@@ -47,7 +48,8 @@ def rows(kind: str, dims: tuple, value: str) -> tuple[str, str, str]:
     shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
     eps = named.get(value) or float(value)
     names = {"paper": "paper ε*", "tight": "tight ε*", "ratio": "tight ratio ε*"}
-    label = f"{eps:.6g}" + (f" ({names[value]})" if value in named else "")
+    # a named ε* is printed rounded down (vorobound.rounding), as every admissible ε
+    label = (format_down(eps, 6) + f" ({names[value]})") if value in named else f"{eps:.6g}"
     s = check_surface(shape, eps, quality, seed=0).summary()
     first = (
         f"| {shape.name} | {label} | {s['n_samples']:,} | {s['n_guide_triangles']:,} | "
@@ -60,11 +62,13 @@ def rows(kind: str, dims: tuple, value: str) -> tuple[str, str, str]:
         bound = s["bound"][mode]["gap_ratio"]
         over = s["violations"][mode]
         ratio = "" if bound is None or bound == 0 else f" ({gap / bound:.3f})"
-        text = "n/a" if bound is None else f"{bound:.4g}"
+        text = "n/a" if bound is None else format_up(bound, 4)
         cells.append(text + ratio + (f", {over} above" if over else ""))
     second = f"| {shape.name} | {label} | {gap:.4g} | " + " | ".join(cells) + " |\n"
     sups = [s["ratio_bound"][mode]["value"] for mode in ("tight", "tight_lipschitz")]
-    sup_cells = ["∞" if sup is None else f"{sup:.4g} ({s['ratio_max'] / sup:.3f})" for sup in sups]
+    sup_cells = [
+        "∞" if sup is None else f"{format_up(sup, 4)} ({s['ratio_max'] / sup:.3f})" for sup in sups
+    ]
     third = (
         f"| {shape.name} | {label} | {s['ratio_max']:.4f} | "
         + " | ".join(sup_cells)

@@ -67,6 +67,7 @@ class AdviseResult(Result):
                 "binding_target": rec.binding_target,
                 "mode": rec.mode,
                 "claim": rec.claim,
+                "guarantees": list(rec.guarantees),
                 "eps_per_target": rec.per_target,
                 "ball_radius": rec.ball_radius,
                 "min_spacing": rec.min_spacing,

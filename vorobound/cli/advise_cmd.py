@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_down
 from .options import (
     DeltaRatio,
     Json,
@@ -20,7 +21,7 @@ from .options import (
     surface_args,
 )
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, print_table
 
 
 def advise(
@@ -90,7 +91,7 @@ def advise(
 
 
 def _show(result) -> None:
-    from ..reports.advisor import GUARANTEE
+    from ..reports.advisor import GUARANTEE, versus_baseline
 
     data = result.to_dict()
     entries, surface, h3 = data["modes"], result.surface, result.advice.h3_route
@@ -100,18 +101,18 @@ def _show(result) -> None:
         (
             e["mode"],
             e["target"],
-            fmt(e["eps_star"], 5),
+            format_down(e["eps_star"]),
             e["claim"],
-            fmt(e["ball_radius"], 5),
-            fmt(e["min_spacing"], 5),
+            format_down(e["ball_radius"]),
+            format_down(e["min_spacing"]),
             "—"
             if e["samples_low"] is None
             else f"{e['samples_low']:,.0f} – {e['samples_high']:,.0f}",
-            _versus_baseline(e["reduction_vs_1_500"]),
+            versus_baseline(e["reduction_vs_1_500"]),
         )
         for e in entries
     ]
-    table.append(("H3 alone", "(55) only", fmt(h3.eps_star, 5), "given H3", "", "", "", "—"))
+    table.append(("H3 alone", "(55) only", format_down(h3.eps_star), "given H3", "", "", "", "—"))
     print_table(
         title,
         (
@@ -136,10 +137,11 @@ def _show(result) -> None:
             "" if surface is None else f", {rec.samples_low:,.0f} – {rec.samples_high:,.0f} samples"
         )
         print(
-            f"recommended ε = {fmt(rec.eps, 5)} ({rec.claim}; {rec.mode}, binding target "
-            f"{rec.binding_target}): ball radius {fmt(rec.ball_radius, 5)}{counts}, "
-            f"{_versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
+            f"recommended ε = {format_down(rec.eps)} ({rec.claim}; {rec.mode}, binding target "
+            f"{rec.binding_target}): ball radius {format_down(rec.ball_radius)}{counts}, "
+            f"{versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
         )
+        print(f"  for every guide triangle, given H3, it gives {rec.guarantee_statement}")
     if rec is not None and surface is not None:
         for line in _sampler_lines(rec):
             print(line)
@@ -173,12 +175,3 @@ def _sampler_lines(rec) -> list[str]:
                 "for any VoroCrust sampler"
             )
     return lines
-
-
-def _versus_baseline(reduction: float | None) -> str:
-    """Sample count at ε = 1/500 over the count at ε*, in words ("—" when not trusted)."""
-    if reduction is None:
-        return "—"
-    if reduction >= 1:
-        return f"{reduction:.2f}× fewer"
-    return f"{1 / reduction:.2f}× more"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_up
 from .options import (
     DeltaRatio,
     Eps,
@@ -71,7 +72,7 @@ def _show(result) -> None:
         _show_tight(result, data, quantity)
     else:
         rows = [
-            (name, q["equation"], fmt(q["value"]), q["description"])
+            (name, q["equation"], format_up(q["value"], 10), q["description"])
             for name, q in data["quantities"].items()
         ]
         print_table(
@@ -80,15 +81,15 @@ def _show(result) -> None:
             rows,
         )
     verdict = "meets" if result.meets_target else "exceeds"
-    shown = "∞ (" + UNBOUNDED + ")" if result.value == float("inf") else fmt(result.value)
+    shown = "∞ (" + UNBOUNDED + ")" if result.value == float("inf") else format_up(result.value, 10)
     if ratio:
         allowed = result.params.share_allowance
         share = (
-            f"(R − R̂)/R up to {fmt(result.share_bound, 6)} against the "
-            f"{fmt(allowed, 6)} that R ≤ ρ_f·R̂ allows: {fmt(result.fraction_of_target, 6)}×"
+            f"(R − R̂)/R up to {format_up(result.share_bound, 6)} against the "
+            f"{fmt(allowed, 6)} that R ≤ ρ_f·R̂ allows: {format_up(result.fraction_of_target, 6)}×"
         )
     else:
-        share = f"{fmt(result.fraction_of_target, 6)}× the allowance"
+        share = f"{format_up(result.fraction_of_target, 6)}× the allowance"
     print(
         f"bound on {quantity} = {shown} {verdict} the target {limit} = "
         f"{fmt(result.limit)}: {share} ({result.claim})"
@@ -113,7 +114,7 @@ def _show(result) -> None:
 def _show_tight(result, data: dict, quantity: str) -> None:
     tight = result.detail.detail
     rows = [
-        (f"sup {quantity} (tight bound)", fmt(result.value)),
+        (f"sup {quantity} (tight bound)", format_up(result.value, 10)),
         ("method, claim", f"{result.method}, {result.claim}"),
     ]
     if tight.optimizer is not None:

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_down, format_up
 from .options import LAMBDA_HELP, DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
 from .progress import progress_bar
 from .render import emit, fmt, print_table
@@ -119,8 +120,8 @@ def _show(result) -> None:
     q = result.quality
     rows = [
         ("target", data["statement"].split(": ", 1)[-1].split(", with R^")[0]),
-        ("certified: every ε ≤", fmt(result.eps_certified, 12)),
-        ("tight ε*", f"{fmt(result.eps_star_tight, 12)} ({data['eps_star_tight_status']})"),
+        ("certified: every ε ≤", format_down(result.eps_certified, 12)),
+        ("tight ε*", f"{format_down(result.eps_star_tight, 12)} ({data['eps_star_tight_status']})"),
         ("certified / tight", fmt(result.ratio, 8)),
         ("boxes", str(data["boxes"])),
         ("deepest bisection", str(data["max_depth"])),
@@ -145,10 +146,10 @@ def _show_check(checked) -> None:
     rows = [
         ("valid", "yes: every leaf re-verified, the leaves tile the domain"),
         ("target", r.target),
-        ("every ε ≤", fmt(r.eps_max, 12)),
+        ("every ε ≤", format_down(r.eps_max, 12)),
         ("σ, δ/ε, ρ_f, λ", f"{r.sigma:g}, {r.delta_ratio:g}, {r.rho_f:g}, {r.lipschitz}"),
         ("boxes (leaves)", f"{r.boxes} ({r.leaves})"),
-        ("largest bound / target", fmt(r.largest_bound, 10)),
+        ("largest bound / target", format_up(r.largest_bound, 10)),
         ("seconds", fmt(r.seconds, 3)),
     ]
     print_table(f"Certificate {checked.certificate}", ("quantity", "value"), rows)

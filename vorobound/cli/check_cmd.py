@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_up
 from .options import (
     LAMBDA_HELP,
     DeltaRatio,
@@ -212,7 +213,7 @@ def _print_summary(s: dict) -> None:
             (
                 mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
                 b["claim"],
-                fmt(b["gap_ratio"], 6),
+                format_up(b["gap_ratio"], 6),
                 "n/a"
                 if not b["gap_ratio"] or s["gap_ratio_max"] is None
                 else fmt(s["gap_ratio_max"] / b["gap_ratio"], 4),
@@ -230,7 +231,7 @@ def _print_summary(s: dict) -> None:
             (
                 mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
                 b["claim"],
-                "none (∞)" if b["value"] is None else fmt(b["value"], 6),
+                "none (∞)" if b["value"] is None else format_up(b["value"], 6),
                 "n/a"
                 if b["value"] is None or s["ratio_max"] is None
                 else fmt(s["ratio_max"] / b["value"], 4),

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
+from ..rounding import format_down
 from .options import (
     DeltaRatio,
     EngineChoice,
@@ -239,7 +240,7 @@ def _print_sweep(s: dict) -> None:
     print_table(
         "Every bound's ε*",
         ("bound", "target", "ε*", "claim"),
-        [(m["label"], m["target"], f"{m['eps_star']:.5g}", m["claim"]) for m in s["eps_star"]],
+        [(m["label"], m["target"], format_down(m["eps_star"]), m["claim"]) for m in s["eps_star"]],
     )
     for r in s["rows"]:
         if r["note"]:

@@ -4,15 +4,16 @@ from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_toward
 from .options import DeltaRatio, Json, Lfs, NoTight, Out, RhoF, Sigma
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, print_table
 
 
-def _cell(value) -> str:
+def _cell(value, rounding: str) -> str:
     if value is None:
         return "—"
-    return "∞" if value == float("inf") else fmt(value, 5)
+    return format_toward(value, rounding)
 
 
 def reproduce(
@@ -54,7 +55,7 @@ def _show(result) -> None:
     print_table(
         "The paper's claims and this project's values",
         ("quantity", "paper says", *modes),
-        [(r.quantity, r.paper, *(_cell(r.values[m]) for m in modes)) for r in rows],
+        [(r.quantity, r.paper, *(_cell(r.values[m], r.rounding) for m in modes)) for r in rows],
     )
     print("claims: " + ", ".join(f"{s.mode}: {s.star.claim}" for s in summaries))
     for path in result.written:

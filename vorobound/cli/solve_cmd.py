@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..rounding import format_down
 from .options import (
     DeltaRatio,
     Json,
@@ -61,19 +62,21 @@ def _show(result) -> None:
     data = result.to_dict()
     q = result.quality
     rows = [
-        ("eps_star", fmt(result.eps_star, 12)),
+        ("eps_star", format_down(result.eps_star, 12)),
         ("claim", result.claim),
         ("method", result.method),
     ]
     if result.proven_lower_bound is not None:
-        rows.append(("proven lower bound on ε* (closed form)", fmt(result.proven_lower_bound, 12)))
+        rows.append(
+            ("proven lower bound on ε* (closed form)", format_down(result.proven_lower_bound, 12))
+        )
     rows += [
-        ("eps_star / (1/500)", fmt(data["eps_star_over_baseline"], 6)),
-        ("ball radius δ·L_i at eps_star", fmt(data["ball_radius"])),
+        ("eps_star / (1/500)", format_down(data["eps_star_over_baseline"], 6)),
+        ("ball radius δ·L_i at eps_star", format_down(data["ball_radius"], 10)),
         ("relative residual", fmt(data["residual"], 3)),
         ("root-finder iterations", str(data["iterations"])),
         ("bracket", f"[{fmt(data['bracket'][0])}, {fmt(data['bracket'][1])}]"),
-        ("H3 alone gives (55) up to ε", f"{fmt(result.h3_eps_star, 6)} (given H3)"),
+        ("H3 alone gives (55) up to ε", f"{format_down(result.h3_eps_star, 6)} (given H3)"),
     ]
     lam = "" if q.lipschitz is None else f", λ = {q.lipschitz:g}"
     print_table(

@@ -15,6 +15,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
+from ..rounding import format_toward
 from .options import (
     Json,
     MethodChoice,
@@ -137,10 +138,21 @@ def sweep(
             with atomic_open(output, "w") as handle:
                 count = write_sweep(rows, spec, handle, kind)
         elif format is TableFormat.table:
-            table = [[fmt(getattr(r, c), 8) for c in spec.columns] for r in rows]
+            from ..reports.sweep import COLUMN_ROUNDING
+
+            table = [
+                [_cell(getattr(r, c), COLUMN_ROUNDING.get(c)) for c in spec.columns] for r in rows
+            ]
         else:
             count = write_sweep(rows, spec, sys.stdout, format.value)
     if output is not None:
         print(f"wrote {count} rows to {output}", file=sys.stderr)
     elif format is TableFormat.table:
         print_table("vorobound sweep", spec.columns, table)
+
+
+def _cell(value, direction) -> str:
+    """A table cell: ε* rounded down, bounds up, the rest to nearest (8 digits)."""
+    if value is None or isinstance(value, str):
+        return fmt(value)
+    return format_toward(value, direction, 8)

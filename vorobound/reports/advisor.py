@@ -25,6 +25,7 @@ from ..bounds.targets import H3Route, Target, h3_route
 from ..constants import BASELINE_EPS
 from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
+from ..rounding import format_down, format_up, round_down
 from ..sampling.sampler.lattice import MAX_CANDIDATES
 from ..sampling.surfaces.base import SurfaceCounts
 
@@ -33,7 +34,9 @@ GUARANTEE = (
     "has R <= rho_f*R_hat (ratio target, eq. (54), the form of VoroCrust's Lemma 9) or "
     "R - R_hat <= (rho_f - 1)*delta*L_i (additive target, which gives R <= rho_f*delta*L_i, "
     "eq. (55), but not (54)). The recommended eps is the smallest proven or certified eps_star "
-    "among the targets asked for. Every bound assumes property H3 (R <= eps/(1-eps)*L_i for "
+    "among the targets asked for: it gives (54), and (55) with it, when the ratio target is "
+    "among them, and (55) alone when only the additive target is. Every bound assumes "
+    "property H3 (R <= eps/(1-eps)*L_i for "
     "guide triangles), taken from the VoroCrust literature and not derived here; "
     "'vorobound check' measures it on a sample. Strength per row: proven (algebra in "
     "docs/errata.md or docs/tight.md), certified (an interval certificate, `vorobound "
@@ -96,6 +99,8 @@ class Recommendation:
     """The ε to use: the most conservative of the targets' best proven or certified ε*."""
 
     eps: float
+    """That ε* rounded down to :data:`vorobound.rounding.DIGITS` significant digits (the
+    number printed), never above it; the lengths and counts below are at this ε."""
     binding_target: str
     """The target that sets it (its best trusted ε* is the smallest)."""
     mode: str
@@ -112,6 +117,23 @@ class Recommendation:
     """(low, high) samples on the sharp features, part of the counts (None: smooth)."""
     lattice_candidates: float | None = None
     """About how many candidates ``vorobound sample`` needs at ε (meshes only)."""
+
+    @property
+    def guarantees(self) -> tuple[str, ...]:
+        """The equations the recommended ε gives for every guide triangle of the constraint
+        set (given H3): (54) and (55) when the ratio target was asked for, since
+        R̂ ≤ δ·L_i (docs/advisor.md); (55) alone when only the additive target was."""
+        return ("(54)", "(55)") if Target.ratio.value in self.per_target else ("(55)",)
+
+    @property
+    def guarantee_statement(self) -> str:
+        """:attr:`guarantees` in words, for people."""
+        if self.guarantees == ("(55)",):
+            return (
+                "R <= rho_f*delta*L_i (eq. (55)) only: the additive target does not give "
+                "R <= rho_f*R_hat (eq. (54)); ask for --target ratio for (54)"
+            )
+        return "R <= rho_f*R_hat (eq. (54)) and hence R <= rho_f*delta*L_i (eq. (55))"
 
     @property
     def samplable(self) -> bool | None:
@@ -252,7 +274,9 @@ def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommend
     if not best or set(best) != targets:
         return None  # some target asked for has no proven or certified ε*
     binding = min(best.values(), key=lambda row: row.trusted_eps)
-    eps = binding.trusted_eps
+    # The ε a user copies is the printed one: round it down (never past the trusted ε*) and
+    # give every count and length at that ε.
+    eps = round_down(binding.trusted_eps)
     claim = binding.claim if binding.claim in TRUSTED else PROVEN
     return Recommendation(
         eps=eps,
@@ -268,3 +292,13 @@ def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommend
         feature_samples=feature_counts(surface, eps, quality.sigma),
         lattice_candidates=lattice_candidates(surface, eps, quality.sigma, lipschitz),
     )
+
+
+def versus_baseline(reduction: float | None) -> str:
+    """Sample count at ε = 1/500 over the count at ε*, in words ("—" when not trusted); a
+    saving is never overstated and a cost never understated (:mod:`vorobound.rounding`)."""
+    if reduction is None:
+        return "—"
+    if reduction >= 1:
+        return f"{format_down(reduction, 4)}× fewer"
+    return f"{format_up(1 / reduction, 4)}× more"

@@ -15,6 +15,7 @@ from ..bounds.params import QualityParams
 from ..bounds.targets import h3_route
 from ..constants import BASELINE_EPS, PAPER_EPS
 from ..progress import Progress
+from ..rounding import DOWN, UP
 from .figure_data import TIGHT_SETTINGS
 
 CHAIN_MODES = ("paper", "rigorous")
@@ -47,6 +48,9 @@ class ReproductionRow:
     paper: str
     values: dict[str, float | None]
     """Mode name → this project's value (None: not applicable to that mode)."""
+    rounding: str
+    """How a printed value is rounded (:mod:`vorobound.rounding`): DOWN for an admissible ε
+    and what grows with it, UP for a bound."""
 
 
 def summarize(
@@ -114,50 +118,60 @@ def reproduction_rows(
             "largest admissible ε (ε*), additive target",
             "0.0047",
             per_mode(lambda s: s.star.eps_star),
+            DOWN,
         ),
         ReproductionRow(
             "ε* / (1/500)",
             "2.35 (0.0047 vs 0.002)",
             per_mode(lambda s: s.star.eps_star / BASELINE_EPS),
+            DOWN,
         ),
         ReproductionRow(
             "bound on |R − R̂| / (ε L_i) at ε = 0.0047",
             "≤ 0.76",
             per_mode(lambda s: s.bound_at_paper_eps / (PAPER_EPS * quality.lfs)),
+            UP,
         ),
         ReproductionRow(
             "implied ρ_f = 1 + bound/(δ L_i) at ε = 0.0047",
             "< 1.38",
             per_mode(lambda s: 1 + s.bound_at_paper_eps / (ratio * PAPER_EPS * quality.lfs)),
+            UP,
         ),
         ReproductionRow(
             "bound on |R − R̂| / (ε L_i) at ε = 1/500",
             "(not stated)",
             per_mode(lambda s: s.bound_at_baseline / (BASELINE_EPS * quality.lfs)),
+            UP,
         ),
         ReproductionRow(
             "ε covered by an interval certificate, additive target",
             "(not stated)",
             per_mode(lambda s: s.certified),
+            DOWN,
         ),
         ReproductionRow(
             "ε*, ratio target R ≤ ρ_f·R̂ (eq. (54))",
             "(not stated)",
             per_mode(lambda s: s.ratio_star.eps_star),
+            DOWN,
         ),
         ReproductionRow(
             "bound on R/R̂ at ε = 0.0047",
             "(not stated)",
             per_mode(lambda s: s.ratio_at_paper_eps),
+            UP,
         ),
         ReproductionRow(
             "ε covered by an interval certificate, ratio target",
             "(not stated)",
             per_mode(lambda s: s.ratio_certified),
+            DOWN,
         ),
         ReproductionRow(
             "ε up to which H3 alone gives (55), any mode",
             "(not stated)",
             per_mode(lambda s: h3),
+            DOWN,
         ),
     ]

@@ -34,6 +34,7 @@ from ..checks import (
 )
 from ..errors import EmptyConstraintSet, InputError, NoAdmissibleEps, VoroboundError
 from ..progress import Counter, Progress
+from ..rounding import DOWN, UP
 
 MAX_GRID_ROWS = 100_000_000
 """Largest grid a sweep accepts (rows stream out, so this limits time, not memory)."""
@@ -77,6 +78,9 @@ HEAD_COLUMNS = ("mode", "target", "lipschitz", "sigma", "rho_f", "delta_ratio")
 EPS_STAR_COLUMNS = (*HEAD_COLUMNS, "eps_star")
 CURVE_COLUMNS = (*HEAD_COLUMNS, "eps", "bound", "limit")
 TRAILING_COLUMNS = ("claim", "note")
+COLUMN_ROUNDING = {"eps_star": DOWN, "bound": UP}
+"""How a table for people rounds each result column (:mod:`vorobound.rounding`): ε* down,
+bounds up; the CSV and JSON rows keep every digit."""
 
 
 AXIS_RANGES = {
