@@ -47,7 +47,7 @@ from .quantities import (
 )
 
 CHECKER_NAME = "independent"
-"""How ``certify --check`` names this checker (the prover's is ``interval``)."""
+"""How ``certify --check`` names this checker (the prover's own re-check is ``prover``)."""
 FORMAT = "vorobound-certificate"
 VERSIONS = (1, 2)
 """Format versions read; version 1 predates targets and certifies the additive one."""
