@@ -20,6 +20,7 @@ from vorobound.bounds.certify.interval import (
 )
 from vorobound.bounds.certify.search import absolute_configuration, counterexample_at
 from vorobound.bounds.configurations import feasible_mask, sample_feasible
+from vorobound.bounds.independent import check_independently
 from vorobound.bounds.params import QualityParams
 from vorobound.errors import CertificateError
 
@@ -207,11 +208,13 @@ def _stronger_claim(p):
         lambda p: p.__setitem__("nodes", []),
     ],
 )
-def test_tampered_certificates_are_rejected(fast_certificate, tamper):
+@pytest.mark.parametrize("checker", [check_certificate, check_independently])
+def test_tampered_certificates_are_rejected(fast_certificate, tamper, checker):
+    """By each checker alone: the prover's re-check and the independent one."""
     payload = copy.deepcopy(fast_certificate[1])
     tamper(payload)
     with pytest.raises(CertificateError):
-        check_certificate(payload)
+        checker(payload)
 
 
 def test_cli_certify_out_and_check(run_cli, tmp_path):
