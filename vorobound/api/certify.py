@@ -272,8 +272,8 @@ def check_certificate(path: str | os.PathLike, progress: Progress | None = None)
 
     Returns a valid result when both accept it and agree on what it certifies; a result with
     ``valid`` False and the disagreement in ``reason`` when they do not (exit code 1). Raises
-    CertificateError (naming both reasons) when both reject it, ReadError when the file is not
-    a JSON certificate.
+    CertificateError (the prover's checker's reason) when both reject it, ReadError when the
+    file is not a JSON certificate.
     """
     from ..bounds.certify.certificate import check_certificate as interval_check
     from ..bounds.certify.certificate import library_versions, read_certificate
@@ -288,9 +288,7 @@ def check_certificate(path: str | os.PathLike, progress: Progress | None = None)
     accepted = [v for v in verdicts if v.valid]
     if not accepted:
         first, second = verdicts
-        raise CertificateError(
-            f"{first.reason} (the {second.name} checker rejects it too: {second.reason})"
-        )
+        raise CertificateError(f"{first.reason} (the {second.name} checker rejects it too)")
     reason = _disagreement(verdicts)
     report = accepted[0].report
     return CertificateCheck(
