@@ -35,8 +35,8 @@ GENUINE = [
     ("additive", 1.0, None),
     ("additive", 0.0, 0.5),
 ]
-"""(target, λ, ε_max) at the paper's σ, δ/ε, ρ_f; ε_max None: 0.999 × the tight ε* (λ = 0 has
-no ε*: R̂ = R, so any ε below 1 − √3/σ... is certified, here 0.5)."""
+"""(target, λ, ε_max) at the paper's σ, δ/ε, ρ_f; ε_max None: 0.999 × the tight ε*. λ = 0 has
+no ε* (every L is equal, R̂ = R, the target holds at every ε), so ε_max = 0.5 is certified."""
 ORACLE_DIGITS = 40
 ORACLE_RTOL = 1e-12
 """Relative slack between the mpmath value at a point and the enclosure's top end."""
@@ -122,6 +122,21 @@ def _lower_rho_f(p, star):
     p["parameters"]["rho_f"] = 1.37  # ε* at 1.37 is below the certified 0.999 ε*(1.38)
 
 
+def _every_bound_one(p):
+    p["nodes"] = [[n[0], 1.0] if isinstance(n, list) else n for n in p["nodes"]]
+
+
+def _raise_eps_and_every_bound(p, star):
+    """False claim with every stored bound at 1: only the target itself can reject it."""
+    _raise_eps_above_eps_star(p, star)
+    _every_bound_one(p)
+
+
+def _lower_rho_f_and_every_bound(p, star):
+    _lower_rho_f(p, star)
+    _every_bound_one(p)
+
+
 def _drop_bound_leaf(p, star):
     del p["nodes"][_leaves(p, list)[0]]
 
@@ -171,10 +186,22 @@ def _shrink_root_box(p, star):
     p["root_box"][1][1] = p["root_box"][1][0]
 
 
+def _garbled_root_box(p, star):
+    p["root_box"][0] = ["0", "1/0"]
+
+
+def _bad_precision(p, star):
+    p["precision_bits"] = 8
+
+
 FORGERIES = [
+    _garbled_root_box,
+    _bad_precision,
     _raise_eps_above_eps_star,
     _raise_eps_keep_root_box,
     _lower_rho_f,
+    _raise_eps_and_every_bound,
+    _lower_rho_f_and_every_bound,
     _drop_bound_leaf,
     _drop_subtree,
     _collapse_subtree,
