@@ -84,6 +84,43 @@ def test_both_checkers_accept_genuine_certificates_and_agree(genuine):
     assert independent.boxes == result.search.boxes and 0 <= independent.largest_bound <= 1
 
 
+def test_both_implementations_give_the_same_enclosure_at_every_leaf(paper_certificate):
+    """The enclosures are one documented formula implemented twice: at every bound leaf of the
+    paper's certificate the two top ends are the same float (the stored bound's margin is
+    for other FLINT versions, not for a second formula)."""
+    from vorobound.bounds.certify import interval
+
+    result, payload = paper_certificate
+    setting = result.request.setting
+    params = _parameters_of(payload)
+    stack, compared = [setting.root_box()], 0
+    with interval.working_precision():
+        for node in payload["nodes"]:
+            box = stack.pop()
+            if isinstance(node, int):
+                stack += reversed(interval.split(box, node))
+            elif isinstance(node, list):
+                prover = interval.enclosures(interval.scaled(interval.balls(box)), setting)
+                exact = tuple(
+                    (Fraction(int(lo.p), int(lo.q)), Fraction(int(hi.p), int(hi.q)))
+                    for lo, hi in box
+                )
+                mine = quantities.fraction_enclosure(node[0], quantities.Triangle.of(exact), params)
+                assert float(mine.upper()) == float(prover[node[0]].upper())
+                compared += 1
+    assert compared == sum(payload["summary"]["bound"].values()) > 100
+
+
+def _parameters_of(payload) -> quantities.Parameters:
+    given = payload["parameters"]
+    lam = given["lipschitz"]
+    return quantities.Parameters(
+        *(quantities.ball(Fraction(given[k])) for k in ("sigma", "delta_ratio", "rho_f")),
+        None if lam is None else quantities.ball(Fraction(lam)),
+        payload["target"],
+    )
+
+
 # --- forgeries, each rejected by each checker alone --------------------------------------
 
 
