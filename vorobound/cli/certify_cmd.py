@@ -87,7 +87,8 @@ def certify(
     counterexample, if EPS is above the true ε*. --check re-verifies a saved certificate with
     two checkers, the prover's own and an independent one sharing none of its code; it is
     valid only when both accept it (exit code 1, naming the checker, when they disagree). H3
-    itself is an assumption from the VoroCrust literature. Python: vorobound.certify(...).
+    itself is an assumption from the VoroCrust literature. Python: vorobound.certify(...),
+    vorobound.check_certificate(FILE).
     """
     if check is not None:
         from ..api.certify import check_certificate
@@ -161,7 +162,7 @@ def _show_check(checked) -> None:
             for c in checked.checkers
         ),
         ("target", r.target),
-        ("every ε ≤", format_down(r.eps_max, 12)),
+        ("every ε ≤" if checked.valid else "claimed: every ε ≤", format_down(r.eps_max, 12)),
         ("σ, δ/ε, ρ_f, λ", f"{r.sigma:g}, {r.delta_ratio:g}, {r.rho_f:g}, {r.lipschitz}"),
         ("boxes (leaves)", f"{r.boxes} ({r.leaves})"),
         ("largest bound / target", format_up(r.largest_bound, 10)),
