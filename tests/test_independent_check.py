@@ -25,7 +25,9 @@ PACKAGE = Path(vorobound.__file__).parent
 INDEPENDENT = PACKAGE / "bounds" / "independent"
 ALLOWED_VOROBOUND = {"vorobound.errors", "vorobound.checks", "vorobound.progress"}
 """The base layer: exceptions, input range checks, the progress callback type."""
-ALLOWED_OTHERS = {"__future__", "contextlib", "dataclasses", "fractions", "math", "time", "flint"}
+ALLOWED_OTHERS = {"__future__", "contextlib", "dataclasses", "fractions", "json", "math"}
+ALLOWED_OTHERS |= {"pathlib", "time", "flint"}
+"""The standard library modules it needs, and python-flint."""
 CHECKERS = {"prover": check_certificate, "independent": check_independently}
 GENUINE = [
     ("ratio", None, None),
@@ -359,6 +361,17 @@ def test_check_json_lists_two_checkers_that_accept(run_cli, certificate_file):
     root = Path(__file__).resolve().parents[1]
     text = (root / "docs" / "schema" / "vorobound-output.schema.json").read_text()
     schema.Draft202012Validator(json.loads(text)).validate(payload)
+
+
+def test_the_independent_checker_reads_the_file_itself(certificate_file, tmp_path):
+    from vorobound.bounds.independent import check_file_independently
+
+    assert check_file_independently(certificate_file).leaves > 100
+    broken = tmp_path / "broken.json"
+    broken.write_text(certificate_file.read_text()[:-20])
+    for path in (broken, tmp_path, tmp_path / "missing.json"):
+        with pytest.raises(CertificateError):
+            check_file_independently(path)
 
 
 def _reject(payload, progress=None):

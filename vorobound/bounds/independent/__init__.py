@@ -1,12 +1,14 @@
 """The second certificate checker: written from the paper's definitions, sharing no code with
 the prover (``vorobound.bounds.certify``) or with the constraint module it uses.
 
-It reads the certificate's JSON itself, rebuilds from the parameters alone the domain that
-holds every feasible configuration for every ε ≤ ε_max, requires the certificate's root box to
-contain it, replays the bisection tree at exact midpoints (Python ``Fraction``), and re-checks
-every leaf with its own ball arithmetic (python-flint ``arb``, :mod:`.quantities`): an
-infeasible leaf's constraint must fail on all of its box, a bound leaf's enclosure of the
-target's fraction must lie below the stored bound, and that bound must be a finite float ≤ 1.
+It parses the certificate file itself (:func:`check_file_independently`), rebuilds from the
+parameters alone the domain that holds every feasible configuration for every ε ≤ ε_max,
+requires the certificate's root box to contain it, replays the bisection tree at exact
+midpoints (Python ``Fraction``), and re-checks every leaf with its own ball arithmetic
+(python-flint ``arb``, :mod:`.quantities`): an infeasible leaf's constraint must fail on all of
+its box, a bound leaf's enclosure of the target's fraction must lie below the stored bound, and
+that bound must be a finite float ≤ 1.
+
 It imports only the base layer (errors, input checks, the progress callback) and python-flint;
 ``tests/test_independent_check.py`` asserts that.
 
@@ -18,10 +20,12 @@ Theorem 1, eq. (33)–(37), (54)–(55), property H3; docs/tight.md, "The indepe
 from __future__ import annotations
 
 import contextlib
+import json
 import math
 import time
 from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 
 from flint import arb, ctx
 
@@ -195,6 +199,20 @@ def check_independently(payload, progress: Progress | None = None) -> Independen
         largest,
         time.perf_counter() - start,
     )
+
+
+def check_file_independently(path, progress: Progress | None = None) -> IndependentReport:
+    """:func:`check_independently` on a certificate file, read and parsed here (Python's
+    ``json``), not by the prover's reader. CertificateError if it is not a JSON file."""
+    path = Path(path)
+    try:
+        if not path.is_file():
+            raise CertificateError(f"cannot read {path}: not a regular file")
+        with open(path, encoding="utf-8") as handle:
+            payload = json.load(handle)
+    except (OSError, ValueError, RecursionError) as exc:
+        raise CertificateError(f"cannot read {path} as JSON ({type(exc).__name__})") from None
+    return check_independently(payload, progress)
 
 
 def _halves(box: Box, coordinate: int) -> tuple[Box, Box]:
