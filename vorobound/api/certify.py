@@ -275,14 +275,14 @@ def check_certificate(path: str | os.PathLike, progress: Progress | None = None)
     CertificateError (the prover's checker's reason) when both reject it, ReadError when the
     file is not a JSON certificate.
     """
-    from ..bounds.certify.certificate import check_certificate as interval_check
+    from ..bounds.certify.certificate import check_certificate as prover_check
     from ..bounds.certify.certificate import library_versions, read_certificate
     from ..bounds.independent import check_file_independently
     from ..errors import CertificateError
 
     payload = read_certificate(path)
     verdicts = (
-        _verdict(CHECKERS[0], lambda: interval_check(payload, progress)),
+        _verdict(CHECKERS[0], lambda: prover_check(payload, progress)),
         # the independent checker reads and parses the file itself
         _verdict(CHECKERS[1], lambda: check_file_independently(path, progress)),
     )
