@@ -106,6 +106,11 @@ def test_certifies_below_and_refutes_above_the_tight_eps_star(params, fraction):
     result = certify(_quality(*params), fraction=fraction)
     assert result.ratio == pytest.approx(fraction, rel=1e-12)
     assert result.search.boxes >= 1
+    independent = check_independently(result.certificate())  # λ binding or not, plateau
+    assert (independent.eps_max, independent.leaves) == (
+        result.eps_certified,
+        check_certificate(result.certificate()).leaves,
+    )
     with pytest.raises(NotCertified) as info:
         certify(_quality(*params), fraction=1.01)
     found = info.value.counterexample
