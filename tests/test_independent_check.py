@@ -427,3 +427,28 @@ def test_both_rejecting_is_one_line_and_exit_2(run_cli, tmp_path, paper_certific
     code, out, err = run_cli("certify", "--check", str(path), "--json")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
     assert "independent checker rejects it too" in err
+
+
+def test_a_bug_shared_by_the_prover_and_its_checker_is_caught(run_cli, tmp_path, monkeypatch):
+    """The reason for a second checker: enclosures 10 % too small in the prover's interval
+    module let the search certify ε_max above ε* (a false certificate, with the worst-vertex
+    test switched off too); the prover's checker shares the bug and accepts it, the independent
+    one rejects it, so --check says the checkers disagree (exit 1)."""
+    import importlib
+
+    from vorobound.bounds.certify import interval
+
+    search = importlib.import_module("vorobound.bounds.certify.search")
+    real = interval.enclosures
+
+    def too_small(point, setting, names=None):
+        return {name: 0.9 * value for name, value in real(point, setting, names).items()}
+
+    monkeypatch.setattr(interval, "enclosures", too_small)
+    monkeypatch.setattr(search, "worst_vertex", lambda setting: None)
+    path = tmp_path / "false.json"
+    code, _, err = run_cli("certify", "--fraction", "1.02", "-o", str(path), "--json")
+    assert code == 0, err  # the buggy prover "certifies" 1.02 ε*
+    code, out, _ = run_cli("certify", "--check", str(path), "--json")
+    verdicts = {c["name"]: c["valid"] for c in json.loads(out)["checkers"]}
+    assert code == 1 and verdicts == {"prover": True, "independent": False}
