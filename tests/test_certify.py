@@ -20,6 +20,7 @@ from vorobound.bounds.certify.interval import (
 )
 from vorobound.bounds.certify.search import absolute_configuration, counterexample_at
 from vorobound.bounds.configurations import feasible_mask, sample_feasible
+from vorobound.bounds.independent import check_independently
 from vorobound.bounds.params import QualityParams
 from vorobound.errors import CertificateError
 
@@ -105,6 +106,11 @@ def test_certifies_below_and_refutes_above_the_tight_eps_star(params, fraction):
     result = certify(_quality(*params), fraction=fraction)
     assert result.ratio == pytest.approx(fraction, rel=1e-12)
     assert result.search.boxes >= 1
+    independent = check_independently(result.certificate())  # λ binding or not, plateau
+    assert (independent.eps_max, independent.leaves) == (
+        result.eps_certified,
+        check_certificate(result.certificate()).leaves,
+    )
     with pytest.raises(NotCertified) as info:
         certify(_quality(*params), fraction=1.01)
     found = info.value.counterexample
@@ -207,11 +213,13 @@ def _stronger_claim(p):
         lambda p: p.__setitem__("nodes", []),
     ],
 )
-def test_tampered_certificates_are_rejected(fast_certificate, tamper):
+@pytest.mark.parametrize("checker", [check_certificate, check_independently])
+def test_tampered_certificates_are_rejected(fast_certificate, tamper, checker):
+    """By each checker alone: the prover's re-check and the independent one."""
     payload = copy.deepcopy(fast_certificate[1])
     tamper(payload)
     with pytest.raises(CertificateError):
-        check_certificate(payload)
+        checker(payload)
 
 
 def test_cli_certify_out_and_check(run_cli, tmp_path):

@@ -127,10 +127,12 @@ def test_a_ratio_certificate_is_not_an_additive_one():
     assert payload["target"] == "ratio" and "R <= rho_f * R^" in payload["statement"]
     assert "circumradius" not in payload["enclosures"]
     forged = dict(payload, nodes=[["circumradius", 0.5]])
+    from vorobound.bounds.independent import check_independently
     from vorobound.errors import CertificateError
 
-    with pytest.raises(CertificateError):
-        check_certificate(forged)
+    for checker in (check_certificate, check_independently):  # each alone
+        with pytest.raises(CertificateError):
+            checker(forged)
 
 
 @settings(max_examples=25, deadline=None)

@@ -174,22 +174,68 @@ def certify(
     )
 
 
+CHECKERS = ("prover", "independent")
+"""The two checkers ``certify --check`` runs: the prover's own re-check
+(:func:`vorobound.bounds.certify.check_certificate`, which shares the prover's enclosures and
+constraint code) and :func:`vorobound.bounds.independent.check_independently`, written apart
+from it. A certificate is valid only when both accept it and agree on what it certifies."""
+AGREED_FIELDS = (
+    "eps_max",
+    "target",
+    "sigma",
+    "delta_ratio",
+    "rho_f",
+    "lipschitz",
+    "boxes",
+    "leaves",
+    "max_depth",
+    "largest_bound",
+)
+"""What the two checkers' reports must agree on."""
+
+
+@dataclass(frozen=True)
+class CheckerVerdict:
+    """One checker's answer on a certificate."""
+
+    name: str
+    valid: bool
+    reason: str
+    """Empty when valid; else why the checker rejects the certificate."""
+    seconds: float
+    report: object = field(repr=False, default=None)
+
+
 @dataclass(frozen=True, repr=False)
 class CertificateCheck(Result):
-    """A certificate file that passed the independent re-check."""
+    """A certificate file re-checked by both checkers: ``valid`` when both accept it and agree
+    on what it certifies, else the disagreement (``reason`` names the checker)."""
 
     command = "certify"
     valid: bool
     certificate: str
     target: str
-    eps_certified: float
+    eps_certified: float | None
+    """Every ε in (0, eps_certified] is certified (None unless valid)."""
     boxes: int
     leaves: int
     largest_bound: float
     """Largest stored bound of the target's fraction over the bound leaves (≤ 1)."""
     seconds: float
+    """Both checkers together."""
+    reason: str = ""
+    """Empty when valid; else the disagreement between the checkers."""
+    checkers: tuple[CheckerVerdict, ...] = ()
     report: object = field(repr=False, default=None)
     versions: dict = field(repr=False, default=None)
+
+    @property
+    def ok(self) -> bool:
+        return self.valid
+
+    @property
+    def verdict(self) -> str:
+        return f"not valid: {self.reason}"
 
     def payload(self) -> dict:
         r = self.report
@@ -203,6 +249,12 @@ class CertificateCheck(Result):
                 "eps": r.eps_max,
             },
             "valid": self.valid,
+            "claim": "certified" if self.valid else "not certified",
+            "checkers": [
+                {"name": c.name, "valid": c.valid, "seconds": c.seconds, "reason": c.reason}
+                for c in self.checkers
+            ],
+            "reason": self.reason,
             "certificate": self.certificate,
             "target": self.target,
             "eps_certified": self.eps_certified,
@@ -216,27 +268,75 @@ class CertificateCheck(Result):
 
 
 def check_certificate(path: str | os.PathLike, progress: Progress | None = None):
-    """Re-verify a certificate file independently of how it was found (``vorobound certify
-    --check``). Raises CertificateError if it is malformed or any leaf fails."""
-    from ..bounds.certify.certificate import (
-        check_certificate as run,
-    )
-    from ..bounds.certify.certificate import (
-        library_versions,
-        read_certificate,
-    )
+    """Re-verify a certificate file with both checkers (``vorobound certify --check``).
+
+    Returns a valid result when both accept it and agree on what it certifies; a result with
+    ``valid`` False and the disagreement in ``reason`` when they do not (exit code 1). Raises
+    CertificateError (the prover's checker's reason) when both reject it, ReadError when the
+    file is not a JSON certificate.
+    """
+    from ..bounds.certify.certificate import check_certificate as prover_check
+    from ..bounds.certify.certificate import library_versions, read_certificate
+    from ..bounds.independent import check_file_independently
+    from ..errors import CertificateError
 
     payload = read_certificate(path)
-    report = run(payload, progress)
+    verdicts = (
+        _verdict(CHECKERS[0], lambda: prover_check(payload, progress)),
+        # the independent checker reads and parses the file itself
+        _verdict(CHECKERS[1], lambda: check_file_independently(path, progress)),
+    )
+    accepted = [v for v in verdicts if v.valid]
+    if not accepted:
+        first, second = verdicts
+        raise CertificateError(f"{first.reason} (the {second.name} checker rejects it too)")
+    reason = _disagreement(verdicts)
+    report = accepted[0].report
     return CertificateCheck(
-        valid=True,
+        valid=not reason,
         certificate=os.fspath(path),
         target=report.target,
-        eps_certified=report.eps_max,
+        eps_certified=None if reason else report.eps_max,
         boxes=report.boxes,
         leaves=report.leaves,
         largest_bound=report.largest_bound,
-        seconds=report.seconds,
+        seconds=sum(v.seconds for v in verdicts),
+        reason=reason,
+        checkers=verdicts,
         report=report,
         versions={"certificate": payload.get("versions"), "checker": library_versions()},
     )
+
+
+def _verdict(name: str, run) -> CheckerVerdict:
+    """Run one checker (a function of no arguments) and time it."""
+    import time
+
+    from ..errors import CertificateError
+
+    start = time.perf_counter()
+    try:
+        report = run()
+    except CertificateError as exc:
+        return CheckerVerdict(name, False, str(exc), time.perf_counter() - start)
+    return CheckerVerdict(name, True, "", time.perf_counter() - start, report)
+
+
+def _disagreement(verdicts: tuple[CheckerVerdict, ...]) -> str:
+    """Empty when both checkers accept and their reports agree; else what differs, naming
+    the checker."""
+    first, second = verdicts
+    for rejecting, accepting in ((first, second), (second, first)):
+        if not rejecting.valid:
+            return (
+                f"the checkers disagree: the {rejecting.name} checker rejects the certificate "
+                f"({rejecting.reason}) while the {accepting.name} checker accepts it"
+            )
+    for key in AGREED_FIELDS:
+        one, two = getattr(first.report, key), getattr(second.report, key)
+        if one != two:
+            return (
+                f"the checkers disagree on {key}: {one!r} ({first.name} checker) against "
+                f"{two!r} ({second.name} checker)"
+            )
+    return ""

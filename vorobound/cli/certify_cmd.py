@@ -46,8 +46,9 @@ Check = Annotated[
     typer.Option(
         "--check",
         metavar="FILE",
-        help="Re-verify this certificate file instead (its own parameters are used; the "
-        "others are ignored).",
+        help="Re-verify this certificate file instead, with two checkers (the prover's own and "
+        "an independent one); valid only when both accept it. Its own parameters are used; "
+        "the others are ignored.",
     ),
 ]
 MaxDepth = Annotated[
@@ -84,8 +85,11 @@ def certify(
     Covers every guide triangle of the constraint set (33)–(36), H3, pairwise sparsity and the
     optional Lipschitz conditions, by bisecting boxes (ε a coordinate) until each violates a
     constraint or has an outward-rounded bound within the target. Exit code 1, with a feasible
-    counterexample, if EPS is above the true ε*. --check re-verifies a saved certificate. H3
-    itself is an assumption from the VoroCrust literature. Python: vorobound.certify(...).
+    counterexample, if EPS is above the true ε*. --check re-verifies a saved certificate with
+    two checkers, the prover's own and an independent one sharing none of its code; it is
+    valid only when both accept it (exit code 1, naming the checker, when they disagree). H3
+    itself is an assumption from the VoroCrust literature. Python: vorobound.certify(...),
+    vorobound.check_certificate(FILE).
     """
     if check is not None:
         from ..api.certify import check_certificate
@@ -142,15 +146,27 @@ def _show(result) -> None:
 
 
 def _show_check(checked) -> None:
+
     r = checked.report
+    if checked.valid:
+        valid = "yes: both checkers re-verified every leaf, the leaves cover the domain"
+    else:
+        valid = "NO: the two checkers disagree"
     rows = [
-        ("valid", "yes: every leaf re-verified, the leaves tile the domain"),
+        ("valid", valid),
+        *(
+            (
+                f"{c.name} checker",
+                f"accepts ({c.seconds:.3f} s)" if c.valid else f"REJECTS: {c.reason}",
+            )
+            for c in checked.checkers
+        ),
         ("target", r.target),
-        ("every ε ≤", format_down(r.eps_max, 12)),
+        ("every ε ≤" if checked.valid else "claimed: every ε ≤", format_down(r.eps_max, 12)),
         ("σ, δ/ε, ρ_f, λ", f"{r.sigma:g}, {r.delta_ratio:g}, {r.rho_f:g}, {r.lipschitz}"),
         ("boxes (leaves)", f"{r.boxes} ({r.leaves})"),
         ("largest bound / target", format_up(r.largest_bound, 10)),
-        ("seconds", fmt(r.seconds, 3)),
+        ("seconds (both checkers)", fmt(checked.seconds, 3)),
     ]
     print_table(f"Certificate {checked.certificate}", ("quantity", "value"), rows)
 
