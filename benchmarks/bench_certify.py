@@ -31,6 +31,7 @@ from vorobound.bounds.certify.certificate import (  # noqa: E402
 from vorobound.bounds.independent import check_independently  # noqa: E402
 from vorobound.bounds.params import QualityParams  # noqa: E402
 from vorobound.bounds.tight.closed_form import tight_eps_star_closed_form  # noqa: E402
+from vorobound.rounding import format_down, format_up
 
 SETS = {
     "paper": (0.75, 2.0, 1.38, None),
@@ -80,14 +81,15 @@ def main() -> None:
             f"{target:9} {name:14} sigma={sigma:g} delta/eps={ratio:g} rho_f={rho_f:g} "
             f"lambda={lam}\n"
             f"  eps* ({result.request.eps_star_status}) = "
-            f"{result.request.eps_star_tight:.10f}\n"
-            f"  certified eps <= {result.eps_certified:.10f}  ratio {result.ratio:.6f} "
+            f"{format_down(result.request.eps_star_tight, 9)}\n"
+            f"  certified eps <= {format_down(result.eps_certified, 9)}  ratio {result.ratio:.6f} "
             f"[{'ok' if result.ratio >= RATIO_TARGET else 'LOW'} >= {RATIO_TARGET}]\n"
             f"  search: {search.boxes} boxes, depth {search.max_depth}, {search.seconds:.2f} s "
             f"[{verdict} <= {SEARCH_TARGET_S:g} s, {goal} <= {SEARCH_GOAL_S:g} s]; "
             f"baseline at {BASELINE_FRACTION}: {baseline.search.boxes} boxes, "
             f"{baseline.search.seconds:.2f} s (x{search.seconds / baseline.search.seconds:.2f})\n"
-            f"  check: {report.leaves} leaves, largest bound/target {report.largest_bound:.9f}; "
+            f"  check: {report.leaves} leaves, largest bound/target "
+            f"{format_up(report.largest_bound, 9)}; "
             f"prover's checker {check_s:.3f} s ({check_cpu:.3f} s CPU), independent checker "
             f"{second_s:.3f} s ({second_cpu:.3f} s CPU) "
             f"[{'ok' if max(check_s, second_s) <= CHECK_TARGET_S else 'SLOW'} <= "

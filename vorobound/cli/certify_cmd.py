@@ -146,7 +146,6 @@ def _show(result) -> None:
 
 
 def _show_check(checked) -> None:
-
     r = checked.report
     if checked.valid:
         valid = "yes: both checkers re-verified every leaf, the leaves cover the domain"
