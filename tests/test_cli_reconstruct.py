@@ -266,6 +266,9 @@ def test_repeats_in_python_mirror_the_option():
     assert result.share_correct == 1.0 and result.ok and result.repeats == 2
     assert result.to_dict()["params"]["repeats"] == 2
     assert [row.seeds for row in result.draws.rows] == [(3, 4)]
+    one = vorobound.reconstruct(sphere=1, eps=0.45, repeats=1, seed=3)  # one draw, counted
+    assert one.share_correct == 1.0 and one.draws.rows[0].seeds == (3,)
+    assert not hasattr(vorobound.reconstruct(sphere=1, eps=0.45, seed=3), "share_correct")
 
 
 def test_the_draws_figure_shades_the_band():

@@ -184,7 +184,7 @@ def reconstruct(
     sigma: float = PAPER_SIGMA,
     delta_ratio: float = PAPER_DELTA_RATIO,
     seed: int = 0,
-    repeats: int = 1,
+    repeats: int | None = None,
     engine: str = "auto",
     out: str | os.PathLike | None = None,
     figure_format: str = "png",
@@ -203,7 +203,7 @@ def reconstruct(
     with the surface's topology (at every ε of a sweep); without a reference surface
     ``topology_correct`` is None and ``ok`` says whether M̂ is a closed 2-manifold.
 
-    ``repeats`` > 1 samples the surface that many times at each ε (draw k with seed
+    ``repeats`` (K ≥ 1) samples the surface K times at each ε (draw k with seed
     ``seed + k``) and returns a :class:`ReconstructDrawsResult`: per ε the share of draws whose
     M̂ has the surface's topology (``share_correct``) and the median and largest Hausdorff
     distance and normal deviation over the draws, and the transition band (the largest ε at
@@ -225,15 +225,16 @@ def reconstruct(
     if balls is not None and seeds is not None:
         raise InputError("give balls or seeds, not both")
     seed = checked_seed(seed)
-    repeats = checked_count(repeats, "repeats", 1, REPEATS_MAX)
+    if repeats is not None:
+        repeats = checked_count(repeats, "repeats", 1, REPEATS_MAX)
     quality = QualityParams(sigma, delta_ratio)
     values = _eps_values(eps)
     sampled = balls is None and seeds is None
     if sampled and values is None:
         raise InputError("give eps (a sample of the surface needs it)")
-    if repeats > 1 and not sampled:
+    if repeats is not None and not sampled:
         raise InputError("repeats draws new samples of a surface: give no balls or seeds")
-    if seed + repeats - 1 > SEED_MAX:
+    if repeats is not None and seed + repeats - 1 > SEED_MAX:
         raise InputError(f"seed + repeats - 1 must be at most {SEED_MAX} (draw k has seed + k)")
     if values is not None and len(values) > 1 and not sampled:
         raise InputError("an eps sweep samples a surface: several eps go without balls/seeds")
@@ -249,7 +250,7 @@ def reconstruct(
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")
     asked = {"seed": seed if sampled else None, "engine": engine}
-    if repeats > 1:
+    if repeats is not None:
         return _draws(
             shape,
             values,

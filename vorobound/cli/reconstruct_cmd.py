@@ -86,7 +86,7 @@ def reconstruct(
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     seed: Seed = 0,
     repeats: Annotated[
-        int,
+        int | None,
         typer.Option(
             "--repeats",
             metavar="K",
@@ -95,7 +95,7 @@ def reconstruct(
             "largest Hausdorff distance and normal deviation; a sweep also reports the "
             "transition band. 1 ≤ K ≤ 10000.",
         ),
-    ] = 1,
+    ] = None,
     engine: EngineOpt = EngineChoice.auto,
     out: Annotated[
         Path | None,
