@@ -46,6 +46,8 @@ SEARCH_GOAL_S = 60.0
 CHECK_TARGET_S = 60.0
 BASELINE_FRACTION = 0.9
 CLOSED_FORM_CALLS = 2000
+TINY_FRACTION = 0.5
+"""Fraction of ε* a --tiny run certifies (few boxes)."""
 
 
 def main() -> None:
@@ -53,7 +55,14 @@ def main() -> None:
     parser.add_argument("--fraction", type=float, default=RATIO_TARGET)
     parser.add_argument("--sets", default=",".join(SETS), help="comma list of " + ", ".join(SETS))
     parser.add_argument("--targets", default="additive,ratio", help="comma list of targets")
+    parser.add_argument(
+        "--tiny",
+        action="store_true",
+        help=f"--fraction {TINY_FRACTION} --sets paper --targets ratio (CI: it runs)",
+    )
     args = parser.parse_args()
+    if args.tiny:
+        args.fraction, args.sets, args.targets = TINY_FRACTION, "paper", "ratio"
     print(f"{os.cpu_count()} cores; fraction {args.fraction} of the closed-form tight eps*")
     tight_eps_star_closed_form(*SETS["paper"])  # imports scipy once, outside the timing
     start = time.perf_counter()

@@ -56,6 +56,7 @@ CASES = {
     "torus-1e6": ("torus", (3.0, 1.0), 0.0113, 300.0),
     "sphere-1e6": ("sphere", (1.0,), 0.004, 300.0),
     "torus-limit": ("torus", (3.0, 1.0), 0.0075, 300.0),
+    "torus-tiny": ("torus", (3.0, 1.0), 0.3, 30.0),
 }
 """name ↦ (surface, dimensions, ε, target seconds)."""
 MEMORY_TARGET_GB = 8.0
@@ -182,7 +183,15 @@ def main() -> None:
     parser.add_argument(
         "--speedup", type=int, default=0, help="--scale: 1 and 2 workers at 10⁶, N times"
     )
+    parser.add_argument(
+        "--tiny",
+        action="store_true",
+        help="every path at a tiny size, in a temporary --data folder (CI: nothing rots)",
+    )
     args = parser.parse_args()
+    if args.tiny:
+        _tiny()
+        return
     if args.scale or args.tile_engines or args.speedup:
         import bench_scale
 
@@ -214,10 +223,27 @@ def main() -> None:
             f"{r['same_candidates']}); the same guide triangles: {r['same_guides']}"
         )
         return
-    print(f"{os.cpu_count()} cores; each case in its own process")
     for name in args.cases.split(","):
         if name not in CASES:
             parser.error(f"unknown case {name!r}")
+    cases(args.cases.split(","))
+
+
+def _tiny() -> None:
+    """A tiny case, the tile engines and the tiled check at a few thousand balls (that the
+    code runs; the numbers mean nothing)."""
+    import bench_scale
+
+    cases(["torus-tiny"])
+    with tempfile.TemporaryDirectory() as data:
+        bench_scale.tile_engines(data, bench_scale.TINY_BALLS, bench_scale.TINY_TILE_BALLS)
+        bench_scale.scale(data, [bench_scale.TINY_BALLS])
+
+
+def cases(names: list[str]) -> None:
+    """Each case in its own process, its stages and totals printed."""
+    print(f"{os.cpu_count()} cores; each case in its own process")
+    for name in names:
         done = subprocess.run(
             [sys.executable, __file__, "--child", name], capture_output=True, text=True, check=False
         )

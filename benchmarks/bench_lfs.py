@@ -369,7 +369,13 @@ def main() -> None:
     parser.add_argument("--cad", action="store_true", help="only the CAD tables")
     parser.add_argument("--scale", action="store_true", help="only the scale tables (minutes)")
     parser.add_argument("--big", action="store_true", help="--scale with the 10^6-vertex torus")
+    parser.add_argument(
+        "--tiny", action="store_true", help="every table on tiny meshes (CI: nothing rots)"
+    )
     args = parser.parse_args()
+    if args.tiny:
+        tiny()
+        return
     if args.scale or args.big:
         _scale().tables(args.big)
         return
@@ -419,6 +425,25 @@ def main() -> None:
     print(f"{'divisions':>9s} {'h':>6s} {'on edges':>8s} {'one step in':>11s} {'midpoints':>9s}")
     for count, h, on_edge, one_in, added in cube_rows():
         print(f"{count:9d} {h:6.3f} {on_edge:8.3f} {one_in:11.3f} {added:9d}")
+
+
+def tiny() -> None:
+    """Every table's code on the smallest meshes (that it runs; the numbers mean nothing),
+    but the added points (26 CPU-s even on the coarsest grid where every edge gets a fit;
+    docs/examples/lfs_points.py runs them in the slow tests)."""
+    case = torus_case(1.5, 1.0, 48, 16)
+    for errors in (*accuracy(sphere_case(1)), growth(case, 1)):
+        assert np.isfinite(errors.median), errors
+    count, *_ = speed_row(icosphere(1.0, 1))
+    cubes = cube_rows((4,))
+    low, high, surface, _ = issue_row(cad_meshes.bar())
+    a = agreement("cube", *cad_meshes.coarse_and_fine()["cube"])
+    print(
+        f"tiny: speed row of {count} vertices, {len(cubes)} cube "
+        f"row, bar L {low:.3g}–{high:.3g} (surface {surface:.3g}), cube coarse/fine median "
+        f"{a.median:.1e}"
+    )
+    _scale().tables(big=False, tiny=True)
 
 
 def cad_tables() -> None:

@@ -38,6 +38,10 @@ from vorobound.sampling.lfs.mesh_quality import prepare_mesh  # noqa: E402
 from vorobound.sampling.lfs.thickness import RayCaster  # noqa: E402
 from vorobound.sampling.surfaces.cad_meshes import coarse_and_fine  # noqa: E402
 
+POINTS = 20_000
+"""Points of the fine surface where the two copies are compared."""
+TINY_PART, TINY_POINTS = "cube", 500
+
 
 @contextlib.contextmanager
 def variant(flat_planes: bool, spacing: dict | None = None, min_pieces: int | None = None):
@@ -120,9 +124,17 @@ def with_probes(mesh, probes: np.ndarray):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", default="bracket", choices=sorted(coarse_and_fine()))
+    parser.add_argument(
+        "--tiny",
+        action="store_true",
+        help=f"--part {TINY_PART}, {TINY_POINTS:,} points (CI: it runs; the numbers mean nothing)",
+    )
     args = parser.parse_args()
+    count = POINTS
+    if args.tiny:
+        args.part, count = TINY_PART, TINY_POINTS
     coarse, fine = coarse_and_fine()[args.part]
-    points = surface_points(fine, 20_000)
+    points = surface_points(fine, count)
     print(f"{args.part}: {coarse.name} / {fine.name}")
     variants = {
         "flat": dict(flat_planes=True),

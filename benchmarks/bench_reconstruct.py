@@ -36,8 +36,14 @@ CASES = {
     "torus-0.06": ("torus", (3.0, 1.0), 0.06),
     "torus-0.03": ("torus", (3.0, 1.0), 0.03),
     "sphere-0.01": ("sphere", (1.0,), 0.01),
+    "torus-0.3": ("torus", (3.0, 1.0), 0.3),
+    "torus-0.2": ("torus", (3.0, 1.0), 0.2),
 }
 """name ↦ (surface, dimensions, ε)."""
+TINY_CASES = "torus-0.3,torus-0.2"
+"""The cases of a --tiny run (that the code runs; the numbers mean nothing)."""
+VORONOI_EPS = 0.03
+"""ε of the torus (3, 1) whose seeds --voronoi triangulates (--tiny: the largest tiny case's)."""
 TARGET_SECONDS = 120.0
 MEMORY_TARGET_GB = 4.0
 
@@ -94,8 +100,8 @@ def run_case(name: str) -> dict:
     }
 
 
-def run_qhull(kind: str) -> dict:
-    """Delaunay or Voronoi of the seeds of the torus (3, 1) at ε = 0.03, timed alone."""
+def run_qhull(kind: str, eps: float = VORONOI_EPS) -> dict:
+    """Delaunay or Voronoi of the seeds of the torus (3, 1) at ``eps``, timed alone."""
     from scipy.spatial import Delaunay, Voronoi
 
     from vorobound.sampling.balls import make_balls
@@ -103,8 +109,8 @@ def run_qhull(kind: str) -> dict:
     from vorobound.sampling.sampler.maximal import sample_surface
     from vorobound.sampling.surfaces.analytic import TorusShape
 
-    sample = sample_surface(TorusShape(3.0, 1.0), 0.03, 0.75, seed=0)
-    balls = make_balls(sample.points, 0.06 * sample.lfs)
+    sample = sample_surface(TorusShape(3.0, 1.0), eps, 0.75, seed=0)
+    balls = make_balls(sample.points, 2 * eps * sample.lfs)
     seeded = find_guide_triangles(balls).seeded
     seeds = seeded.seeds[seeded.guide].reshape(-1, 3)
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
@@ -125,10 +131,10 @@ def run_qhull(kind: str) -> dict:
     }
 
 
-def compare_voronoi() -> None:
+def compare_voronoi(eps: float = VORONOI_EPS) -> None:
     for kind in ("delaunay", "voronoi"):
         done = subprocess.run(
-            [sys.executable, __file__, "--child", f"qhull-{kind}"],
+            [sys.executable, __file__, "--child", f"qhull-{kind}@{eps}"],
             capture_output=True,
             text=True,
             check=True,
@@ -151,10 +157,17 @@ def main() -> None:
     parser.add_argument(
         "--voronoi", action="store_true", help="qhull's Delaunay against scipy's Voronoi"
     )
+    parser.add_argument(
+        "--tiny", action="store_true", help=f"--cases {TINY_CASES} and --voronoi on them (CI)"
+    )
     args = parser.parse_args()
+    if args.tiny:
+        args.cases = TINY_CASES
+        compare_voronoi(CASES[TINY_CASES.split(",")[-1]][2])
     if args.child:
         if args.child.startswith("qhull-"):
-            result = run_qhull(args.child.removeprefix("qhull-"))
+            kind, eps = args.child.removeprefix("qhull-").split("@")
+            result = run_qhull(kind, float(eps))
         else:
             result = run_case(args.child)
         print(json.dumps(result))

@@ -146,9 +146,9 @@ def scale(data: str | Path, sizes: list[int]) -> None:
     extrapolate(by_size[large], large)
 
 
-def speedup(data: str | Path, repeats: int) -> None:
+def speedup(data: str | Path, repeats: int, count: int = 10**6) -> None:
     """1 and 2 workers alternately on the 10⁶-ball sample, ``repeats`` times."""
-    path, eps = sample_file(data, 10**6)
+    path, eps = sample_file(data, count)
     for repeat in range(repeats):
         one = run(path, eps, "--workers", "1")
         two = run(path, eps, "--workers", "2")
@@ -217,7 +217,15 @@ def extrapolate(measured: dict, count: int) -> None:
     )
 
 
-def tile_engines(data: str | Path) -> None:
+TILE_BALLS = 150_000
+"""Balls of the tile that --tile-engines times (cut from the 10⁶-ball sample)."""
+TINY_BALLS = 20_000
+"""Balls of the sample of a --tiny run (the fewest a row sample makes): that every path runs,
+not timings."""
+TINY_TILE_BALLS = 3_000
+
+
+def tile_engines(data: str | Path, count: int = 10**6, tile_balls: int = TILE_BALLS) -> None:
     """GUDHI's regular triangulation (DelaunayComplex, the engine) against the weighted alpha
     complex pruned at alpha² ≤ 10⁻⁶·r_max² on one tile: time and the guide triangles found."""
     import numpy as np
@@ -228,9 +236,9 @@ def tile_engines(data: str | Path) -> None:
     from vorobound.sampling.guides.triangles import regular_triangles
     from vorobound.sampling.io.balls import read_ball_arrays
 
-    path, eps = sample_file(data, 10**6)
-    centers, radii = read_ball_arrays(path)
-    tile = np.sort(np.argsort(centers[:, 0])[:150_000])
+    path, eps = sample_file(data, count)
+    centers, radii, _ = read_ball_arrays(path)
+    tile = np.sort(np.argsort(centers[:, 0])[:tile_balls])
     balls = Balls(centers[tile], radii[tile])
     print(f"one tile of {len(balls):,} balls of {path.name}, one thread")
     found = {}

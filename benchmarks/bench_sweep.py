@@ -1,6 +1,6 @@
 """Sweep throughput and memory: a paper-mode ε* grid streamed to a CSV file.
 
-Usage: python benchmarks/bench_sweep.py [--side N ...]
+Usage: python benchmarks/bench_sweep.py [--side N ...] [--tiny]
 
 Runs ``vorobound sweep --sigma 0.3:1.5:N --rho-f 1.01:3:N --mode paper --format csv -o FILE``
 in a fresh process per size and prints rows, wall time, rows per second and the process's peak
@@ -41,7 +41,10 @@ def run(side: int, folder: Path) -> tuple[int, float, float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--side", type=int, nargs="+", default=[100, 300, 1000])
+    parser.add_argument("--tiny", action="store_true", help="--side 10 20 (CI: it runs)")
     args = parser.parse_args()
+    if args.tiny:
+        args.side = [10, 20]
     print(f"{'rows':>10s} {'seconds':>8s} {'rows/s':>10s} {'peak MB':>8s}")
     with tempfile.TemporaryDirectory() as folder:
         for side in args.side:

@@ -30,6 +30,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 from vorobound import theorem1_from_edges, weighted_triangles  # noqa: E402
 from vorobound.geometry.triangle import COMPILED_MIN_ROWS, compiled_available  # noqa: E402
 
+TINY_N = COMPILED_MIN_ROWS
+"""Triangles of a --tiny run: the fewest that still take the compiled kernel."""
+TINY_LOOP_N = 200
+
 
 def straightforward_batched(points: np.ndarray, weights: np.ndarray) -> np.ndarray:
     """R − R̂ by solving 2×2 systems in the plane basis for both centers, then subtracting."""
@@ -89,7 +93,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=2_000_000, help="triangles in the batch")
     parser.add_argument("--loop-n", type=int, default=20_000, help="subsample for the loop")
+    parser.add_argument(
+        "--tiny", action="store_true", help=f"--n {TINY_N} --loop-n {TINY_LOOP_N} (CI: it runs)"
+    )
     args = parser.parse_args()
+    if args.tiny:
+        args.n, args.loop_n = TINY_N, TINY_LOOP_N
     rng = np.random.default_rng(0)
     points = rng.standard_normal((args.n, 3, 3))
     weights = rng.random((args.n, 3)) * 0.1

@@ -36,6 +36,9 @@ BRACKETS = ((0.2, 8, 16), (0.1, 24, 32), (0.05, 60, 64))
 """(spacing, bore rings, bore segments) of the L-brackets; the last has 105 408 faces."""
 TORI = ((256, 64), (512, 128), (1024, 256))
 BIG_TORUS = (2000, 500)
+TINY_BRACKETS = ((0.8, 2, 8),)
+TINY_TORI = ((24, 8), (32, 12))
+"""--tiny: the bracket of the end-to-end runs (no bracket growth) and two small tori."""
 """Torus grid (around, along the tube) of 10⁶ vertices."""
 ROUND_STAGES = (
     "face sites",
@@ -163,14 +166,18 @@ def _load() -> str:
     return f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (shared machine)"
 
 
-def tables(big: bool) -> None:
-    """Print the scale tables (see the module docstring)."""
+def tables(big: bool, tiny: bool = False) -> None:
+    """Print the scale tables (see the module docstring); ``tiny``: two small brackets and
+    tori, that every step runs (the numbers mean nothing)."""
     from vorobound.sampling.surfaces import cad_meshes
     from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 
     print(f"\n## Scale ({_load()})")
-    brackets = [cad_meshes.l_bracket(spacing=h, rings=r, segments=s) for h, r, s in BRACKETS]
-    tori = [torus_mesh(3.0, 1.0, a, t) for a, t in TORI + ((BIG_TORUS,) if big else ())]
+    shapes = (
+        (TINY_BRACKETS, TINY_TORI) if tiny else (BRACKETS, TORI + ((BIG_TORUS,) if big else ()))
+    )
+    brackets = [cad_meshes.l_bracket(spacing=h, rings=r, segments=s) for h, r, s in shapes[0]]
+    tori = [torus_mesh(3.0, 1.0, a, t) for a, t in shapes[1]]
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
         part = _write(brackets[-1], folder, "bracket")
@@ -186,10 +193,11 @@ def tables(big: bool) -> None:
                 f"{label:24s} {row['wall']:7.1f} s wall {row['cpu']:7.1f} s CPU "
                 f"{row['peak_gb']:5.2f} GB peak   target ≤ {target:g} s wall: {verdict}"
             )
-        for title, meshes, size_of in (
+        growth = [
             ("L-brackets (size: faces)", brackets, "faces"),
             ("torus grids (size: vertices)", tori, "vertices"),
-        ):
+        ]
+        for title, meshes, size_of in growth[1:] if tiny else growth:
             print(f"\n### Growth, {title}: estimate_lfs in a process of its own")
             rows = []
             for index, mesh in enumerate(meshes):

@@ -8,6 +8,7 @@ import contextlib
 import io
 from unittest import mock
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -87,9 +88,30 @@ VALUES = st.one_of(
 )
 
 
-@settings(max_examples=300, deadline=None)
-@given(st.sampled_from(COMMANDS), st.lists(st.one_of(st.sampled_from(OPTIONS), VALUES), max_size=8))
+DEFAULT_EXAMPLES = 40
+"""Argument lists tried by the default run (a few seconds on a loaded 2-core machine)."""
+SLOW_EXAMPLES = 400
+"""Argument lists tried under the slow marker (CI runs it with -m slow)."""
+ARGUMENT_LISTS = (
+    st.sampled_from(COMMANDS),
+    st.lists(st.one_of(st.sampled_from(OPTIONS), VALUES), max_size=8),
+)
+
+
+@settings(max_examples=DEFAULT_EXAMPLES, deadline=None)
+@given(*ARGUMENT_LISTS)
 def test_no_traceback_escapes(command, args):
+    _no_traceback(command, args)
+
+
+@pytest.mark.slow
+@settings(max_examples=SLOW_EXAMPLES, deadline=None)
+@given(*ARGUMENT_LISTS)
+def test_no_traceback_escapes_in_many_argument_lists(command, args):
+    _no_traceback(command, args)
+
+
+def _no_traceback(command: str, args: list[str]) -> None:
     out_buf, err_buf = io.StringIO(), io.StringIO()
     # The tight optimizer (the fallback where the closed form is not proven exact) takes seconds
     # per call; argument handling is what is fuzzed here, so it answers with the closed form

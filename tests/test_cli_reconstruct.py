@@ -63,7 +63,7 @@ def test_torus_writes_the_set_and_seed_file_measures_the_same(run_cli, tmp_path)
     assert code == 0, stderr
     alone = json.loads(stdout)
     assert "hausdorff_over_eps_lfs" not in alone and alone["expected_euler_characteristic"] is None
-    assert alone["euler_characteristic"] == 0
+    assert alone["euler_characteristic"] == 0 and alone["topology_correct"] is None
 
 
 def test_balls_are_labelled_by_the_sheets(run_cli, tmp_path):
@@ -130,6 +130,10 @@ def test_a_wrong_reconstruction_exits_with_1(run_cli, tmp_path):
         (["--seeds", "missing.csv"], "no such file"),
         (["--sphere", "1", "--eps", "0.1", "--figure-format", "gif"], "--figure-format"),
         (["--sphere", "1", "--eps", "nan"], "eps"),
+        (["--sphere", "1", "--eps", "0.3", "--repeats", "0"], "repeats"),
+        (["--sphere", "1", "--eps", "0.3", "--repeats", str(2**64)], "repeats"),
+        (["--sphere", "1", "--eps", "0.3", "--repeats", "2", "--seed", str(2**63 - 1)], "seed"),
+        (["--seeds", "SEEDS", "--repeats", "2"], "repeats"),
     ],
     ids=[
         "no-eps",
@@ -140,6 +144,10 @@ def test_a_wrong_reconstruction_exits_with_1(run_cli, tmp_path):
         "missing",
         "format",
         "nan-eps",
+        "repeats-0",
+        "repeats-2**64",
+        "repeats-past-the-last-seed",
+        "repeats-of-a-seed-file",
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, args, message):
@@ -184,3 +192,98 @@ def test_the_sweep_figure_plots_the_rows_and_every_eps_star():
         if line.get_xdata()[0] == line.get_xdata()[-1] and len(line.get_xdata()) == 2
     )
     assert verticals == sorted(m[2] for m in marks)
+
+
+def test_without_a_reference_surface_the_topology_is_not_judged(run_cli, tmp_path):
+    """Seeds alone: M̂ is a closed manifold, but nothing says which χ is right, so
+    topology_correct is null (not true) and the table says so; the exit code follows
+    closed_manifold."""
+    out = tmp_path / "out"
+    code, _, stderr = run_cli("reconstruct", "--sphere", "1", "--eps", "0.3", "--out", str(out))
+    assert code == 0, stderr
+    seeds = str(out / "seeds.csv")
+    code, stdout, stderr = run_cli("reconstruct", "--seeds", seeds, "--json")
+    assert code == 0, stderr
+    alone = json.loads(stdout)
+    assert alone["closed_manifold"] and alone["expected_euler_characteristic"] is None
+    assert alone["topology_correct"] is None and alone["ok"]
+    code, stdout, _ = run_cli("reconstruct", "--seeds", seeds)
+    assert code == 0
+    row = next(line for line in stdout.splitlines() if "topology" in line)
+    assert "no reference surface" in row and "right" not in row
+    with_surface = run_cli(
+        "reconstruct", "--seeds", seeds, "--sphere", "1", "--eps", "0.3", "--json"
+    )
+    assert json.loads(with_surface[1])["topology_correct"] is True
+
+
+def test_repeats_count_the_draws_with_the_right_topology(run_cli):
+    """--repeats K at one ε: draw k is the single run with seed SEED + k, and share_correct
+    is the fraction of the draws whose M̂ has the surface's topology."""
+    code, stdout, stderr = run_cli(
+        "reconstruct", "--torus", "3,1", "--eps", "0.48", "--repeats", "3", "--seed", "5", "--json"
+    )
+    assert code in (0, 1), stderr
+    s = json.loads(stdout)
+    (row,) = s["rows"]
+    draws = row["per_draw"]
+    assert [d["seed"] for d in draws] == [5, 6, 7] and s["seed_range"] == [5, 7]
+    right = [d["topology_correct"] for d in draws]
+    assert s["share_correct"] == row["share_correct"] == sum(right) / 3
+    assert code == (0 if all(right) else 1)
+    hausdorff = sorted(d["hausdorff"] for d in draws)
+    assert row["hausdorff"]["median"] == hausdorff[1] and row["hausdorff"]["max"] == hausdorff[2]
+    assert len(set(hausdorff)) == 3  # three different samples
+    code, stdout, _ = run_cli(
+        "reconstruct", "--torus", "3,1", "--eps", "0.48", "--seed", "6", "--json"
+    )
+    alone = json.loads(stdout)
+    assert alone["hausdorff_over_eps_lfs"] == draws[1]["hausdorff"]
+    assert alone["topology_correct"] == draws[1]["topology_correct"]
+
+
+def test_repeats_over_a_sweep_report_the_band_and_write_the_set(run_cli, tmp_path):
+    out = tmp_path / "draws"
+    code, stdout, stderr = run_cli(
+        "reconstruct", "--sphere", "1", "--eps", "0.3,0.4,0.5", "--repeats", "2", "--out", str(out)
+    )
+    assert code == 1, stderr  # no guide triangle at ε = 0.5 in either draw
+    assert "transition band (measured): every draw right up to ε = 0.4" in stdout
+    assert "no draw right at ε = 0.5" in stdout
+    s = json.loads((out / "summary.json").read_text())
+    assert (s["largest_all_correct_eps"], s["smallest_none_correct_eps"]) == (0.4, 0.5)
+    assert [r["share_correct"] for r in s["rows"]] == [1.0, 1.0, 0.0]
+    assert "share_correct" not in s  # a sweep has it per ε only
+    assert sorted(p.name for p in out.iterdir()) == ["draws.csv", "summary.json", "sweep.png"]
+    lines = (out / "draws.csv").read_text().splitlines()
+    assert lines[0].startswith("seed,eps,") and len(lines) == 1 + 2 * 3
+
+
+def test_repeats_in_python_mirror_the_option():
+    import vorobound
+
+    result = vorobound.reconstruct(sphere=1, eps=0.45, repeats=2, seed=3)
+    assert result.share_correct == 1.0 and result.ok and result.repeats == 2
+    assert result.to_dict()["params"]["repeats"] == 2
+    assert [row.seeds for row in result.draws.rows] == [(3, 4)]
+    one = vorobound.reconstruct(sphere=1, eps=0.45, repeats=1, seed=3)  # one draw, counted
+    assert one.share_correct == 1.0 and one.draws.rows[0].seeds == (3,)
+    assert not hasattr(vorobound.reconstruct(sphere=1, eps=0.45, seed=3), "share_correct")
+
+
+def test_the_draws_figure_shades_the_band():
+    from vorobound.plotting import plot_reconstruct_draws
+
+    spreads = {"Hausdorff": ([0.1, 0.5, None], [0.2, 0.9, None])}
+    figure = plot_reconstruct_draws(
+        [0.3, 0.4, 0.5], [1.0, 0.5, 0.0], spreads, (0.3, 0.5), [("tight", "ratio", 0.01)], "t"
+    )
+    top = figure.axes[0]
+    assert list(top.get_lines()[0].get_ydata()) == [1.0, 0.5, 0.0]
+    (band,) = top.patches
+    if hasattr(band, "get_width"):  # a Rectangle (matplotlib ≥ 3.9)
+        low, high = band.get_x(), band.get_x() + band.get_width()
+    else:  # a Polygon
+        corners = np.asarray(band.get_xy())
+        low, high = corners[:, 0].min(), corners[:, 0].max()
+    assert (low, high) == pytest.approx((0.3, 0.5), rel=1e-12)

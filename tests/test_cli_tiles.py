@@ -9,8 +9,6 @@ Runs with the oldest dependencies too (CI): Parquet and dask parts skip without 
 import json
 import os
 import signal
-import subprocess
-import sys
 import uuid
 from pathlib import Path
 
@@ -204,16 +202,13 @@ def _workers(marker: str) -> list[int]:
     return found
 
 
-def _start_tiled(rows_file, out: Path, marker: str) -> subprocess.Popen:
+def _start_tiled(rows_file, out: Path, marker: str):
+    """The tiled check started, once its signal handlers are in: (process, its stderr)."""
+    from test_outputs_and_processes import _start_ready
+
     key, value = marker.split("=")
     args = ["check", "--balls", str(rows_file), "--eps", "0.03", "--workers", "2"]
-    return subprocess.Popen(
-        [sys.executable, "-m", "vorobound", *args, "--out", str(out)],
-        env=os.environ | {key: value},
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    return _start_ready([*args, "--out", str(out)], env={key: value})
 
 
 @pytest.mark.slow
@@ -228,7 +223,7 @@ def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how, delay):
 
     out = tmp_path / "out"
     marker = f"VOROBOUND_TEST_MARKER={uuid.uuid4().hex}"
-    proc = _start_tiled(rows_file, out, marker)
+    proc, stderr = _start_tiled(rows_file, out, marker)
     started = _wait_until(
         lambda: out.exists() and any(out.iterdir()) and len(_workers(marker)) == 2, 120
     )
@@ -239,8 +234,8 @@ def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how, delay):
         os.kill(_workers(marker)[0], signal.SIGKILL)
     else:
         proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
-    lines = err.strip().splitlines()
+    lines = stderr.rest(proc, 120)
+    err = "\n".join(lines)
     if how == "kill a worker":
         assert proc.returncode == 2 and "worker process died" in lines[-1]
     else:

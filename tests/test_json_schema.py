@@ -40,6 +40,16 @@ RUNS = {
     "cheng": ["cheng", "--alpha", "0.2"],
     "reconstruct": ["reconstruct", "--sphere", "1", "--eps", "0.2"],
     "reconstruct-sweep": ["reconstruct", "--torus", "3,1", "--eps", "0.2,0.3"],
+    "reconstruct-repeats": ["reconstruct", "--sphere", "1", "--eps", "0.3", "--repeats", "2"],
+    "reconstruct-repeats-sweep": [
+        "reconstruct",
+        "--sphere",
+        "1",
+        "--eps",
+        "0.3,0.5",
+        "--repeats",
+        "2",
+    ],
 }
 
 

@@ -9,12 +9,14 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 import uuid
 from pathlib import Path
 
 import pytest
 
+from vorobound.cli import SIGNALS_READY_LINE, SIGNALS_READY_VARIABLE
 from vorobound.errors import WriteError
 from vorobound.files import TEMP_PREFIX, atomic_path, write_set, write_text
 
@@ -22,15 +24,51 @@ PYTHON = [sys.executable, "-m", "vorobound"]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
-def _start(args, env=None, **kwargs):
+def _start(args, env=None, stdout=subprocess.PIPE, **kwargs):
     return subprocess.Popen(
         PYTHON + args,
         env=os.environ | (env or {}),
-        stdout=subprocess.PIPE,
+        stdout=stdout if stdout is not None else subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
         **kwargs,
     )
+
+
+class _ReadyStderr:
+    """A child's stderr read line by line in a thread; ``ready`` is set once the child says
+    its signal handlers are installed (``VOROBOUND_SIGNALS_READY``), or at the end of stderr."""
+
+    def __init__(self, proc):
+        self.lines: list[str] = []
+        self.ready = threading.Event()
+        self.thread = threading.Thread(target=self._read, args=(proc.stderr,), daemon=True)
+        self.thread.start()
+
+    def _read(self, stream):
+        for line in stream:
+            line = line.rstrip("\n")
+            if line == SIGNALS_READY_LINE:
+                self.ready.set()
+            else:
+                self.lines.append(line)
+        self.ready.set()
+
+    def rest(self, proc, timeout: float) -> list[str]:
+        """The other lines of stderr, once the child has ended."""
+        proc.wait(timeout=timeout)
+        self.thread.join(timeout=timeout)
+        return [line for line in self.lines if line.strip()]
+
+
+def _start_ready(args, env=None, timeout=120):
+    """Start a command and return (process, its stderr) once its signal handlers are in: a
+    signal sent now is the command's to handle, however loaded the machine."""
+    proc = _start(args, env=(env or {}) | {SIGNALS_READY_VARIABLE: "1"}, stdout=None)
+    stderr = _ReadyStderr(proc)
+    assert stderr.ready.wait(timeout), "no readiness line"
+    assert proc.poll() is None, f"the command ended before it was ready: {stderr.lines}"
+    return proc, stderr
 
 
 def _run(args, timeout=180):
@@ -80,15 +118,22 @@ BIG_SWEEP = ["sweep", "--sigma", "0.3:1.5:400", "--rho-f", "1.01:3:400", "--mode
 def test_interrupted_sweep_keeps_the_previous_file(tmp_path, sig):
     out = tmp_path / "out.csv"
     out.write_text("previous,content\n")
-    proc = _start([*BIG_SWEEP, "-o", str(out)])
-    time.sleep(2.5)
-    assert proc.poll() is None, "the sweep ended before it could be interrupted"
+    proc, stderr = _start_ready([*BIG_SWEEP, "-o", str(out)])
+    # Stopped while it writes: the temporary file is there.
+    writing = _wait_until(
+        lambda: (
+            proc.poll() is not None
+            or any(p.name.startswith(TEMP_PREFIX) for p in tmp_path.iterdir())
+        ),
+        120,
+    )
+    assert writing and proc.poll() is None, "the sweep ended before it could be interrupted"
     proc.send_signal(sig)
-    _, err = proc.communicate(timeout=60)
+    lines = stderr.rest(proc, 60)
     assert out.read_text() == "previous,content\n"
     if sig is not signal.SIGKILL:
         assert proc.returncode == 130
-        assert err.strip().splitlines()[-1] == "interrupted"
+        assert lines[-1].strip() == "interrupted"
         assert not [p for p in tmp_path.iterdir() if p.name.startswith(TEMP_PREFIX)]
 
 
@@ -185,13 +230,13 @@ TIGHT_SWEEP = [
 def test_stopped_tight_sweep_leaves_no_live_workers(tmp_path, sig):
     marker = f"VOROBOUND_TEST_MARKER={uuid.uuid4().hex}"
     key, value = marker.split("=")
-    proc = _start([*TIGHT_SWEEP, "-o", str(tmp_path / "t.csv")], env={key: value})
+    proc, stderr = _start_ready([*TIGHT_SWEEP, "-o", str(tmp_path / "t.csv")], env={key: value})
     assert _wait_until(lambda: len(_processes_with(marker)) >= 3, 60), "workers did not start"
     proc.send_signal(sig)
-    _, err = proc.communicate(timeout=60)
+    lines = stderr.rest(proc, 60)
     assert _wait_until(lambda: not _processes_with(marker), 20), "workers outlived the sweep"
     if sig is signal.SIGTERM:
-        assert proc.returncode == 130 and err.strip().splitlines()[-1] == "interrupted"
+        assert proc.returncode == 130 and lines[-1].strip() == "interrupted"
 
 
 # --- memory -------------------------------------------------------------------------------

@@ -355,8 +355,6 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
             layout="constrained",
         )
         axes = fig.subplots(count, 1, sharex=True, squeeze=False)[:, 0]
-        colours = {name: f"C{i}" for i, name in enumerate(dict.fromkeys(m[0] for m in marks))}
-        styles = {"additive": "--", "ratio": "-"}
         for ax, (label, values) in zip(axes, panels.items(), strict=True):
             values = np.array([np.nan if v is None else v for v in values], dtype=float)
             ax.plot(eps, values, color="0.6", linewidth=0.8)
@@ -371,19 +369,67 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
                 transform=ax.get_xaxis_transform(),
             )
             ax.set_ylabel(label)
-            ax.grid(alpha=0.3, which="both")
-            for name, target, star in marks:
-                ax.axvline(
-                    star,
-                    color=colours[name],
-                    linewidth=0.9,
-                    linestyle=styles.get(target, ":"),
-                    label=f"{name}, {target}: ε* = {star:.3g}",
-                )
-        axes[-1].set_xscale("log")
-        axes[-1].set_xlabel(r"sampling density $\epsilon$")
-        axes[0].set_title(f"{title}: o right topology, x wrong")
-        handles, labels = axes[0].get_legend_handles_labels()
-        if handles:
-            fig.legend(handles, labels, loc="outside right upper", fontsize=6)
+        _eps_axes(fig, axes, marks, f"{title}: o right topology, x wrong")
+    return fig
+
+
+def _eps_axes(fig, axes, marks, title: str) -> None:
+    """Shared ε axis (log) of a figure against ε: grid, every bound's ε* as a vertical line
+    (``marks``: (label, target, ε*) triples; additive dashed, ratio solid), title, legend."""
+    colours = {name: f"C{i}" for i, name in enumerate(dict.fromkeys(m[0] for m in marks))}
+    styles = {"additive": "--", "ratio": "-"}
+    for ax in axes:
+        ax.grid(alpha=0.3, which="both")
+        for name, target, star in marks:
+            ax.axvline(
+                star,
+                color=colours[name],
+                linewidth=0.9,
+                linestyle=styles.get(target, ":"),
+                label=f"{name}, {target}: ε* = {star:.3g}",
+            )
+    axes[-1].set_xscale("log")
+    axes[-1].set_xlabel(r"sampling density $\epsilon$")
+    axes[0].set_title(title)
+    handles, labels = axes[0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="outside right upper", fontsize=6)
+
+
+def plot_reconstruct_draws(eps, share_correct, spreads: dict, band, marks, title: str):
+    """M̂ over many draws against ε: the share of draws with the right topology (the
+    transition band shaded between the largest ε where every draw was right and the smallest
+    where none was), then one panel per measurement (label ↦ (medians, maxima) per ε), and
+    every bound's ε* as a vertical line.
+
+    Returns the matplotlib Figure.
+    """
+    import matplotlib
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    eps = np.asarray(eps, dtype=float)
+
+    def values(seq):
+        return np.array([np.nan if v is None else v for v in seq], dtype=float)
+
+    with matplotlib.rc_context(_STYLE):
+        count = 1 + len(spreads)
+        fig = Figure(
+            figsize=(2 * COLUMN_WIDTH_IN, 0.8 * FIGURE_HEIGHT_IN * count + 0.6),
+            layout="constrained",
+        )
+        axes = fig.subplots(count, 1, sharex=True, squeeze=False)[:, 0]
+        axes[0].plot(eps, values(share_correct), "o-", color="C0", markersize=3.5)
+        axes[0].set_ylim(-0.05, 1.05)
+        axes[0].set_ylabel("share of draws right")
+        low, high = band
+        if low is not None and high is not None and low < high:
+            axes[0].axvspan(low, high, color="C1", alpha=0.15, linewidth=0)
+        for ax, (label, (median, largest)) in zip(axes[1:], spreads.items(), strict=True):
+            ax.plot(eps, values(median), "o-", color="C0", markersize=3.5, label="median")
+            ax.plot(eps, values(largest), "^--", color="C3", markersize=3.5, label="max")
+            ax.set_ylabel(label)
+            ax.legend(fontsize=6, loc="upper left")
+        _eps_axes(fig, axes, marks, f"{title}: shaded, the transition band")
     return fig

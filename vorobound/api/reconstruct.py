@@ -16,6 +16,9 @@ from ..errors import InputError
 from ..progress import Progress
 from .result import Result, checked_outputs, frame, params_json
 
+REPEATS_MAX = 10_000
+"""Most draws per ε (``repeats``)."""
+
 
 @dataclass(frozen=True, repr=False)
 class ReconstructResult(Result):
@@ -27,8 +30,9 @@ class ReconstructResult(Result):
     closed_manifold: bool
     euler_characteristic: int
     n_facets: int
-    topology_correct: bool
-    """A closed 2-manifold with the surface's Euler characteristic and components."""
+    topology_correct: bool | None
+    """A closed 2-manifold with the surface's Euler characteristic and components (None: no
+    reference surface to compare with)."""
     hausdorff_over_eps_lfs: float | None
     """Largest two-sided distance between M̂ and the surface over ε·L (None: no surface)."""
     normal_deviation_max_deg: float | None
@@ -40,7 +44,7 @@ class ReconstructResult(Result):
 
     @property
     def ok(self) -> bool:
-        return self.topology_correct
+        return self.report.ok
 
     @property
     def verdict(self) -> str:
@@ -79,7 +83,7 @@ class ReconstructSweepResult(Result):
 
     @property
     def verdict(self) -> str:
-        wrong = [r.eps for r in self.sweep.rows if not r.topology_correct]
+        wrong = [r.eps for r in self.sweep.rows if not r.ok]
         return f"M̂ is wrong at {len(wrong)} of {self.n_eps} eps values (first {wrong[0]:g})"
 
     def payload(self) -> dict:
@@ -94,6 +98,62 @@ class ReconstructSweepResult(Result):
     def to_frame(self):
         """One row per ε (pandas optional)."""
         return frame([vars(row) for row in self.sweep.rows])
+
+
+@dataclass(frozen=True, repr=False)
+class ReconstructDrawsResult(Result):
+    """M̂ of one surface over ``repeats`` draws of the sampler at each ε: the share of draws
+    with the right topology, the spread of the measurements, and the transition band."""
+
+    command = "reconstruct"
+    source: str
+    repeats: int
+    n_eps: int
+    share_correct: float | None
+    """Fraction of the draws whose M̂ has the surface's topology (one ε; None for a sweep,
+    whose rows carry it per ε)."""
+    largest_all_correct_eps: float | None
+    """The largest ε at which every draw gave the right M̂ (None: no such ε)."""
+    smallest_none_correct_eps: float | None
+    """The smallest ε at which no draw gave the right M̂ (None: no such ε)."""
+    draws: object = field(repr=False)
+    """:class:`vorobound.reports.reconstruct_draws.ReconstructDraws`."""
+    written: tuple[str, ...] = field(repr=False, default=())
+    asked: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return all(r.correct == len(r.draws) for r in self.draws.rows)
+
+    @property
+    def verdict(self) -> str:
+        rows = self.draws.rows
+        wrong = sum(len(r.draws) - r.correct for r in rows)
+        first = next(r.eps for r in rows if r.correct < len(r.draws))
+        return (
+            f"M̂ is wrong in {wrong} of {self.repeats * self.n_eps} draws (first at ε = {first:g})"
+        )
+
+    def payload(self) -> dict:
+        summary = self.draws.summary()
+        eps = [r.eps for r in self.draws.rows]
+        params = params_json(self.draws.quality, eps[0] if len(eps) == 1 else eps, **self.asked)
+        for key in ("rho_f", "lipschitz", "target"):
+            params.pop(key, None)
+        summary["params"] = params
+        if self.share_correct is not None:
+            summary["share_correct"] = self.share_correct
+        return summary | {"ok": self.ok, "written": list(self.written)}
+
+    def to_frame(self):
+        """One row per draw and ε (pandas optional)."""
+        return frame(
+            [
+                {"seed": seed} | vars(draw)
+                for row in self.draws.rows
+                for seed, draw in zip(row.seeds, row.draws, strict=True)
+            ]
+        )
 
 
 def _eps_values(eps) -> list[float] | None:
@@ -124,11 +184,12 @@ def reconstruct(
     sigma: float = PAPER_SIGMA,
     delta_ratio: float = PAPER_DELTA_RATIO,
     seed: int = 0,
+    repeats: int | None = None,
     engine: str = "auto",
     out: str | os.PathLike | None = None,
     figure_format: str = "png",
     progress: Progress | None = None,
-) -> ReconstructResult | ReconstructSweepResult:
+) -> ReconstructResult | ReconstructSweepResult | ReconstructDrawsResult:
     """Build VoroCrust's surface M̂ (the Voronoi facets between inside and outside seeds) and
     measure it.
 
@@ -139,26 +200,42 @@ def reconstruct(
     whether M̂ is a closed 2-manifold, its components, Euler characteristic and genus against
     the surface's, the two-sided Hausdorff distance to the surface over ε·L, the facet
     normals' deviation and the facets' quality. ``ok`` is True when M̂ is a closed manifold
-    with the surface's topology (at every ε of a sweep). ``out``: mhat.vtu, mhat.ply,
-    seeds.vtu, seeds.csv, summary.json and the quality figure (a sweep: sweep.csv,
-    summary.json and its figure), written as one set.
+    with the surface's topology (at every ε of a sweep); without a reference surface
+    ``topology_correct`` is None and ``ok`` says whether M̂ is a closed 2-manifold.
+
+    ``repeats`` (K ≥ 1) samples the surface K times at each ε (draw k with seed
+    ``seed + k``) and returns a :class:`ReconstructDrawsResult`: per ε the share of draws whose
+    M̂ has the surface's topology (``share_correct``) and the median and largest Hausdorff
+    distance and normal deviation over the draws, and the transition band (the largest ε at
+    which every draw was right, the smallest at which none was); ``ok`` when every draw was
+    right.
+
+    ``out``: mhat.vtu, mhat.ply, seeds.vtu, seeds.csv, summary.json and the quality figure (a
+    sweep: sweep.csv, summary.json and its figure; repeated draws: draws.csv, summary.json and,
+    over several ε, the sweep figure with the share of right draws), written as one set.
 
     References
     ----------
     Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
     """
-    from ..checks import checked_seed
+    from ..checks import SEED_MAX, checked_count, checked_seed
     from .surfaces import sample_shape
 
     checked_outputs(out, figure_format)
     if balls is not None and seeds is not None:
         raise InputError("give balls or seeds, not both")
     seed = checked_seed(seed)
+    if repeats is not None:
+        repeats = checked_count(repeats, "repeats", 1, REPEATS_MAX)
     quality = QualityParams(sigma, delta_ratio)
     values = _eps_values(eps)
     sampled = balls is None and seeds is None
     if sampled and values is None:
         raise InputError("give eps (a sample of the surface needs it)")
+    if repeats is not None and not sampled:
+        raise InputError("repeats draws new samples of a surface: give no balls or seeds")
+    if repeats is not None and seed + repeats - 1 > SEED_MAX:
+        raise InputError(f"seed + repeats - 1 must be at most {SEED_MAX} (draw k has seed + k)")
     if values is not None and len(values) > 1 and not sampled:
         raise InputError("an eps sweep samples a surface: several eps go without balls/seeds")
     shape = sample_shape(
@@ -173,6 +250,19 @@ def reconstruct(
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")
     asked = {"seed": seed if sampled else None, "engine": engine}
+    if repeats is not None:
+        return _draws(
+            shape,
+            values,
+            quality,
+            seed,
+            repeats,
+            (half_covered, engine, compare_sheets),
+            out,
+            figure_format,
+            asked | {"repeats": repeats},
+            progress,
+        )
     if values is not None and len(values) > 1:
         return _sweep(
             shape,
@@ -273,11 +363,11 @@ def _sweep(
     from ..reports.reconstruct_sweep import reconstruct_sweep
 
     sweep = reconstruct_sweep(shape, values, quality, seed, half_covered, engine, compare, progress)
-    correct = [r.eps for r in sweep.rows if r.topology_correct]
+    correct = [r.eps for r in sweep.rows if r.ok]
     result = ReconstructSweepResult(
         source=sweep.source,
         n_eps=len(sweep.rows),
-        all_correct=all(r.topology_correct for r in sweep.rows),
+        all_correct=all(r.ok for r in sweep.rows),
         largest_correct_eps=max(correct) if correct else None,
         sweep=sweep,
         asked=asked,
@@ -305,11 +395,67 @@ def _write_sweep(result: ReconstructSweepResult, out, figure_format: str):
     figure = plot_reconstruct_sweep(
         [r.eps for r in rows],
         panels,
-        [r.topology_correct for r in rows],
+        [r.ok for r in rows],
         marks,
         f"M̂ of {sweep.source}",
     )
     writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
+    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
+    _summary_writer(writers, folder, result)
+    write_set(writers)
+    return result
+
+
+def _draws(
+    shape, values, quality, seed, repeats, options, out, figure_format, asked, progress
+) -> ReconstructDrawsResult:
+    from ..reports.reconstruct_draws import reconstruct_draws
+
+    half_covered, engine, compare = options
+    draws = reconstruct_draws(
+        shape, values, quality, seed, repeats, half_covered, engine, compare, progress
+    )
+    result = ReconstructDrawsResult(
+        source=draws.source,
+        repeats=repeats,
+        n_eps=len(draws.rows),
+        share_correct=draws.rows[0].share_correct if len(draws.rows) == 1 else None,
+        largest_all_correct_eps=draws.largest_all_correct_eps,
+        smallest_none_correct_eps=draws.smallest_none_correct_eps,
+        draws=draws,
+        asked=asked,
+    )
+    if out is not None:
+        result = _write_draws(result, out, figure_format)
+    return result
+
+
+def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
+    from ..files import ensure_folder, write_set
+    from ..plotting import figure_writer, plot_reconstruct_draws
+    from ..reports.reconstruct_draws import draws_writers
+    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM
+
+    draws = result.draws
+    folder = ensure_folder(out)
+    writers = draws_writers(draws, folder)
+    rows = draws.rows
+    if len(rows) > 1:
+        spreads = {
+            "Hausdorff / (εL)": [r.hausdorff for r in rows],
+            "max normal dev. (°)": [r.normal_deviation_max for r in rows],
+        }
+        figure = plot_reconstruct_draws(
+            [r.eps for r in rows],
+            [r.share_correct for r in rows],
+            {label: ([s.median for s in v], [s.max for s in v]) for label, v in spreads.items()},
+            (draws.largest_all_correct_eps, draws.smallest_none_correct_eps),
+            [(m.label, m.target, m.eps_star) for m in draws.marks],
+            f"M̂ of {draws.source}, {draws.repeats} draws per ε",
+        )
+        writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(
+            figure, figure_format
+        )
     result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
     _summary_writer(writers, folder, result)
     write_set(writers)

@@ -7,6 +7,11 @@ stderr and code 2, Ctrl-C or SIGTERM is "interrupted" and code 130, and anything
 one line saying it is a bug (code 70; the traceback with ``--debug`` or ``VOROBOUND_DEBUG=1``).
 A reader that stops reading the output (``vorobound ... | head``) ends the run quietly with
 code 141, as a broken pipe ends a program in the shell.
+
+For programs that stop a run with a signal (the tests do): with the environment variable
+``VOROBOUND_SIGNALS_READY`` set to a non-empty value, the command prints the line
+``vorobound: signal handlers installed`` on stderr once SIGINT and SIGTERM are handled; a
+signal sent after that line ends the run with "interrupted" and code 130, never earlier.
 """
 
 from __future__ import annotations
@@ -121,6 +126,11 @@ def _usage_errors() -> tuple[type[BaseException], ...]:
     return tuple(t for t in found if isinstance(t, type))
 
 
+SIGNALS_READY_VARIABLE = "VOROBOUND_SIGNALS_READY"
+"""Environment variable: when set, a command says on stderr when its signal handlers are in."""
+SIGNALS_READY_LINE = "vorobound: signal handlers installed"
+
+
 @contextlib.contextmanager
 def _signals_raise_interrupted():
     """While running a command, SIGINT and SIGTERM raise :class:`Interrupted` (main thread)."""
@@ -133,6 +143,8 @@ def _signals_raise_interrupted():
         raise Interrupted
 
     previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+    if os.environ.get(SIGNALS_READY_VARIABLE):
+        print(SIGNALS_READY_LINE, file=sys.stderr, flush=True)
     try:
         yield
     finally:

@@ -85,6 +85,17 @@ def reconstruct(
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     seed: Seed = 0,
+    repeats: Annotated[
+        int | None,
+        typer.Option(
+            "--repeats",
+            metavar="K",
+            help="Sample the surface K times at each ε (draw k with seed SEED + k) and report "
+            "per ε the share of draws whose M̂ has the right topology and the median and "
+            "largest Hausdorff distance and normal deviation; a sweep also reports the "
+            "transition band. 1 ≤ K ≤ 10000.",
+        ),
+    ] = None,
     engine: EngineOpt = EngineChoice.auto,
     out: Annotated[
         Path | None,
@@ -93,7 +104,8 @@ def reconstruct(
             metavar="DIR",
             help="Folder for mhat.vtu (ParaView; facet fields), mhat.ply, seeds.vtu, seeds.csv, "
             "summary.json and quality.<figure format>; a sweep writes sweep.csv, summary.json "
-            "and sweep.<figure format>. Written as one set.",
+            "and sweep.<figure format>; --repeats writes draws.csv, summary.json and (several "
+            "ε) sweep.<figure format>. Written as one set.",
         ),
     ] = None,
     figure_format: FigureFormatOpt = FigureFormat.png,
@@ -106,8 +118,11 @@ def reconstruct(
     --eps), of --balls, or read from --seeds. Reported: whether M̂ is a closed 2-manifold, its
     components, Euler characteristic and genus against the surface's, the two-sided Hausdorff
     distance to the surface over ε·L, the facet normals' deviation from the surface's, and the
-    facets' quality. Exit code 0 when M̂ is a closed manifold with the surface's topology, 1
-    when it is measured to be wrong, 2 for bad input. Python: vorobound.reconstruct(...).
+    facets' quality. With --repeats K, K draws per ε: the share of draws with the right
+    topology, the spread of the measurements and the ε band where M̂ goes from always right to
+    never right. Exit code 0 when M̂ is a closed manifold with the surface's topology (in every
+    draw), 1 when it is measured to be wrong, 2 for bad input. Python:
+    vorobound.reconstruct(...).
     """
     from ..api.reconstruct import reconstruct as run
 
@@ -122,6 +137,7 @@ def reconstruct(
             sigma=sigma,
             delta_ratio=delta_ratio,
             seed=seed,
+            repeats=repeats,
             engine=engine.value,
             out=out,
             figure_format=figure_format.value,
@@ -132,7 +148,9 @@ def reconstruct(
 
 def _show(result) -> None:
     data = result.to_dict()
-    if hasattr(result, "sweep"):
+    if hasattr(result, "draws"):
+        _print_draws(data)
+    elif hasattr(result, "sweep"):
         _print_sweep(data)
     else:
         _print_summary(data)
@@ -145,6 +163,12 @@ def _topology_text(s: dict) -> str:
     if expected is None:
         return "no surface to compare with"
     return f"surface: χ = {expected}, {s['expected_components']} component(s)"
+
+
+def _verdict(correct: bool | None) -> str:
+    if correct is None:
+        return "no reference surface"
+    return "right" if correct else "WRONG"
 
 
 def _print_summary(s: dict) -> None:
@@ -176,7 +200,7 @@ def _print_summary(s: dict) -> None:
         ),
         ("Euler characteristic", str(s["euler_characteristic"]), _topology_text(s)),
         ("components", str(s["components"]), f"genus {fmt(s['genus'])}"),
-        ("topology", "right" if s["topology_correct"] else "WRONG", ""),
+        ("topology", _verdict(s["topology_correct"]), ""),
         (
             "min edge ratio",
             fmt(s["edge_ratio_min"], 4),
@@ -227,8 +251,7 @@ def _print_sweep(s: dict) -> None:
                 f"{r['eps']:.4g}",
                 "" if r["samples"] is None else f"{r['samples']:,}",
                 f"{r['facets']:,}",
-                ("right" if r["topology_correct"] else "WRONG")
-                + ("" if r["closed_manifold"] else " (not closed)"),
+                _verdict(r["topology_correct"]) + ("" if r["closed_manifold"] else " (not closed)"),
                 str(r["euler_characteristic"]),
                 fmt(r["hausdorff"], 4),
                 fmt(r["normal_deviation_max"], 4),
@@ -237,11 +260,66 @@ def _print_sweep(s: dict) -> None:
             for r in s["rows"]
         ],
     )
-    print_table(
-        "Every bound's ε*",
-        ("bound", "target", "ε*", "claim"),
-        [(m["label"], m["target"], format_down(m["eps_star"]), m["claim"]) for m in s["eps_star"]],
-    )
+    _print_marks(s["eps_star"])
     for r in s["rows"]:
         if r["note"]:
             print(f"ε = {r['eps']:g}: {r['note']}")
+
+
+def _print_marks(marks: list[dict]) -> None:
+    print_table(
+        "Every bound's ε*",
+        ("bound", "target", "ε*", "claim"),
+        [(m["label"], m["target"], format_down(m["eps_star"]), m["claim"]) for m in marks],
+    )
+
+
+def _spread(spread: dict) -> tuple[str, str]:
+    return fmt(spread["median"], 4), fmt(spread["max"], 4)
+
+
+def _print_draws(s: dict) -> None:
+    first, last = s["seed_range"]
+    print_table(
+        f"M̂ of {s['source']} over {s['repeats']} draws per ε (seeds {first}–{last}; "
+        f"σ = {s['params']['sigma']:g}, δ = {s['params']['delta_ratio']:g}ε)",
+        (
+            "ε",
+            "right",
+            "share right",
+            "Hausdorff/(εL) median",
+            "max",
+            "max normal dev. (°) median",
+            "max",
+        ),
+        [
+            (
+                f"{r['eps']:.4g}",
+                f"{r['correct']}/{r['draws']}",
+                f"{r['share_correct']:.3g}",
+                *_spread(r["hausdorff"]),
+                *_spread(r["normal_deviation_max"]),
+            )
+            for r in s["rows"]
+        ],
+    )
+    if len(s["rows"]) > 1:
+        _print_marks(s["eps_star"])
+        print(_band_text(s["largest_all_correct_eps"], s["smallest_none_correct_eps"]))
+    else:
+        print(f"share of draws with the right topology: {s['share_correct']:.3g}")
+
+
+def _band_text(all_right: float | None, none_right: float | None) -> str:
+    """The transition band of a sweep over many draws, in words (measured)."""
+    low = (
+        "no swept ε had every draw right"
+        if all_right is None
+        else f"every draw right up to ε = {all_right:g} (the largest such ε)"
+    )
+    high = (
+        "no swept ε had every draw wrong"
+        if none_right is None
+        else f"no draw right at ε = {none_right:g} (the smallest such ε)"
+    )
+    return f"transition band (measured): {low}; {high}"

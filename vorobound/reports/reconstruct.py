@@ -79,18 +79,24 @@ class ReconstructReport:
     timings: dict[str, float] = field(default_factory=dict)
 
     @property
-    def topology_correct(self) -> bool:
-        """M̂ is a closed 2-manifold with the surface's Euler characteristic and components
-        (only the first when the surface is not known)."""
-        top = self.topology
-        if not top.closed_manifold:
-            return False
+    def topology_correct(self) -> bool | None:
+        """M̂ is a closed 2-manifold with the surface's Euler characteristic and components;
+        None when there is no reference surface to compare with (no surface given, or a mesh
+        that is not closed)."""
         if self.expected is None:
-            return True
-        return (top.euler_characteristic, top.components) == (
+            return None
+        top = self.topology
+        return top.closed_manifold and (top.euler_characteristic, top.components) == (
             self.expected.euler_characteristic,
             self.expected.components,
         )
+
+    @property
+    def ok(self) -> bool:
+        """M̂ has the surface's topology; without a reference surface, M̂ is a closed
+        2-manifold (all that can be checked)."""
+        correct = self.topology_correct
+        return self.topology.closed_manifold if correct is None else correct
 
     def summary(self) -> dict:
         """The JSON summary (plain types; docs/reconstruct.md describes the fields)."""

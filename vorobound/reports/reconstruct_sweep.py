@@ -44,7 +44,8 @@ class SweepRow:
     closed_manifold: bool
     euler_characteristic: int
     components: int
-    topology_correct: bool
+    topology_correct: bool | None
+    """None: no reference surface (a mesh that is not closed)."""
     hausdorff: float | None
     """Two-sided Hausdorff distance over ε·L (measured)."""
     normal_deviation_max: float | None
@@ -55,6 +56,11 @@ class SweepRow:
     sheet_disagreements: int | None
     sheet_note: str | None = None
     note: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        """M̂ has the surface's topology (a closed 2-manifold when there is no reference)."""
+        return self.closed_manifold if self.topology_correct is None else self.topology_correct
 
     @classmethod
     def of(cls, report: ReconstructReport) -> SweepRow:
@@ -104,7 +110,7 @@ class ReconstructSweep:
             "expected_components": None if self.expected is None else self.expected.components,
             "rows": [vars(row) for row in self.rows],
             "eps_star": [vars(mark) for mark in self.marks],
-            "all_correct": all(row.topology_correct for row in self.rows),
+            "all_correct": all(row.ok for row in self.rows),
         }
 
 
@@ -159,14 +165,9 @@ def reconstruct_sweep(
     counter = Counter(progress, "ε values", len(eps_values))
     rows = []
     for eps in eps_values:
-        try:
-            report = reconstruct_surface(
-                shape, eps, quality, seed, half_covered, engine, compare_sheets, progress
-            )
-        except NoGuideTriangles as exc:
-            rows.append(SweepRow.failed(SamplingParams(eps, quality).eps, str(exc)))
-        else:
-            rows.append(SweepRow.of(report))
+        rows.append(
+            sweep_row(shape, eps, quality, seed, half_covered, engine, compare_sheets, progress)
+        )
         counter.step()
     return ReconstructSweep(
         source=shape.name,
@@ -176,6 +177,27 @@ def reconstruct_sweep(
         rows=rows,
         marks=bound_marks(quality),
     )
+
+
+def sweep_row(
+    shape,
+    eps: float,
+    quality: QualityParams,
+    seed: int = 0,
+    half_covered: bool = False,
+    engine: Engine | str = Engine.auto,
+    compare_sheets: bool = False,
+    progress: Progress | None = None,
+) -> SweepRow:
+    """What a sweep keeps of :func:`reconstruct_surface` at one ε and seed (a row without M̂
+    when there is no guide triangle)."""
+    try:
+        report = reconstruct_surface(
+            shape, eps, quality, seed, half_covered, engine, compare_sheets, progress
+        )
+    except NoGuideTriangles as exc:
+        return SweepRow.failed(SamplingParams(eps, quality).eps, str(exc))
+    return SweepRow.of(report)
 
 
 SWEEP_COLUMNS = (
@@ -199,23 +221,26 @@ SWEEP_COLUMNS = (
 
 def sweep_csv(sweep: ReconstructSweep) -> str:
     """The sweep's rows as CSV text (empty cells where a value is missing)."""
-    lines = [",".join(SWEEP_COLUMNS)]
-    for row in sweep.rows:
-        cells = []
-        for name in SWEEP_COLUMNS:
-            value = getattr(row, name)
-            if value is None:
-                cells.append("")
-            elif isinstance(value, bool):
-                cells.append(str(int(value)))
-            elif isinstance(value, float):
-                cells.append(repr(value))
-            elif isinstance(value, str):
-                cells.append('"' + value.replace('"', "'") + '"')
-            else:
-                cells.append(str(value))
-        lines.append(",".join(cells))
+    lines = [",".join(SWEEP_COLUMNS)] + [csv_line(row) for row in sweep.rows]
     return "\n".join(lines) + "\n"
+
+
+def csv_line(row: SweepRow) -> str:
+    """One row's cells of sweep.csv, comma-separated (empty where a value is missing)."""
+    cells = []
+    for name in SWEEP_COLUMNS:
+        value = getattr(row, name)
+        if value is None:
+            cells.append("")
+        elif isinstance(value, bool):
+            cells.append(str(int(value)))
+        elif isinstance(value, float):
+            cells.append(repr(value))
+        elif isinstance(value, str):
+            cells.append('"' + value.replace('"', "'") + '"')
+        else:
+            cells.append(str(value))
+    return ",".join(cells)
 
 
 def sweep_writers(sweep: ReconstructSweep, out_dir: str | Path) -> dict[Path, Callable]:
