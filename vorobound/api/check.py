@@ -94,10 +94,16 @@ class CheckResult(Result):
         }
 
     def to_frame(self):
-        """One row per guide triangle (the columns of triangles.csv; pandas optional)."""
+        """One row per guide triangle: the columns of triangles.csv, then where the triangle
+        is, the centers of its balls a, b, c (``a_x`` ... ``c_z``; pandas optional)."""
         from ..reports.check import triangle_columns
 
         columns = triangle_columns(self.report)
+        centers = self.report.balls.centers
+        for name in "abc":
+            points = centers[columns[f"{name}_index"]]
+            for axis, coordinate in enumerate("xyz"):
+                columns[f"{name}_{coordinate}"] = points[:, axis]
         return frame(
             [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
         )
@@ -183,6 +189,7 @@ def check(
         lfs=lfs,
         sizing=sizing,
         required=balls is None,
+        instead=("balls FILE",),
         progress=progress,
     )
     if balls is not None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Annotated
 
@@ -10,6 +11,11 @@ import typer
 from .options import LAMBDA_HELP, Json, Seed
 from .progress import progress_bar
 from .render import emit, fmt, print_table
+
+POSITIONAL_MESH_NOTE = (
+    "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
+    "use `vorobound lfs --mesh MESH`, as every command takes a mesh"
+)
 
 
 def lfs(
@@ -89,6 +95,8 @@ def lfs(
 
     if (mesh is None) == (mesh_file is None):
         raise InputError("give the mesh once: --mesh FILE")
+    if mesh_file is not None:
+        print(POSITIONAL_MESH_NOTE, file=sys.stderr)
     with progress_bar(not as_json) as progress:
         result = run(
             mesh=mesh or mesh_file,

@@ -113,7 +113,14 @@ def reconstruct(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=None if eps is None else parse_values(eps, "--eps"),
-            **surface_args(sphere, torus, mesh, lfs, sizing),
+            **surface_args(
+                sphere,
+                torus,
+                mesh,
+                lfs,
+                sizing,
+                instead={"--balls FILE": balls, "--seeds FILE": seeds},
+            ),
             balls=balls,
             seeds=seeds,
             half_covered=half_covered,
