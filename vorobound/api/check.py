@@ -12,7 +12,7 @@ from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.check import TABLES
-from .result import Result, checked_outputs, frame, params_json
+from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -87,6 +87,8 @@ class CheckResult(Result):
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
         )
+        if getattr(self.report, "lfs", None) is not None:  # a whole check (tiles keep no L)
+            summary |= sample_lfs(summary["params"], self.report.lfs)
         return summary | {
             "ok": not any(found.values()),
             "failures": found,
