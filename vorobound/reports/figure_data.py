@@ -3,6 +3,7 @@ comparison and the ratio figure) and the gap histogram of a check."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -285,9 +286,12 @@ def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
         inside = tuple(m for m in shown if own[0] <= m[1] <= own[1])
         beyond = tuple(m for m in shown if m not in inside)
         bins = np.linspace(smallest, largest, HISTOGRAM_BINS + 1)
+        # enough digits to tell the ends apart, rounded outward
+        size = max(abs(smallest), abs(largest))
+        digits = min(12, max(3, math.ceil(math.log10(size / spread)) + 2))
         note = (
             "a point mass beside the bounds, drawn on its own scale: every value in "
-            f"[{format_down(smallest, 3)}, {format_up(largest, 3)}]"
+            f"[{format_down(smallest, digits)}, {format_up(largest, digits)}]"
         )
         return GapHistogramData(values, count, bins, None, note, inside, own, beyond)
     bins = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
