@@ -401,3 +401,28 @@ def test_reconstruct_sweep_puts_each_cross_at_its_own_value():
         one, two = (tags[k].get_window_extent(renderer) for k in ("1", "2"))
     assert one.y1 <= two.y0 or two.y1 <= one.y0  # readable apart
     assert _texts_outside(fig) == []
+    assert _legends_over_data(fig) == []
+
+
+def test_reconstruct_sweep_layout_with_every_mark():
+    """Nine ε* lines, three panels and a long surface name (the torus sweep's figure): the
+    layout holds (no collapsed axes), the legend leaves the data and the texts stay inside."""
+    import warnings
+
+    from vorobound.bounds.params import QualityParams
+    from vorobound.plotting import plot_reconstruct_sweep, rendered
+    from vorobound.reports.reconstruct_sweep import bound_marks
+
+    marks = [(m.label, m.target, m.eps_star) for m in bound_marks(QualityParams())]
+    eps = np.array([0.06, 0.12, 0.18, 0.24])
+    panels = {
+        "Hausdorff / (εL)": [0.05, 0.09, 0.14, 0.25],
+        "max normal dev. (°)": [35.2, 33.3, 35.2, 43.1],
+        "min angle (°)": [5e-4, 7e-3, 3e-3, 0.06],
+    }
+    fig = plot_reconstruct_sweep(eps, panels, [True] * 4, marks, "M̂ of torus R=3, r=1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # "constrained_layout not applied" is a warning
+        rendered(fig)
+    assert _texts_outside(fig) == []
+    assert _legends_over_data(fig) == []

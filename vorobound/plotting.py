@@ -581,15 +581,16 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
             wrong = ~correct & np.isfinite(values)  # a cross at the wrong M̂'s own value
             ax.plot(eps[wrong], values[wrong], "x", color="C3", markersize=6)
             blank = ~correct & ~np.isfinite(values)  # no value to plot: a cross on the axis
-            ax.plot(
-                eps[blank],
-                np.zeros(int(blank.sum())),
-                "x",
-                color="C3",
-                markersize=6,
-                clip_on=False,
-                transform=ax.get_xaxis_transform(),
-            )
+            if blank.any():  # (an empty unclipped line would upset the layout's extents)
+                ax.plot(
+                    eps[blank],
+                    np.zeros(int(blank.sum())),
+                    "x",
+                    color="C3",
+                    markersize=6,
+                    clip_on=False,
+                    transform=ax.get_xaxis_transform(),
+                )
             ax.set_ylabel(label)
             ax.grid(alpha=0.3, which="both")
             for name, target, star in marks:
@@ -602,7 +603,7 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
                 )
         axes[-1].set_xscale("log")
         axes[-1].set_xlabel(r"sampling density $\epsilon$")
-        axes[0].set_title(f"{title}: o right topology, x wrong (on the axis: no value)")
+        axes[0].set_title(f"{title}\no: right topology, x: wrong (on the axis: no value)")
         _tag_lines(axes[0], [star for _, _, star in marks])
         handles, labels = axes[0].get_legend_handles_labels()
         labels = [f"{index}  {label}" for index, label in enumerate(labels, start=1)]
