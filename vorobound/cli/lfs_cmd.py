@@ -10,7 +10,7 @@ import typer
 
 from .options import LAMBDA_HELP, Json, Seed
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 POSITIONAL_MESH_NOTE = (
     "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
@@ -142,7 +142,7 @@ def _show(result) -> None:
     rows += [("written", path) for path in result.written]
     name = Path(result.mesh).name
     print_table(f"Local feature size of {name}", ("quantity", "value"), rows)
-    print(f"method: {estimate.method}; estimate (numerical), not a certified bound")
+    print_footer(f"method: {estimate.method}; estimate (numerical), not a certified bound")
 
 
 def _disagreement(info: dict) -> str:

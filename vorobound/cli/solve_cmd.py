@@ -18,7 +18,7 @@ from .options import (
     TightMethodOpt,
 )
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 
 def solve(
@@ -61,15 +61,15 @@ def _show(result) -> None:
     data = result.to_dict()
     q = result.quality
     rows = [
-        ("eps_star", fmt(result.eps_star, 12)),
+        ("ε*", fmt(result.eps_star, 12)),
         ("claim", result.claim),
         ("method", result.method),
     ]
     if result.proven_lower_bound is not None:
         rows.append(("proven lower bound on ε* (closed form)", fmt(result.proven_lower_bound, 12)))
     rows += [
-        ("eps_star / (1/500)", fmt(data["eps_star_over_baseline"], 6)),
-        ("ball radius δ·L_i at eps_star", fmt(data["ball_radius"])),
+        ("ε* / (1/500)", fmt(data["eps_star_over_baseline"], 6)),
+        ("ball radius δ·L_i at ε*", fmt(data["ball_radius"])),
         ("relative residual", fmt(data["residual"], 3)),
         ("root-finder iterations", str(data["iterations"])),
         ("bracket", f"[{fmt(data['bracket'][0])}, {fmt(data['bracket'][1])}]"),
@@ -82,5 +82,5 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print(f"target: {data['target_statement']}")
-    print(f"premise: {data['premise']}")
+    print_footer(f"target: {data['target_statement']}")
+    print_footer(f"premise: {data['premise']}")
