@@ -349,9 +349,7 @@ def test_a_point_mass_is_a_visible_labelled_bar(histograms):
         frame = ax.get_window_extent(renderer)
         (bar,) = ax.patches
         drawn = bar.get_window_extent(renderer)
-    assert (
-        ax.get_title().replace("\n", " ").endswith("point mass: all 1,000 triangles have R − R̂ = 0")
-    )
+    assert ax.get_title().replace("\n", " ").endswith("point mass: all 1,000 have R − R̂ = 0")
     assert bar.get_height() == 1000 and bar.get_x() < 0 < bar.get_x() + bar.get_width()
     assert drawn.x0 - frame.x0 > 5 and drawn.width >= 2  # not hidden against the axis
     assert drawn.height > 0.8 * frame.height
@@ -362,9 +360,9 @@ def test_histogram_data_names_the_point_mass():
 
     constant = gap_histogram_data(np.full(7, 0.25), HISTOGRAM_MARKS)
     assert constant.bins is None and constant.point_mass == 0.25
-    assert constant.note == "point mass: all 7 triangles have (R − R̂)/(εL_i) = 0.25"
+    assert constant.note == "point mass: all 7 have (R − R̂)/(εL_i) = 0.25"
     one = gap_histogram_data(np.array([0.0, np.nan]), HISTOGRAM_MARKS)
-    assert one.note == "point mass: the one triangle with a value has R − R̂ = 0"
+    assert one.note == "point mass: the one with a value has R − R̂ = 0"
     narrow = gap_histogram_data(0.25 + np.array([0.0, 1e-9, 2e-9, np.nan]), HISTOGRAM_MARKS)
     assert narrow.zoomed and narrow.count == 4 and len(narrow.values) == 3
     assert narrow.bins[0] == 0.25 and narrow.bins[-1] == 0.25 + 2e-9

@@ -95,8 +95,6 @@ def lfs(
 
     if (mesh is None) == (mesh_file is None):
         raise InputError("give the mesh once: --mesh FILE")
-    if mesh_file is not None:
-        print(POSITIONAL_MESH_NOTE, file=sys.stderr)
     with progress_bar(not as_json) as progress:
         result = run(
             mesh=mesh or mesh_file,
@@ -107,6 +105,8 @@ def lfs(
             seed=seed,
             progress=progress,
         )
+    if mesh_file is not None:  # after the run: a bad input keeps its one line of error
+        print(POSITIONAL_MESH_NOTE, file=sys.stderr)
     return emit(result, as_json, _show)
 
 

@@ -299,10 +299,11 @@ def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
 
 
 def _everyone(values: np.ndarray, count: int) -> str:
+    """Who has the value, short enough for a title ("all 1,234 have")."""
     with_value = " with a value" if len(values) < count else ""
     if len(values) == 1:
-        return f"the one triangle{with_value} has"
-    return f"all {len(values):,} triangles{with_value} have"
+        return f"the one{with_value} has"
+    return f"all {len(values):,}{with_value} have"
 
 
 def _point_mass_note(values: np.ndarray, count: int) -> str:
