@@ -81,7 +81,7 @@ def test_tight_figures_and_reproduction(run_cli, tmp_path):
     code, out, _ = run_cli(
         "figure", "--out", str(tmp_path / "svg"), "--figure-format", "svg", "--json"
     )
-    assert code == 0 and len(json.loads(out)["figures"]) == 2
+    assert code == 0 and len(json.loads(out)["figures"]) == 3
 
 
 def test_main_exit_codes(capsys, monkeypatch):
