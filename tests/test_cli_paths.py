@@ -77,7 +77,11 @@ def test_tight_figures_and_reproduction(run_cli, tmp_path):
         assert data["eps_star_ratio"][mode] < data["eps_star"][mode]
     h3 = rows["ε up to which H3 alone gives (55), any mode"]
     assert list(h3.values()) == [pytest.approx(1 - 1 / (2 * 1.38))] * len(h3)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["comparison.png", "figure3.png", "ratio.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "comparison.png",
+        "figure3.png",
+        "ratio.png",
+    ]
     code, out, _ = run_cli(
         "figure", "--out", str(tmp_path / "svg"), "--figure-format", "svg", "--json"
     )
