@@ -579,7 +579,8 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
             ax.plot(eps, values, color="0.6", linewidth=0.8)
             ax.plot(eps[correct], values[correct], "o", color="C0", markersize=3.5)
             wrong = ~correct & np.isfinite(values)  # a cross at the wrong M̂'s own value
-            ax.plot(eps[wrong], values[wrong], "x", color="C3", markersize=6)
+            if wrong.any():
+                ax.plot(eps[wrong], values[wrong], "x", color="C3", markersize=6)
             blank = ~correct & ~np.isfinite(values)  # no value to plot: a cross on the axis
             if blank.any():  # (an empty unclipped line would upset the layout's extents)
                 ax.plot(
