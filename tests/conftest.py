@@ -17,3 +17,12 @@ def run_cli(capsys):
         return code, captured.out, captured.err
 
     return run
+
+
+@pytest.fixture(autouse=True)
+def _fresh_warnings():
+    """Each test sees every once-per-process warning (vorobound.errors.warn_once) afresh."""
+    from vorobound.errors import forget_warnings
+
+    forget_warnings()
+    yield

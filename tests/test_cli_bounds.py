@@ -43,7 +43,7 @@ def test_solve_json_paper_and_rigorous(run_cli):
 
 def test_solve_table(run_cli):
     code, out, _ = run_cli("solve")
-    assert code == 0 and "eps_star" in out
+    assert code == 0 and "ε* / (1/500)" in out
 
 
 @pytest.mark.parametrize(

@@ -7,8 +7,8 @@ import pytest
 
 from vorobound.bounds.chain import chain_bounds
 from vorobound.bounds.params import QualityParams
-from vorobound.plotting import plot_comparison, plot_figure3
-from vorobound.reports.figure_data import chain_curve, comparison_data, figure3_data
+from vorobound.plotting import plot_comparison, plot_figure3, plot_ratio
+from vorobound.reports.figure_data import figure3_data, target_figure_data
 
 PARAMS = QualityParams().at(0.0047)
 
@@ -36,14 +36,75 @@ def test_figure3_paper_curve_meets_target_at_solved_eps():
     assert len(_line(ax, r"\theta >").get_xydata()) == len(eps)
 
 
-def test_comparison_has_every_mode_and_the_target():
-    curves = [chain_curve(PARAMS.quality, mode) for mode in ("paper", "rigorous")]
-    ax = plot_comparison(comparison_data(curves, PARAMS.quality)).axes[0]
-    for curve in curves:
-        line = _line(ax, f"{curve.mode}:")
-        x, y = line.get_xydata().T
-        assert np.interp(curve.eps_star, x, y) == pytest.approx(0.76, rel=1e-3)
-    assert _line(ax, "target").get_ydata()[0] == pytest.approx(0.76)
+@pytest.fixture(scope="module")
+def target_data():
+    """Both targets' curves as `vorobound figure` draws them (every ε* marked)."""
+    from vorobound.api.figures import target_stars
+
+    return target_figure_data(PARAMS.quality, target_stars(PARAMS.quality))
+
+
+def _plotted(ax, colour, style):
+    """The (x, y) of the drawn line with this colour and line style (a mode and a target)."""
+    from matplotlib.colors import to_hex
+
+    found = [
+        line.get_xydata()
+        for line in ax.get_lines()
+        if to_hex(line.get_color()) == to_hex(colour) and line.get_linestyle() == style
+        and len(line.get_xdata()) > 2
+    ]  # fmt: skip
+    assert len(found) == 1, (colour, style, len(found))
+    return found[0].T
+
+
+def test_comparison_draws_both_targets_of_every_mode_densely(target_data):
+    """Each curve is the mode's bound over its target's allowance (the chains' own arrays, the
+    tight closed form on hundreds of ε, not a 7-point polyline), crossing 1 at its ε*, where a
+    marker sits."""
+    from vorobound.bounds.guarantee import bound_at
+    from vorobound.plotting import MODE_STYLE, TARGET_LINES
+
+    ax = plot_comparison(target_data).axes[0]
+    assert {(c.mode, c.target) for c in target_data.curves} == {
+        (m, t) for m in MODE_STYLE for t in ("additive", "ratio")
+    }
+    for curve in target_data.curves:
+        x, y = _plotted(ax, MODE_STYLE[curve.mode], TARGET_LINES[curve.target])
+        assert len(x) >= 500
+        np.testing.assert_allclose(y, curve.fraction, rtol=1e-12)
+        crossing = np.interp(0.0, np.log(y), np.log(x))  # log y increases through 0
+        assert np.exp(crossing) == pytest.approx(curve.eps_star, rel=5e-3)
+        marker = [
+            line
+            for line in ax.get_lines()
+            if line.get_label() == f"_{curve.mode} {curve.target} ε*"
+        ]
+        assert marker[0].get_xydata()[0] == pytest.approx([curve.eps_star, 1.0])
+    # the tight curve agrees with the project's bound, evaluated independently per ε
+    tight = next(c for c in target_data.curves if c.mode == "tight" and c.target == "ratio")
+    for index in (50, 300, 500):
+        at = bound_at(PARAMS.quality.at(float(tight.eps[index])), "tight")
+        assert tight.fraction[index] == pytest.approx(at.fraction, rel=1e-12)
+
+
+def test_ratio_figure_marks_rho_f_the_papers_eps_and_every_star(target_data):
+    from vorobound.plotting import MODE_STYLE
+    from vorobound.rounding import format_down
+
+    ax = plot_ratio(target_data).axes[0]
+    labels = [line.get_label() for line in ax.get_lines()]
+    for curve in target_data.of_target("ratio"):
+        x, y = _plotted(ax, MODE_STYLE[curve.mode], "-")
+        finite = np.isfinite(curve.value)
+        np.testing.assert_allclose(y[finite], curve.value[finite], rtol=1e-12)
+        assert (y[~finite] > ax.get_ylim()[1]).all()  # no bound: the line leaves the top
+        assert any(f"ε* = {format_down(curve.eps_star)}" in label for label in labels)
+        (star,) = [line for line in ax.get_lines() if line.get_label() == f"_{curve.mode} ε*"]
+        assert star.get_xydata()[0] == pytest.approx([curve.eps_star, target_data.rho_f])
+        assert ax.get_xlim()[0] < curve.eps_star < ax.get_xlim()[1]
+    assert _line(ax, r"\rho_f = 1.38").get_ydata()[0] == pytest.approx(1.38)
+    assert _line(ax, "paper's ε = 0.0047").get_xdata()[0] == pytest.approx(0.0047)
 
 
 def test_plotting_on_a_given_axes_returns_its_figure():
@@ -61,7 +122,9 @@ def test_figure_command_writes_each_format(run_cli, tmp_path, fmt):
     )
     assert code == 0
     paths = json.loads(out)["figures"]
-    assert {p.rsplit("/", 1)[-1] for p in paths} == {f"figure3.{fmt}", f"comparison.{fmt}"}
+    assert {p.rsplit("/", 1)[-1] for p in paths} == {
+        f"{stem}.{fmt}" for stem in ("figure3", "comparison", "ratio")
+    }
     for path in paths:
         assert (tmp_path / path.rsplit("/", 1)[-1]).stat().st_size > 1000
 
@@ -158,14 +221,46 @@ def _legends_over_data(fig) -> list[str]:
 
 
 @pytest.fixture(scope="module")
-def committed_figures():
-    """Figure 3 and the comparison exactly as `vorobound figure` draws them (tight curves
-    included)."""
-    from vorobound.api.figures import tight_stars
-    from vorobound.reports.figure_data import figure_set_data
+def committed_figures(target_data):
+    """Figure 3, the comparison and the ratio figure exactly as `vorobound figure` draws them."""
+    return (
+        plot_figure3(figure3_data(PARAMS.quality)),
+        plot_comparison(target_data),
+        plot_ratio(target_data),
+    )
 
-    figure3, comparison = figure_set_data(PARAMS.quality, tight_stars(PARAMS.quality))
-    return plot_figure3(figure3), plot_comparison(comparison)
+
+def _texts_outside(fig) -> list[str]:
+    """Every drawn text (titles, labels, legend entries, tags) that reaches outside the
+    figure, measured with the renderer's bounding boxes."""
+    from vorobound.plotting import rendered, style
+
+    renderer = rendered(fig)
+    bad = []
+    ticks = {  # checked by _clipped_tick_labels, which knows the ones not drawn
+        id(label)
+        for ax in fig.axes
+        for axis in (ax.xaxis, ax.yaxis)
+        for tick in axis.get_major_ticks() + axis.get_minor_ticks()
+        for label in (tick.label1, tick.label2)
+    }
+    with style():
+        bounds = fig.bbox
+        for text in fig.findobj(
+            lambda a: hasattr(a, "get_text") and hasattr(a, "get_window_extent")
+        ):
+            if id(text) in ticks or not (text.get_visible() and text.get_text().strip()):
+                continue
+            box = text.get_window_extent(renderer)
+            inside = bounds.x0 - 0.5 <= box.x0 and box.x1 <= bounds.x1 + 0.5
+            if not (inside and bounds.y0 - 0.5 <= box.y0 and box.y1 <= bounds.y1 + 0.5):
+                bad.append(text.get_text())
+        legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+        for legend in legends:
+            box = legend.get_window_extent(renderer)
+            if not (bounds.x0 <= box.x0 and box.x1 <= bounds.x1):
+                bad.append("legend")
+    return bad
 
 
 HISTOGRAM_MARKS = [("paper", 2.34, "invalid"), ("rigorous", 2.34, "proven"), ("tight", 0.935, "p")]
@@ -179,25 +274,35 @@ def _histograms():
         "point mass at 0": plot_gap_histogram(np.zeros(1000), HISTOGRAM_MARKS, "torus"),
         "spread": plot_gap_histogram(spread, HISTOGRAM_MARKS, "torus"),
         "beyond the marks": plot_gap_histogram(3 + spread, HISTOGRAM_MARKS, "torus"),
+        "near point mass": plot_gap_histogram(1e-6 * spread - 2e-8, HISTOGRAM_MARKS, CAD_TITLE),
     }
+
+
+CAD_TITLE = "cube.stl (L: estimated, 1-Lipschitz (docs/lfs.md))"
+"""The long title a check of an estimated mesh gives its histogram."""
 
 
 def test_committed_figures_keep_tick_labels_and_legends_clear(committed_figures):
     for fig in committed_figures:
         assert _clipped_tick_labels(fig) == []
         assert _legends_over_data(fig) == []
+        assert _texts_outside(fig) == []
 
 
 @pytest.mark.parametrize("sigma, rho_f", [(0.75, 1.38), (0.5, 1.1), (1.0, 2.0), (0.75, 5.0)])
 def test_tick_labels_are_never_clipped(sigma, rho_f):
+    from vorobound.api.figures import target_stars
+
     quality = QualityParams(sigma=sigma, rho_f=rho_f)
-    curves = [chain_curve(quality, mode) for mode in ("paper", "rigorous")]
+    targets = target_figure_data(quality, target_stars(quality))
     for fig in (
         plot_figure3(figure3_data(quality)),
-        plot_comparison(comparison_data(curves, quality)),
+        plot_comparison(targets),
+        plot_ratio(targets),
     ):
         assert _clipped_tick_labels(fig) == []
         assert _legends_over_data(fig) == []
+        assert _texts_outside(fig) == []
 
 
 @pytest.fixture(scope="module")
@@ -205,11 +310,31 @@ def histograms():
     return _histograms()
 
 
-@pytest.mark.parametrize("name", ["point mass at 0", "spread", "beyond the marks"])
+@pytest.mark.parametrize(
+    "name", ["point mass at 0", "spread", "beyond the marks", "near point mass"]
+)
 def test_histogram_layout(histograms, name):
     fig = histograms[name]
     assert _clipped_tick_labels(fig) == []
     assert _legends_over_data(fig) == []
+    assert _texts_outside(fig) == []
+
+
+def test_a_near_point_mass_is_drawn_on_its_own_scale(histograms):
+    """A CAD part's gaps within 10⁻⁶ of 0 beside bounds near 1: the bars span the data (not one
+    bar at 0), the bounds are listed as off the scale (rounded up), and the title says why."""
+    from vorobound.rounding import format_up
+
+    ax = histograms["near point mass"].axes[0]
+    lefts = [bar.get_x() for bar in ax.patches]
+    heights = [bar.get_height() for bar in ax.patches]
+    assert sum(heights) == 5000 and sum(h > 0 for h in heights) > 20
+    low, high = ax.get_xlim()
+    assert low <= min(lefts) and high - low < 1e-5
+    assert "point mass beside the bounds" in ax.get_title()
+    texts = [t.get_text() for legend in ax.figure.legends for t in legend.get_texts()]
+    assert f"tight (p): {format_up(0.935, 3)}, off the scale →" in texts
+    assert not any(line.get_xdata()[0] > high for line in ax.get_lines())
 
 
 def test_a_point_mass_is_a_visible_labelled_bar(histograms):
@@ -224,8 +349,7 @@ def test_a_point_mass_is_a_visible_labelled_bar(histograms):
         frame = ax.get_window_extent(renderer)
         (bar,) = ax.patches
         drawn = bar.get_window_extent(renderer)
-        texts = [text.get_text() for legend in fig.legends for text in legend.get_texts()]
-    assert texts[0] == "all 1,000 triangles have R − R̂ = 0"
+    assert ax.get_title().replace("\n", " ").endswith("point mass: all 1,000 have R − R̂ = 0")
     assert bar.get_height() == 1000 and bar.get_x() < 0 < bar.get_x() + bar.get_width()
     assert drawn.x0 - frame.x0 > 5 and drawn.width >= 2  # not hidden against the axis
     assert drawn.height > 0.8 * frame.height
@@ -236,11 +360,67 @@ def test_histogram_data_names_the_point_mass():
 
     constant = gap_histogram_data(np.full(7, 0.25), HISTOGRAM_MARKS)
     assert constant.bins is None and constant.point_mass == 0.25
-    assert constant.note == "all 7 triangles have (R − R̂)/(εL_i) = 0.25"
+    assert constant.note == "point mass: all 7 have (R − R̂)/(εL_i) = 0.25"
+    one = gap_histogram_data(np.array([0.0, np.nan]), HISTOGRAM_MARKS)
+    assert one.note == "point mass: the one with a value has R − R̂ = 0"
     narrow = gap_histogram_data(0.25 + np.array([0.0, 1e-9, 2e-9, np.nan]), HISTOGRAM_MARKS)
-    assert narrow.bins is None and narrow.count == 4 and len(narrow.values) == 3
-    assert narrow.note.startswith("all 3 triangles with a value have (R − R̂)/(εL_i) in [0.25")
+    assert narrow.zoomed and narrow.count == 4 and len(narrow.values) == 3
+    assert narrow.bins[0] == 0.25 and narrow.bins[-1] == 0.25 + 2e-9
+    assert narrow.note.endswith("every value in [0.25, 0.250000002]")  # apart, outward
+    assert [m[0] for m in narrow.off_scale] == ["paper", "rigorous", "tight"]
     spread = gap_histogram_data(np.linspace(0, 1, 50), HISTOGRAM_MARKS)
     assert spread.point_mass is None and spread.note is None
     assert spread.xlim[0] < 0 and spread.xlim[1] > 2.34  # data and marks clear of the frame
     assert np.histogram(spread.values, spread.bins)[0].sum() == 50
+
+
+def test_reconstruct_sweep_puts_each_cross_at_its_own_value():
+    """A wrong M̂ with a value is crossed at that value; one without a value on the axis; each
+    ε* line is numbered, near-coincident ones (0.024781 and 0.02557) on different rows."""
+    from vorobound.plotting import plot_reconstruct_sweep, rendered, style
+
+    eps = np.array([0.01, 0.02, 0.04, 0.08])
+    values = [0.1, 0.3, None, 0.2]
+    correct = [True, False, False, True]
+    marks = [("tight", "additive", 0.0247811999), ("tight, λ = 1", "ratio", 0.0255700324)]
+    fig = plot_reconstruct_sweep(eps, {"Hausdorff / (εL)": values}, correct, marks, "M̂ of t")
+    ax = fig.axes[0]
+    crosses = [line for line in ax.get_lines() if line.get_marker() == "x"]
+    valued, blank = crosses
+    assert valued.get_xydata().tolist() == [[0.02, 0.3]]
+    assert blank.get_xdata().tolist() == [0.04] and blank.get_ydata().tolist() == [0.0]
+    assert blank.get_transform() == ax.get_xaxis_transform()
+    tags = {t.get_text(): t for t in ax.texts}
+    assert set(tags) == {"1", "2"} and tags["1"].get_position()[1] != tags["2"].get_position()[1]
+    labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
+    assert labels == ["1  tight, additive: ε* = 0.024781", "2  tight, λ = 1, ratio: ε* = 0.02557"]
+    renderer = rendered(fig)
+    with style():
+        one, two = (tags[k].get_window_extent(renderer) for k in ("1", "2"))
+    assert one.y1 <= two.y0 or two.y1 <= one.y0  # readable apart
+    assert _texts_outside(fig) == []
+    assert _legends_over_data(fig) == []
+
+
+def test_reconstruct_sweep_layout_with_every_mark():
+    """Nine ε* lines, three panels and a long surface name (the torus sweep's figure): the
+    layout holds (no collapsed axes), the legend leaves the data and the texts stay inside."""
+    import warnings
+
+    from vorobound.bounds.params import QualityParams
+    from vorobound.plotting import plot_reconstruct_sweep, rendered
+    from vorobound.reports.reconstruct_sweep import bound_marks
+
+    marks = [(m.label, m.target, m.eps_star) for m in bound_marks(QualityParams())]
+    eps = np.array([0.06, 0.12, 0.18, 0.24])
+    panels = {
+        "Hausdorff / (εL)": [0.05, 0.09, 0.14, 0.25],
+        "max normal dev. (°)": [35.2, 33.3, 35.2, 43.1],
+        "min angle (°)": [5e-4, 7e-3, 3e-3, 0.06],
+    }
+    fig = plot_reconstruct_sweep(eps, panels, [True] * 4, marks, "M̂ of torus R=3, r=1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # "constrained_layout not applied" is a warning
+        rendered(fig)
+    assert _texts_outside(fig) == []
+    assert _legends_over_data(fig) == []

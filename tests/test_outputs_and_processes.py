@@ -183,7 +183,11 @@ def test_concurrent_figure_runs_each_leave_complete_files(tmp_path, figure_sets)
         assert proc.returncode == 0, err
     for name, content in _figure_bytes(shared).items():
         assert content in [files[name] for files in figure_sets.values()]
-    assert sorted(p.name for p in shared.iterdir()) == ["comparison.png", "figure3.png"]
+    assert sorted(p.name for p in shared.iterdir()) == [
+        "comparison.png",
+        "figure3.png",
+        "ratio.png",
+    ]
 
 
 # --- worker processes -----------------------------------------------------------------------

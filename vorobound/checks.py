@@ -92,3 +92,44 @@ def checked_count(value, name: str, low: int, high: int) -> int:
 def checked_seed(seed) -> int:
     """``seed`` as an int in [0, 2⁶³ − 1]; raise InputError otherwise."""
     return checked_count(seed, "seed", 0, SEED_MAX)
+
+
+MAX_RANGE_POINTS = 1_000_000
+"""Most values one ``start:stop:num`` range may produce (checked before it is built)."""
+
+
+def parse_values(text: str, flag: str, allow_none: bool = False) -> list[float | None]:
+    """``start:stop:num`` (inclusive, evenly spaced) or a comma list, as floats.
+
+    With ``allow_none``, the word ``none`` in a comma list stands for "no value" (the tight
+    mode's "no Lipschitz condition").
+    """
+    text = text.strip()
+    usage = f"{flag}: expected start:stop:num or a comma list of numbers, got {text!r}"
+    if ":" in text:
+        parts = text.split(":")
+        try:
+            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+        except (ValueError, IndexError):
+            raise InputError(usage) from None
+        if len(parts) != 3 or not (math.isfinite(start) and math.isfinite(stop)):
+            raise InputError(usage)
+        if not 1 <= num <= MAX_RANGE_POINTS:
+            raise InputError(f"{flag}: the number of points must be in [1, {MAX_RANGE_POINTS:,}]")
+        import numpy as np
+
+        values: list[float | None] = np.linspace(start, stop, num).tolist()
+    else:
+        values = []
+        for item in text.split(","):
+            item = item.strip()
+            if allow_none and item.lower() == "none":
+                values.append(None)
+                continue
+            try:
+                values.append(float(item))
+            except ValueError:
+                raise InputError(usage) from None
+    if not all(v is None or math.isfinite(v) for v in values):
+        raise InputError(f"{flag}: values must be finite, got {text!r}")
+    return values

@@ -68,6 +68,27 @@ class VoroboundWarning(RuntimeWarning):
     """
 
 
+_WARNED: set = set()
+"""The (subject, message) pairs warned about in this process (:func:`warn_once`)."""
+
+
+def warn_once(message: str, subject=None, stacklevel: int = 2) -> None:
+    """Warn with :class:`VoroboundWarning` unless this ``message`` was already given about
+    this ``subject`` (a mesh's fingerprint, say) in this process: the steps of one workflow
+    (advise, sample, check) that each read the same mesh say what is wrong with it once."""
+    import warnings
+
+    if (subject, message) in _WARNED:
+        return
+    _WARNED.add((subject, message))
+    warnings.warn(message, VoroboundWarning, stacklevel=stacklevel + 1)
+
+
+def forget_warnings() -> None:
+    """Let every :func:`warn_once` warning be given again (tests start from a clean slate)."""
+    _WARNED.clear()
+
+
 class WorkerError(VoroboundError):
     """A worker process or the cluster running a computation failed (killed, out of memory,
     unreachable); nothing was written."""

@@ -7,8 +7,8 @@ from pathlib import Path
 from .files import atomic_path, ensure_folder, write_set
 from .reports.figure_data import (
     HISTOGRAM_MARGIN,
-    ComparisonData,
     Figure3Data,
+    TargetFigureData,
     gap_histogram_data,
 )
 
@@ -18,15 +18,13 @@ FIGURE_HEIGHT_IN = 2.6
 """Height of every figure, in inches."""
 DPI = 200
 """Resolution of raster formats."""
-COMPARISON_YLIM_FACTOR = 2.5
-"""The comparison figure shows bounds up to this multiple of the target."""
 TICKS = 6
 """At most this many intervals between major ticks on each axis (fixed: see _fixed_ticks)."""
 TICK_STEPS = (1, 2, 5, 10)
 """Tick spacings allowed (times a power of ten): round labels such as 0.002, not 0.0015."""
 LEGEND_COLUMNS = 2
-"""Columns of the legends of Figure 3 and the comparison, which sit below the axes (never over
-the data); the gap histogram's longer labels take one column."""
+"""Columns of the legend of Figure 3, which sits below the axes (never over the data); the
+other figures' longer labels take one column."""
 LEGEND_ROW_IN = 0.16
 """Height added to a figure per legend row, in inches (7-point text and its spacing)."""
 POINT_MASS_WIDTH = 0.012
@@ -60,24 +58,6 @@ def _axes(ax, legend_rows: int = 0):
     height = FIGURE_HEIGHT_IN + legend_rows * LEGEND_ROW_IN
     fig = Figure(figsize=(COLUMN_WIDTH_IN, height), layout="constrained")
     return fig, fig.add_subplot()
-
-
-def _legend_outside(ax, columns: int = LEGEND_COLUMNS, first: str | None = None) -> None:
-    """The legend of ``ax`` outside its axes, so that it never covers data: below it in a
-    figure of its own (the constrained layout makes room), else to its right. The entry
-    labelled ``first`` leads."""
-    from matplotlib.layout_engine import ConstrainedLayoutEngine
-
-    handles, labels = ax.get_legend_handles_labels()
-    if first in labels:
-        lead = labels.index(first)
-        handles.insert(0, handles.pop(lead))
-        labels.insert(0, labels.pop(lead))
-    fig = ax.figure
-    if len(fig.axes) == 1 and isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine):
-        fig.legend(handles, labels, loc="outside lower center", ncols=columns)
-    else:
-        ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
 
 
 def style():
@@ -123,6 +103,8 @@ def plot_figure3(data: Figure3Data, ax=None):
     """
     import matplotlib
 
+    from .rounding import format_down
+
     with matplotlib.rc_context(_STYLE):
         fig, ax = _axes(ax, legend_rows=3)
         ax.plot(data.eps, data.bound_acute, label=r"bound, $\theta \leq \pi/2$", color="C0")
@@ -142,7 +124,7 @@ def plot_figure3(data: Figure3Data, ax=None):
         )
         for eps_mark, label, color in (
             (data.eps_baseline, r"$\epsilon = 1/500$", "C2"),
-            (data.eps_star, rf"$\epsilon^* = {data.eps_star:.4f}$", "C3"),
+            (data.eps_star, rf"$\epsilon^* = {format_down(data.eps_star)}$", "C3"),
         ):
             ax.axvline(eps_mark, color=color, linewidth=0.8, label=label)
         ax.set_xlabel(r"sampling density $\epsilon$")
@@ -151,46 +133,258 @@ def plot_figure3(data: Figure3Data, ax=None):
         ax.set_xlim(0, data.eps[-1])
         ax.set_ylim(0, None)
         _fixed_ticks(ax)
-        _legend_outside(ax)
+        _legend_below(ax, ax.get_legend_handles_labels()[0], columns=LEGEND_COLUMNS)
         ax.grid(alpha=0.3)
     return fig
 
 
-def plot_comparison(data: ComparisonData, ax=None):
-    """bound(ε)/ε for every mode, the target (ρ_f − 1)·δ/ε·L_i, and each mode's ε*.
+MODE_STYLE = {"paper": "C0", "rigorous": "C1", "tight": "C2", "tight, λ = 1": "C3"}
+"""One colour per mode in every figure of both targets."""
+TARGET_LINES = {"additive": "-", "ratio": "--"}
+"""One line style per target in the comparison."""
+TARGET_WORDS = {
+    "additive": r"additive: $R - \hat R \leq (\rho_f - 1)\,\delta L_i$",
+    "ratio": r"ratio: $R \leq \rho_f \hat R$, eq. (54)",
+}
+FRACTION_YLIM = (1e-2, 20.0)
+"""The comparison shows fractions of the target in this range (log scale)."""
+RATIO_YLIM_FACTOR = 2.5
+"""The ratio figure shows R/R̂ up to 1 + this multiple of ρ_f − 1."""
+STAR_MARKERS = {"additive": "o", "ratio": "s"}
+LEGEND_CHARS = 52
+"""Legend labels are wrapped at this many characters, so a legend fits a column's width."""
+
+
+def _colour(mode: str) -> str:
+    return MODE_STYLE.get(mode, "C4")
+
+
+def _drawn(curve, values):
+    """(ε, values) split where the tight closed form is a proven bound only: the exact part
+    (solid) and the upper-bound-only part (NaN elsewhere), each a drawable array."""
+    import numpy as np
+
+    exact = np.where(curve.upper_only, np.nan, values)
+    upper = np.where(curve.upper_only, values, np.nan)
+    # join the pieces: each also takes its neighbour's first point
+    edges = np.flatnonzero(np.diff(curve.upper_only.astype(int)) != 0)
+    for edge in edges:
+        upper[edge] = values[edge]
+        upper[edge + 1] = values[edge + 1]
+    return exact, upper
+
+
+def _star_label(curve) -> str:
+    from .rounding import format_down
+
+    if curve.eps_star is None:
+        return "no ε*"
+    return f"ε* = {format_down(curve.eps_star)}"
+
+
+def plot_comparison(data: TargetFigureData, ax=None):
+    """Every mode's bound as a fraction of each target's allowance, against ε: solid for the
+    additive target, dashed for the ratio target; a curve meets its target below 1, and its
+    ε* (marked) is where it crosses 1.
 
     Returns the matplotlib Figure.
+
+    References
+    ----------
+    Eq. (29)–(30), (33)–(55); docs/tight.md.
     """
     import matplotlib
+    import numpy as np
+    from matplotlib.lines import Line2D
 
+    modes = list(dict.fromkeys(c.mode for c in data.curves))
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax, legend_rows=-(-(len(data.curves) + 1) // LEGEND_COLUMNS))
-        for index, curve in enumerate(data.curves):
-            color = f"C{index}"
+        fig, ax = _axes(ax, legend_rows=len(modes) + 3)
+        upper_drawn = False
+        for curve in data.curves:
+            colour, style = _colour(curve.mode), TARGET_LINES[curve.target]
+            exact, upper = _drawn(curve, curve.fraction)
             ax.plot(
                 curve.eps,
-                curve.bound_over_eps,
-                color=color,
-                label=rf"{curve.mode}: $\epsilon^* = {curve.eps_star:.4g}$",
-                marker="o" if curve.mode.startswith("tight") else None,
-                markersize=2.5,
+                exact,
+                color=colour,
+                linestyle=style,
+                label=f"_{curve.mode} {curve.target}",
             )
-            ax.axvline(curve.eps_star, color=color, linewidth=0.6, linestyle="--")
-        ax.axhline(
-            data.target_over_eps,
-            color="k",
-            linestyle=":",
-            label=rf"target $(\rho_f-1)\,\delta/\epsilon = {data.target_over_eps:.2f}$",
-        )
+            if np.isfinite(upper).any():
+                upper_drawn = True
+                ax.plot(
+                    curve.eps,
+                    upper,
+                    color=colour,
+                    linestyle=":",
+                    linewidth=0.9,
+                    label=f"_{curve.mode} {curve.target} upper bound",
+                )
+            if curve.eps_star is not None:
+                ax.plot(
+                    [curve.eps_star],
+                    [1.0],
+                    STAR_MARKERS[curve.target],
+                    color=colour,
+                    markersize=3.5,
+                    label=f"_{curve.mode} {curve.target} ε*",
+                )
+        ax.axhline(1.0, color="k", linewidth=0.8, label="_target met below 1")
         ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(data.curves[0].eps[0], data.curves[0].eps[-1])
+        ax.set_ylim(*FRACTION_YLIM)
         ax.set_xlabel(r"sampling density $\epsilon$")
-        ax.set_ylabel(r"bound on $(R - \hat R)\,/\,(\epsilon L_i)$")
-        ax.set_title("Bounds on R − R̂ by mode")
-        ax.set_ylim(0, COMPARISON_YLIM_FACTOR * data.target_over_eps)
+        ax.set_ylabel("bound / target's allowance")
+        ax.set_title("Both targets by mode (met below 1)")
+        handles = []
+        for mode in modes:
+            stars = {c.target: c for c in data.curves if c.mode == mode}
+            text = f"{mode}: ε* = " + ", ".join(
+                f"{_star_label(stars[t])[5:]} ({t[:3]}.)"
+                for t in ("additive", "ratio")
+                if t in stars
+            )
+            handles.append(Line2D([], [], color=_colour(mode), label=text))
+        for target, words in TARGET_WORDS.items():
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color="0.3",
+                    linestyle=TARGET_LINES[target],
+                    marker=STAR_MARKERS[target],
+                    markersize=3.5,
+                    label=words,
+                )
+            )
+        if upper_drawn:
+            handles.append(
+                Line2D(
+                    [],
+                    [],
+                    color="0.3",
+                    linestyle=":",
+                    label="tight closed form: proven upper bound only",
+                )
+            )
         _fixed_ticks(ax)
-        _legend_outside(ax)
+        _legend_below(ax, handles, columns=1)
         ax.grid(alpha=0.3, which="both")
     return fig
+
+
+def plot_ratio(data: TargetFigureData, ax=None):
+    """The ratio target: each mode's bound on R/R̂ against ε, ρ_f, the paper's ε and every
+    mode's ε* of the ratio target (where its curve meets ρ_f).
+
+    Returns the matplotlib Figure.
+
+    References
+    ----------
+    Eq. (30), (54); docs/tight.md, "The ratio target".
+    """
+    import matplotlib
+    import numpy as np
+
+    curves = data.of_target("ratio")
+    top = 1 + RATIO_YLIM_FACTOR * (data.rho_f - 1)
+    with matplotlib.rc_context(_STYLE):
+        fig, ax = _axes(ax, legend_rows=len(curves) + 2)
+        for curve in curves:
+            colour = _colour(curve.mode)
+            value = np.where(np.isinf(curve.value), 2 * top, curve.value)  # off the top
+            exact, upper = _drawn(curve, value)
+            claim = f", {curve.claim}" if curve.claim else ""
+            ax.plot(
+                curve.eps, exact, color=colour, label=f"{curve.mode}: {_star_label(curve)}{claim}"
+            )
+            if np.isfinite(upper).any():
+                ax.plot(
+                    curve.eps,
+                    upper,
+                    color=colour,
+                    linestyle=":",
+                    linewidth=0.9,
+                    label=f"{curve.mode}: proven upper bound only",
+                )
+            if curve.eps_star is not None:
+                ax.plot(
+                    [curve.eps_star],
+                    [data.rho_f],
+                    "o",
+                    color=colour,
+                    markersize=3.5,
+                    label=f"_{curve.mode} ε*",
+                )
+                ax.axvline(
+                    curve.eps_star,
+                    color=colour,
+                    linewidth=0.6,
+                    linestyle="--",
+                    label=f"_{curve.mode} ε* line",
+                )
+        ax.axhline(
+            data.rho_f,
+            color="k",
+            linestyle=":",
+            label=rf"$\rho_f = {data.rho_f:g}$ ($R \leq \rho_f \hat R$ below)",
+        )
+        ax.axvline(
+            data.paper_eps,
+            color="0.4",
+            linewidth=1.0,
+            linestyle="-.",
+            label=f"the paper's ε = {data.paper_eps:g}",
+        )
+        ax.set_xscale("log")
+        ax.set_xlim(*_ratio_span(curves, data.paper_eps))
+        ax.set_ylim(1.0, top)
+        ax.set_xlabel(r"sampling density $\epsilon$")
+        ax.set_ylabel(r"bound on $R\,/\,\hat R$")
+        ax.set_title(r"Ratio target $R \leq \rho_f \hat R$ (eq. (54))")
+        _fixed_ticks(ax)
+        _legend_below(ax, ax.get_legend_handles_labels()[0], columns=1)
+        ax.grid(alpha=0.3, which="both")
+    return fig
+
+
+RATIO_SPAN = 4.0
+"""The ratio figure spans ε from a fourth of the smallest marked ε to four times the largest."""
+
+
+def _ratio_span(curves, paper_eps: float) -> tuple[float, float]:
+    """The ε range of the ratio figure: every ε* and the paper's ε with room on both sides,
+    within the computed grid."""
+    marked = [c.eps_star for c in curves if c.eps_star is not None] + [paper_eps]
+    grid = curves[0].eps
+    return max(grid[0], min(marked) / RATIO_SPAN), min(grid[-1], max(marked) * RATIO_SPAN)
+
+
+def _wrapped(label: str, width: int = LEGEND_CHARS) -> str:
+    """A legend label on lines of at most ``width`` characters (mathtext kept whole)."""
+    import textwrap
+
+    if "$" in label or len(label) <= width:
+        return label
+    return "\n".join(textwrap.wrap(label, width, break_long_words=False))
+
+
+def _legend_below(ax, handles, columns: int = 1) -> None:
+    """``handles`` as the legend of ``ax``, outside its axes so that it never covers data:
+    below it in a figure of its own (the constrained layout makes room; labels are wrapped to
+    the column so that the legend stays inside the figure), else to its right."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    for handle in handles:
+        handle.set_label(_wrapped(handle.get_label()))
+    labels = [h.get_label() for h in handles]
+    fig = ax.figure
+    if len(fig.axes) == 1 and isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine):
+        fig.legend(handles, labels, loc="outside lower center", ncols=columns)
+    else:
+        ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
 
 
 def save(fig, out_dir: str | Path, stem: str, fmt: str = "png", dpi: int = DPI) -> Path:
@@ -218,9 +412,11 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
     """Histogram of the realized (R − R̂)/(εL_i) of real guide triangles, each mode's bound marked.
 
     ``marks`` holds (mode, bound over εL_i, claim); non-finite bounds are left out. Counts are
-    on a log scale (a few extreme triangles stay visible). When every triangle has the same
-    gap (constant L gives R − R̂ = 0 exactly) the figure shows one labelled bar there, clear of
-    the frame, instead of a histogram. Returns the matplotlib Figure.
+    on a log scale (a few extreme triangles stay visible). A point mass on the scale of the
+    bounds (every triangle in one bin) is drawn on its own scale, the bounds beyond it listed
+    as off the scale, and the title says so; when every triangle has the same gap (constant L
+    gives R − R̂ = 0 exactly) the figure shows one bar there, clear of the frame. Returns the
+    matplotlib Figure.
 
     References
     ----------
@@ -229,22 +425,25 @@ def plot_gap_histogram(gap_ratio, marks, title: str, ax=None):
     import matplotlib
 
     data = gap_histogram_data(gap_ratio, marks)
-    entries = len(data.marks) + (data.point_mass is not None)
+    entries = len(data.marks) + len(data.off_scale)
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax, legend_rows=entries)
+        fig, ax = _axes(ax, legend_rows=entries + 1)
         if data.point_mass is not None:
             ax.bar(
                 [data.point_mass],
                 [len(data.values)],
                 width=POINT_MASS_WIDTH * (data.xlim[1] - data.xlim[0]),
                 color="0.35",
-                label=data.note,
+                label="_point mass",
             )
             ax.set_ylim(0, 1.15 * len(data.values))
         elif data.bins is not None:
             ax.hist(data.values, bins=data.bins, color="0.5", log=True)
             ax.set_ylim(bottom=0.5)  # a bin of one triangle stays visible
-        _gap_axes(ax, data.marks, data.xlim, f"{title}: {data.count:,}", data.note)
+        heading = f"{title}: {data.count:,} guide triangles"
+        if data.note is not None:
+            heading += f"\n{data.note}"
+        _gap_axes(ax, data.marks, data.xlim, heading, data.off_scale)
     return fig
 
 
@@ -288,23 +487,39 @@ def plot_gap_counts(edges, counts, gap_range, marks, title: str, ax=None):
             ax.bar(lefts, bins, width=rights - lefts, align="edge", color="0.5", log=True)
             ax.set_ylim(bottom=0.5)
         margin = HISTOGRAM_MARGIN * (high - low)
-        _gap_axes(ax, shown, (low - margin, high + margin), f"{title}: {total:,}", None)
+        _gap_axes(ax, shown, (low - margin, high + margin), f"{title}: {total:,} guide triangles")
     return fig
 
 
-def _gap_axes(ax, marks, xlim, title: str, note: str | None) -> None:
-    """The bounds' lines, labels, ticks and legend of a gap histogram."""
+TITLE_CHARS = 46
+"""Titles are wrapped at this many characters, so a title fits a column's width."""
+
+
+def _gap_axes(ax, marks, xlim, title: str, off_scale=()) -> None:
+    """The bounds' lines, labels, ticks and legend of a gap histogram; ``off_scale`` are
+    bounds beyond the range shown (listed in the legend, not drawn)."""
+    import textwrap
+
+    from matplotlib.lines import Line2D
+
+    from .rounding import format_up
+
     for index, (mode, value, claim) in enumerate(marks):
-        label = f"{mode} ({claim}): {value:.3g}"
+        label = f"{mode} ({claim}): {format_up(value, 3)}"
         style = ("-", "--", "-.", ":")[index % 4]  # equal bounds stay visible
         ax.axvline(value, color=f"C{index}", linewidth=1.2, linestyle=style, label=label)
+    handles = ax.get_legend_handles_labels()[0]
+    for mode, value, claim in off_scale:
+        label = f"{mode} ({claim}): {format_up(value, 3)}, off the scale →"
+        handles.append(Line2D([], [], color="0.6", linestyle="none", marker=">", label=label))
     ax.set_xlim(*xlim)
     ax.set_xlabel(r"realized $(R - \hat R)\,/\,(\epsilon L_i)$")
     ax.set_ylabel("guide triangles")
-    ax.set_title(f"{title} guide triangles")
+    lines = [row for part in title.split("\n") for row in textwrap.wrap(part, TITLE_CHARS)]
+    ax.set_title("\n".join(lines), fontsize=8)
     _fixed_ticks(ax)
-    if len(marks) + (note is not None):
-        _legend_outside(ax, columns=1, first=note)
+    if handles:
+        _legend_below(ax, handles, columns=1)
     ax.grid(alpha=0.3)
 
 
@@ -359,23 +574,31 @@ def plot_reconstruct_sweep(eps, panels: dict, correct, marks, title: str):
             values = np.array([np.nan if v is None else v for v in values], dtype=float)
             ax.plot(eps, values, color="0.6", linewidth=0.8)
             ax.plot(eps[correct], values[correct], "o", color="C0", markersize=3.5)
-            wrong = eps[~correct]  # crosses on the axis: a wrong M̂ may have no value to plot
-            ax.plot(
-                wrong,
-                np.full(len(wrong), 0.04),
-                "x",
-                color="C3",
-                markersize=6,
-                transform=ax.get_xaxis_transform(),
-            )
+            wrong = ~correct & np.isfinite(values)  # a cross at the wrong M̂'s own value
+            if wrong.any():
+                ax.plot(eps[wrong], values[wrong], "x", color="C3", markersize=6)
+            blank = ~correct & ~np.isfinite(values)  # no value to plot: a cross on the axis
+            if blank.any():  # (an empty unclipped line would upset the layout's extents)
+                ax.plot(
+                    eps[blank],
+                    np.zeros(int(blank.sum())),
+                    "x",
+                    color="C3",
+                    markersize=6,
+                    clip_on=False,
+                    transform=ax.get_xaxis_transform(),
+                )
             ax.set_ylabel(label)
-        _eps_axes(fig, axes, marks, f"{title}: o right topology, x wrong")
+        _eps_axes(fig, axes, marks, f"{title}\no: right topology, x: wrong (on the axis: no value)")
     return fig
 
 
 def _eps_axes(fig, axes, marks, title: str) -> None:
     """Shared ε axis (log) of a figure against ε: grid, every bound's ε* as a vertical line
-    (``marks``: (label, target, ε*) triples; additive dashed, ratio solid), title, legend."""
+    (``marks``: (label, target, ε*) triples; additive dashed, ratio solid; ε* rounded down,
+    numbered, tags of near-coincident lines on separate rows), title, legend."""
+    from .rounding import format_down
+
     colours = {name: f"C{i}" for i, name in enumerate(dict.fromkeys(m[0] for m in marks))}
     styles = {"additive": "--", "ratio": "-"}
     for ax in axes:
@@ -386,12 +609,14 @@ def _eps_axes(fig, axes, marks, title: str) -> None:
                 color=colours[name],
                 linewidth=0.9,
                 linestyle=styles.get(target, ":"),
-                label=f"{name}, {target}: ε* = {star:.3g}",
+                label=f"{name}, {target}: ε* = {format_down(star)}",
             )
     axes[-1].set_xscale("log")
     axes[-1].set_xlabel(r"sampling density $\epsilon$")
     axes[0].set_title(title)
+    _tag_lines(axes[0], [star for _, _, star in marks])
     handles, labels = axes[0].get_legend_handles_labels()
+    labels = [f"{index}  {label}" for index, label in enumerate(labels, start=1)]
     if handles:
         fig.legend(handles, labels, loc="outside right upper", fontsize=6)
 
@@ -433,3 +658,44 @@ def plot_reconstruct_draws(eps, share_correct, spreads: dict, band, marks, title
             ax.legend(fontsize=6, loc="upper left")
         _eps_axes(fig, axes, marks, f"{title}: shaded, the transition band")
     return fig
+
+
+TAG_GAP = 0.045
+"""Tags of vertical lines closer than this share of the axes' width go on separate rows."""
+TAG_ROW = 0.1
+"""Height of a row of tags, as a share of the axes' height."""
+
+
+def _tag_lines(ax, positions) -> None:
+    """Number the vertical lines at ``positions`` (1, 2, ... in the order of the legend) with
+    small tags inside the top of ``ax``; tags of lines too close to read apart are put on
+    rows one below the other, so that near-coincident lines stay distinguishable."""
+    import numpy as np
+
+    if not positions:
+        return
+    low, high = ax.get_xlim()
+    scale = np.log10 if ax.get_xscale() == "log" else (lambda v: v)
+    span = scale(high) - scale(low)
+    rows: list[float] = []  # the right-most tag position on each row
+    for index in np.argsort(positions, kind="stable"):
+        where = (scale(positions[index]) - scale(low)) / span
+        row = next((r for r, last in enumerate(rows) if where - last >= TAG_GAP), len(rows))
+        if row == len(rows):
+            rows.append(where)
+        rows[row] = where
+        ax.text(
+            positions[index],
+            0.97 - TAG_ROW * row,
+            str(index + 1),
+            transform=ax.get_xaxis_transform(),
+            ha="center",
+            va="top",
+            fontsize=6,
+            bbox={
+                "boxstyle": "round,pad=0.15",
+                "facecolor": "white",
+                "edgecolor": "0.6",
+                "lw": 0.5,
+            },
+        )

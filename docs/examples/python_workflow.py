@@ -22,7 +22,7 @@ def run(folder: str) -> list[str]:
     mesh = cube()  # the 12-triangle cube [-1, 1]³: sharp edges, as a CAD export
     meshio.write(part, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the sharp-edge notices (printed by the commands)
+        warnings.simplefilter("ignore")  # the sharp-edge notice (once per mesh and process)
         advice = vorobound.advise(mesh=part, rho_f=4, mode="tight")
         balls = os.path.join(folder, "cube.npz")
         sample = vorobound.sample(mesh=part, eps=advice.eps, output=balls)

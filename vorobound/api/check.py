@@ -12,7 +12,7 @@ from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.check import TABLES
-from .result import Result, checked_outputs, frame, params_json
+from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -87,6 +87,8 @@ class CheckResult(Result):
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
         )
+        if getattr(self.report, "lfs", None) is not None:  # a whole check (tiles keep no L)
+            summary |= sample_lfs(summary["params"], self.report.lfs)
         return summary | {
             "ok": not any(found.values()),
             "failures": found,
@@ -94,10 +96,16 @@ class CheckResult(Result):
         }
 
     def to_frame(self):
-        """One row per guide triangle (the columns of triangles.csv; pandas optional)."""
+        """One row per guide triangle: the columns of triangles.csv, then where the triangle
+        is, the centers of its balls a, b, c (``a_x`` ... ``c_z``; pandas optional)."""
         from ..reports.check import triangle_columns
 
         columns = triangle_columns(self.report)
+        centers = self.report.balls.centers
+        for name in "abc":
+            points = centers[columns[f"{name}_index"]]
+            for axis, coordinate in enumerate("xyz"):
+                columns[f"{name}_{coordinate}"] = points[:, axis]
         return frame(
             [dict(zip(columns, row, strict=True)) for row in zip(*columns.values(), strict=True)]
         )
@@ -183,6 +191,7 @@ def check(
         lfs=lfs,
         sizing=sizing,
         required=balls is None,
+        instead=("balls FILE",),
         progress=progress,
     )
     if balls is not None:

@@ -16,28 +16,47 @@ DEFAULT_OUT = Path("vorobound-figures")
 """Default output folder (not the repository's committed figures/)."""
 
 
-def tight_stars(quality: QualityParams, progress: Progress | None = None) -> list:
-    """The tight additive ε* for each λ of :data:`vorobound.reports.figure_data.TIGHT_SETTINGS`
-    (the tight curves of the comparison figure)."""
-    from ..bounds.tight.method import tight_eps_star
+def target_stars(quality: QualityParams, tight: bool = True, progress=None) -> list:
+    """The ε* of both targets for paper, rigorous and (with ``tight``) each tight setting of
+    :data:`vorobound.reports.figure_data.TIGHT_SETTINGS`, as the figures mark them; a mode
+    and target without an ε* in the supported range are left out."""
+    from ..bounds.guarantee import eps_star
+    from ..errors import NoAdmissibleEps
     from ..reports.figure_data import TIGHT_SETTINGS
 
-    additive = quality.but(target=Target.additive)
-    return [
-        tight_eps_star(additive.but(lipschitz=lam), progress=progress) for lam in TIGHT_SETTINGS
-    ]
+    asked = [(mode, None) for mode in ("paper", "rigorous")]
+    asked += [("tight", lam) for lam in TIGHT_SETTINGS] if tight else []
+    stars = []
+    for mode, lam in asked:
+        for target in (Target.additive, Target.ratio):
+            try:
+                stars.append(
+                    eps_star(quality.but(target=target, lipschitz=lam), mode, progress=progress)
+                )
+            except NoAdmissibleEps:
+                continue
+    return stars
+
+
+FIGURES = ("figure3", "comparison", "ratio")
+"""The figures `vorobound figure` and `vorobound reproduce` write, by file stem."""
 
 
 def write_figures(
-    quality: QualityParams, out, figure_format: str, stars: list, progress=None
+    quality: QualityParams, out, figure_format: str, stars: list, tight: bool = True
 ) -> list[Path]:
-    """Figure 3 and the comparison of modes, written as one set (all files or none)."""
-    from ..plotting import plot_comparison, plot_figure3, save_set
+    """Figure 3, the comparison of modes (both targets) and the ratio figure, written as one
+    set (all files or none)."""
+    from ..plotting import plot_comparison, plot_figure3, plot_ratio, save_set
     from ..reports.figure_data import figure_set_data
 
     checked_outputs(out, figure_format)
-    figure3, comparison = figure_set_data(quality, stars, progress)
-    figures = {"figure3": plot_figure3(figure3), "comparison": plot_comparison(comparison)}
+    figure3, targets = figure_set_data(quality, stars, tight)
+    figures = {
+        "figure3": plot_figure3(figure3),
+        "comparison": plot_comparison(targets),
+        "ratio": plot_ratio(targets),
+    }
     return save_set(figures, out, figure_format)
 
 
@@ -51,7 +70,7 @@ class FigureResult(Result):
 
     def payload(self) -> dict:
         params = params_json(self.quality)
-        params["target"] = Target.additive.value
+        params["target"] = [t.value for t in (Target.additive, Target.ratio)]
         return {"params": params, "figures": list(self.written)}
 
 
@@ -66,11 +85,12 @@ def figure(
     tight: bool = True,
     progress: Progress | None = None,
 ) -> FigureResult:
-    """Regenerate every figure: Figure 3 of the paper and the comparison of modes (additive
-    target), as one set in ``out``: if anything fails, the previous files stay as they were."""
+    """Regenerate every figure: Figure 3 of the paper, the comparison of modes (both targets)
+    and the ratio target's figure (R/R̂ per mode), as one set in ``out``: if anything fails,
+    the previous files stay as they were."""
     quality = QualityParams(sigma, delta_ratio, rho_f, lfs)
-    stars = tight_stars(quality, progress) if tight else []
-    paths = write_figures(quality, out, figure_format, stars, progress)
+    stars = target_stars(quality, tight, progress)
+    paths = write_figures(quality, out, figure_format, stars, tight)
     return FigureResult(tuple(os.fspath(p) for p in paths), quality)
 
 
@@ -125,8 +145,8 @@ def reproduce(
 
     quality = QualityParams(sigma, delta_ratio, rho_f, lfs)
     summaries, rows = run(quality, tight=tight, progress=progress)
-    stars = [s.star for s in summaries if s.star.mode == "tight"]
-    paths = write_figures(quality, out, "png", stars, progress)
+    stars = [star for s in summaries for star in (s.star, s.ratio_star)]
+    paths = write_figures(quality, out, "png", stars, tight)
     tight_ratio = next((s.ratio_star.eps_star for s in summaries if s.mode == "tight"), None)
     return ReproduceResult(
         paper_eps_star=summaries[0].star.eps_star,

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from numbers import Number
 
 from ..bounds.params import QualityParams
+from ..checks import parse_values
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
@@ -159,7 +160,9 @@ class ReconstructDrawsResult(Result):
 def _eps_values(eps) -> list[float] | None:
     if eps is None:
         return None
-    if isinstance(eps, str | Number) or getattr(eps, "ndim", None) == 0:
+    if isinstance(eps, str):
+        return parse_values(eps, "eps")  # as --eps takes it: "start:stop:num" or a comma list
+    if isinstance(eps, Number) or getattr(eps, "ndim", None) == 0:
         return [eps]
     if not isinstance(eps, Iterable):
         return [eps]  # for the check of eps to refuse
@@ -245,6 +248,7 @@ def reconstruct(
         lfs=lfs,
         sizing=sizing,
         required=sampled,
+        instead=("balls FILE", "seeds FILE"),
         progress=progress,
     )
     if shape is not None and not sampled and values is None:

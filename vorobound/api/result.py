@@ -51,6 +51,25 @@ def params_json(quality=None, eps: float | None = None, **asked) -> dict:
     return out
 
 
+CONSTANT_LFS_RTOL = 1e-12
+"""A sample's L counts as one value when its spread is within this share of its largest."""
+
+
+def sample_lfs(params: dict, lfs) -> dict:
+    """The L of a sample in a command's JSON, not the default L_i = 1 of the bounds' units:
+    ``params["lfs"]`` becomes the one L every ball has (a sphere, a mesh with ``lfs``) or None
+    when L varies, and the returned ``lfs_min``, ``lfs_max`` give its range."""
+    import numpy as np
+
+    lfs = np.asarray(lfs, dtype=float)
+    if not len(lfs):
+        params["lfs"] = None
+        return {"lfs_min": None, "lfs_max": None}
+    low, high = float(lfs.min()), float(lfs.max())
+    params["lfs"] = high if high - low <= CONSTANT_LFS_RTOL * high else None
+    return {"lfs_min": low, "lfs_max": high}
+
+
 class Result:
     """Base of the workflows' results (frozen dataclasses).
 

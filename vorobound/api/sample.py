@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..progress import Progress
-from .result import Result, params_json
+from .result import Result, params_json, sample_lfs
 
 
 @dataclass(frozen=True, repr=False)
@@ -56,6 +56,7 @@ class SampleResult(Result):
             params.pop(key)
         return {
             "params": params,
+            **sample_lfs(params, self.report.sample.lfs),
             "surface": self.surface,
             "n_samples": self.n_samples,
             "n_candidates": self.n_candidates,

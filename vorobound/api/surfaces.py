@@ -44,12 +44,14 @@ def sample_shape(
     lfs: float | None = None,
     sizing: str | os.PathLike | None = None,
     required: bool = True,
+    instead: tuple[str, ...] = (),
     progress=None,
 ):
     """The surface to sample or measure against (None if none is given and none is
     required): a sphere, a torus, or a mesh with L constant (``lfs``), per vertex
     (``sizing``) or estimated from the mesh as by ``vorobound lfs``. A shape of the protocol
-    in :mod:`vorobound.sampling.surfaces.base`."""
+    in :mod:`vorobound.sampling.surfaces.base`. ``instead`` names the inputs that may replace a
+    surface, for the message when none is given."""
     from ..sampling.surfaces.analytic import SphereShape, TorusShape
 
     _one_surface(sphere=sphere, torus=torus, mesh=mesh)
@@ -65,7 +67,8 @@ def sample_shape(
         given = None if lfs is None else checked_length(lfs, "lfs")
         return _mesh_shape(mesh, given, sizing, progress)
     if required:
-        raise InputError("give a surface: sphere R, torus (R, r) or mesh FILE")
+        others = "".join(f" or {name}" for name in instead)
+        raise InputError(f"give a surface (sphere R, torus (R, r) or mesh FILE){others}")
     return None
 
 

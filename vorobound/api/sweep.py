@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from numbers import Number
 
 from ..bounds.params import checked_modes, checked_targets
+from ..checks import parse_values
 from ..errors import InputError
 from ..progress import Progress
 from ..reports.sweep import MAX_GRID_ROWS, SweepRow, SweepSpec
@@ -26,10 +27,13 @@ FORMATS = ("csv", "json")
 """File formats of a sweep, chosen by the output's suffix."""
 
 
-def _axis(value) -> tuple:
-    """A scalar or a sequence as a tuple of values (numpy scalars and 0-d arrays are
-    scalars; anything not iterable is one value, for the checks to refuse or accept)."""
-    scalar = isinstance(value, str | bytes | Number) or getattr(value, "ndim", None) == 0
+def _axis(value, name: str, allow_none: bool = False) -> tuple:
+    """A scalar, a sequence or the option's text (``"start:stop:num"`` or a comma list, as
+    ``--name`` takes it) as a tuple of values (numpy scalars and 0-d arrays are scalars;
+    anything not iterable is one value, for the checks to refuse or accept)."""
+    if isinstance(value, str):
+        return tuple(parse_values(value, name, allow_none))
+    scalar = isinstance(value, bytes | Number) or getattr(value, "ndim", None) == 0
     if value is None or scalar or not isinstance(value, Iterable):
         return (value,)
     return tuple(value)
@@ -49,12 +53,12 @@ def sweep_spec(
 ) -> SweepSpec:
     """The validated axes of a sweep (each argument a value or a sequence of values)."""
     return SweepSpec(
-        sigma=_axis(sigma),
-        rho_f=_axis(rho_f),
-        delta_ratio=_axis(delta_ratio),
-        lipschitz=_axis(lipschitz),
+        sigma=_axis(sigma, "sigma"),
+        rho_f=_axis(rho_f, "rho_f"),
+        delta_ratio=_axis(delta_ratio, "delta_ratio"),
+        lipschitz=_axis(lipschitz, "lipschitz", allow_none=True),
         modes=checked_modes(mode),
-        eps=None if eps is None else _axis(eps),
+        eps=None if eps is None else _axis(eps, "eps"),
         lfs=lfs,
         method=method,
         targets=checked_targets(target),
@@ -161,7 +165,8 @@ def sweep(
     """Sweep the parameters: ε* per (mode, target, λ, σ, ρ_f, δ/ε), or with ``eps`` the bound
     per ε (on R − R̂ for the additive target, on R/R̂ for the ratio target).
 
-    Each axis is a value or a sequence of values (``mode`` and ``target`` also a comma list).
+    Each axis is a value, a sequence of values (a list, a numpy array) or the option's text:
+    ``"start:stop:num"`` or a comma list (``mode`` and ``target`` a comma list too).
     A row whose parameters admit no ε* has ``eps_star`` None and the reason in ``note``. With
     ``output`` (``.csv`` or ``.json``) the rows stream into that file (written to a temporary
     name and renamed when the sweep ends) and the result holds none of them.

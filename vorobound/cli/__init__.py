@@ -193,6 +193,9 @@ def _tolerant_streams() -> None:
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(AttributeError, ValueError, OSError):
             stream.reconfigure(errors="replace")
+    from .notation import ascii_stream  # ε, R̂, ≤ spelt eps, R_hat, <= where they cannot show
+
+    sys.stdout, sys.stderr = ascii_stream(sys.stdout), ascii_stream(sys.stderr)
 
 
 @contextlib.contextmanager

@@ -21,7 +21,7 @@ from .options import (
     surface_args,
 )
 from .progress import progress_bar
-from .render import emit, print_table
+from .render import emit, print_footer, print_table
 
 
 def advise(
@@ -129,14 +129,14 @@ def _show(result) -> None:
     )
     for e in entries:
         if e["note"]:
-            print(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
+            print_footer(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
     if rec is None:
         print("recommended ε: none (no target asked for has a proven or certified ε*)")
     else:
         counts = (
             "" if surface is None else f", {rec.samples_low:,.0f} – {rec.samples_high:,.0f} samples"
         )
-        print(
+        print_footer(
             f"recommended ε = {format_down(rec.eps)} ({rec.claim}; {rec.mode}, binding target "
             f"{rec.binding_target}): ball radius {format_down(rec.ball_radius)}{counts}, "
             f"{versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
@@ -144,10 +144,10 @@ def _show(result) -> None:
         print(f"  for every guide triangle, given H3, it gives {rec.guarantee_statement}")
     if rec is not None and surface is not None:
         for line in _sampler_lines(rec):
-            print(line)
+            print_footer(line)
     if surface is not None:
-        print(f"local feature size L: {result.lfs_source}")
-    print(GUARANTEE)
+        print_footer(f"local feature size L: {result.lfs_source}")
+    print_footer(GUARANTEE)
 
 
 def _sampler_lines(rec) -> list[str]:

@@ -20,7 +20,7 @@ from .options import (
     TightMethodOpt,
 )
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 
 def bounds(
@@ -90,25 +90,25 @@ def _show(result) -> None:
         )
     else:
         share = f"{format_up(result.fraction_of_target, 6)}× the allowance"
-    print(
+    print_footer(
         f"bound on {quantity} = {shown} {verdict} the target {limit} = "
         f"{fmt(result.limit)}: {share} ({result.claim})"
     )
     if not result.meets_target:
         if result.mode == ModeChoice.tight.value:
-            print(
+            print_footer(
                 "the tight value is the supremum over the constraint set: guide triangles of "
                 "the set come arbitrarily close to it, so the target fails for some of them at "
                 "this ε (where the closed form is an upper bound only, `vorobound certify "
                 "--eps` decides)"
             )
         else:
-            print(
+            print_footer(
                 "a chain is an upper bound: exceeding the target does not show that the target "
                 "fails at this ε, only that this chain cannot prove it (mode tight gives the "
                 "supremum)"
             )
-    print(f"premise: {data['premise']}")
+    print_footer(f"premise: {data['premise']}")
 
 
 def _show_tight(result, data: dict, quantity: str) -> None:

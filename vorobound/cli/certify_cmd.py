@@ -11,7 +11,7 @@ from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down, format_up
 from .options import LAMBDA_HELP, DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 CertLipschitz = Annotated[
     float | None,
@@ -142,7 +142,7 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print(f"premise: {data['premise']}")
+    print_footer(f"premise: {data['premise']}")
 
 
 def _show_check(checked) -> None:

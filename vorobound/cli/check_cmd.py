@@ -129,7 +129,7 @@ def check(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=eps,
-            **surface_args(sphere, torus, mesh, lfs, sizing),
+            **surface_args(sphere, torus, mesh, lfs, sizing, instead={"--balls FILE": balls}),
             balls=balls,
             sigma=sigma,
             delta_ratio=delta_ratio,

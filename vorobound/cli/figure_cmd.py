@@ -1,4 +1,5 @@
-"""``vorobound figure``: regenerate the figures (Figure 3 of the paper, comparison of modes)."""
+"""``vorobound figure``: regenerate the figures (Figure 3 of the paper, comparison of modes,
+the ratio target)."""
 
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ def figure(
     no_tight: NoTight = False,
     as_json: Json = False,
 ) -> int:
-    """Regenerate all figures: Figure 3 of the paper and the comparison of modes.
+    """Regenerate all figures: Figure 3 of the paper, the comparison of modes (both targets)
+    and the ratio target R ≤ ρ_f·R̂ per mode.
 
     The set is replaced as a whole: if anything fails, the previous files stay as they were.
     Python: vorobound.figure(out=...).

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Annotated
 
@@ -9,7 +10,12 @@ import typer
 
 from .options import LAMBDA_HELP, Json, Seed
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
+
+POSITIONAL_MESH_NOTE = (
+    "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
+    "use `vorobound lfs --mesh MESH`, as every command takes a mesh"
+)
 
 
 def lfs(
@@ -99,6 +105,8 @@ def lfs(
             seed=seed,
             progress=progress,
         )
+    if mesh_file is not None:  # after the run: a bad input keeps its one line of error
+        print(POSITIONAL_MESH_NOTE, file=sys.stderr)
     return emit(result, as_json, _show)
 
 
@@ -134,7 +142,7 @@ def _show(result) -> None:
     rows += [("written", path) for path in result.written]
     name = Path(result.mesh).name
     print_table(f"Local feature size of {name}", ("quantity", "value"), rows)
-    print(f"method: {estimate.method}; estimate (numerical), not a certified bound")
+    print_footer(f"method: {estimate.method}; estimate (numerical), not a certified bound")
 
 
 def _disagreement(info: dict) -> str:

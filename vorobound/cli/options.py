@@ -14,6 +14,7 @@ from typing import Annotated
 
 import typer
 
+from ..checks import parse_values  # noqa: F401  (the CLI parses with it)
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
 
@@ -150,8 +151,21 @@ NoTight = Annotated[
 ]
 
 
-def surface_args(sphere=None, torus=None, mesh=None, lfs=None, sizing=None) -> dict:
-    """The surface options as the API's keyword arguments (``--torus R,r`` parsed)."""
+SURFACE_OPTIONS = "--sphere R, --torus R,r or --mesh FILE"
+"""The ways to give a surface, as every message that asks for one names them."""
+
+
+def surface_args(
+    sphere=None, torus=None, mesh=None, lfs=None, sizing=None, *, instead: dict | None = None
+) -> dict:
+    """The surface options as the API's keyword arguments (``--torus R,r`` parsed).
+
+    ``instead`` maps the options that may replace a surface (``{"--balls FILE": value}``) to
+    their values: when neither a surface nor any of them is given, the one-line error names
+    every alternative.
+    """
+    if instead is not None and all(v is None for v in (sphere, torus, mesh, *instead.values())):
+        raise InputError(f"give a surface ({SURFACE_OPTIONS}) or " + " or ".join(instead))
     return {
         "sphere": sphere,
         "torus": None if torus is None else parse_numbers(torus, "--torus", 2),
@@ -248,45 +262,4 @@ def parse_numbers(text: str, what: str, count: int | Sequence[int]) -> list[floa
         if not math.isfinite(value):
             raise InputError(f"{what}: {part!r} is not a finite number")
         values.append(value)
-    return values
-
-
-MAX_RANGE_POINTS = 1_000_000
-"""Most values one ``start:stop:num`` range may produce (checked before it is built)."""
-
-
-def parse_values(text: str, flag: str, allow_none: bool = False) -> list[float | None]:
-    """``start:stop:num`` (inclusive, evenly spaced) or a comma list, as floats.
-
-    With ``allow_none``, the word ``none`` in a comma list stands for "no value" (the tight
-    mode's "no Lipschitz condition").
-    """
-    text = text.strip()
-    usage = f"{flag}: expected start:stop:num or a comma list of numbers, got {text!r}"
-    if ":" in text:
-        parts = text.split(":")
-        try:
-            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
-        except (ValueError, IndexError):
-            raise InputError(usage) from None
-        if len(parts) != 3 or not (math.isfinite(start) and math.isfinite(stop)):
-            raise InputError(usage)
-        if not 1 <= num <= MAX_RANGE_POINTS:
-            raise InputError(f"{flag}: the number of points must be in [1, {MAX_RANGE_POINTS:,}]")
-        import numpy as np
-
-        values: list[float | None] = np.linspace(start, stop, num).tolist()
-    else:
-        values = []
-        for item in text.split(","):
-            item = item.strip()
-            if allow_none and item.lower() == "none":
-                values.append(None)
-                continue
-            try:
-                values.append(float(item))
-            except ValueError:
-                raise InputError(usage) from None
-    if not all(v is None or math.isfinite(v) for v in values):
-        raise InputError(f"{flag}: values must be finite, got {text!r}")
     return values

@@ -27,7 +27,7 @@ from .options import (
     surface_args,
 )
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 
 def reconstruct(
@@ -129,7 +129,14 @@ def reconstruct(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=None if eps is None else parse_values(eps, "--eps"),
-            **surface_args(sphere, torus, mesh, lfs, sizing),
+            **surface_args(
+                sphere,
+                torus,
+                mesh,
+                lfs,
+                sizing,
+                instead={"--balls FILE": balls, "--seeds FILE": seeds},
+            ),
             balls=balls,
             seeds=seeds,
             half_covered=half_covered,
@@ -229,7 +236,56 @@ def _print_summary(s: dict) -> None:
         ]
     print_table(f"M̂ of {s['source']}{eps}", ("quantity", "value", "meaning"), rows)
     if s.get("note"):
-        print(s["note"])
+        print_footer(s["note"])
+    for line in readings(s):
+        print_footer(line)
+
+
+READING_DOC = "docs/reconstruct.md, 'Reading the measurements'"
+SLIVER_EDGE_RATIO = 1e-2
+"""Facets whose shortest edge is below this share of their longest are slivers."""
+SLIVER_ANGLE_DEG = 1.0
+"""Facets with an angle below this many degrees are slivers."""
+
+
+def readings(s: dict) -> list[str]:
+    """One line per measurement a reader cannot judge alone (facets without area, slivers,
+    normal deviation): whether it matters, and where the docs explain it."""
+    lines = []
+    if s["collapsed_facets"]:
+        lines.append(
+            f"reading: {s['collapsed_facets']:,} in/out pairs with no area are seeds on one "
+            "ball's sphere meeting in a Voronoi vertex, not a facet (VoroCrust's seeds are "
+            f"cospherical by construction); no part of M̂ is missing, harmless ({READING_DOC})"
+        )
+    ratio, angle = s["edge_ratio_min"], s["min_angle_min_deg"]
+    if ratio is not None and angle is not None:
+        measured = f"min edge ratio {fmt(ratio, 3)}, min angle {fmt(angle, 3)}°"
+        if ratio < SLIVER_EDGE_RATIO or angle < SLIVER_ANGLE_DEG:
+            lines.append(
+                f"reading: {measured}: sliver facets, where nearly cospherical seeds put Voronoi "
+                "vertices close together; they are facets of M̂ like any other, harmless for the "
+                f"topology and the distances, and matter only if M̂'s polygons are used as a "
+                f"mesh ({READING_DOC})"
+            )
+        else:
+            lines.append(f"reading: {measured}: no sliver facets ({READING_DOC})")
+    if s.get("normal_deviation_max_deg") is not None:
+        deviation, flipped = s["normal_deviation_max_deg"], s["flipped_facets"]
+        if flipped:
+            lines.append(
+                f"reading: {flipped:,} facets above 90° face inward: M̂ folds there "
+                "(normal_deviation_deg > 90 in mhat.vtu); this matters even where the topology "
+                f"is right ({READING_DOC})"
+            )
+        else:
+            lines.append(
+                f"reading: max normal deviation {fmt(deviation, 4)}° is below 90°: every facet "
+                "faces outward; the largest deviations are polygons tilted against the surface "
+                "(half-covered triples, sharp features), not an error of M̂ "
+                f"({READING_DOC})"
+            )
+    return lines
 
 
 def _print_sweep(s: dict) -> None:
@@ -263,7 +319,7 @@ def _print_sweep(s: dict) -> None:
     _print_marks(s["eps_star"])
     for r in s["rows"]:
         if r["note"]:
-            print(f"ε = {r['eps']:g}: {r['note']}")
+            print_footer(f"ε = {r['eps']:g}: {r['note']}")
 
 
 def _print_marks(marks: list[dict]) -> None:

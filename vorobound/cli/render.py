@@ -47,7 +47,12 @@ def print_table(title: str, columns: Sequence[str], rows: Iterable[Sequence[str]
     from rich.console import Console
     from rich.table import Table
 
+    from .notation import shows_unicode, to_ascii
+
     rows = [[str(cell) for cell in row] for row in rows]
+    if not shows_unicode(sys.stdout):  # spelt out before the layout measures the cells
+        title, columns = to_ascii(title), [to_ascii(c) for c in columns]
+        rows = [[to_ascii(cell) for cell in row] for row in rows]
     cells = [list(columns), *rows]
     widest = [max(len(r[i]) for r in cells) for i in range(len(columns))]
     atomic = [
@@ -71,6 +76,13 @@ def print_table(title: str, columns: Sequence[str], rows: Iterable[Sequence[str]
     for row in rows:
         table.add_row(*row)
     console.print(table)
+
+
+def print_footer(text: str) -> None:
+    """A sentence under a table: in the table's notation, wrapped to the terminal."""
+    from .notation import footer
+
+    print(footer(text))
 
 
 def fmt(value, digits: int = 10) -> str:

@@ -19,7 +19,7 @@ from .options import (
     TightMethodOpt,
 )
 from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import emit, fmt, print_footer, print_table
 
 
 def solve(
@@ -62,7 +62,7 @@ def _show(result) -> None:
     data = result.to_dict()
     q = result.quality
     rows = [
-        ("eps_star", format_down(result.eps_star, 12)),
+        ("ε*", format_down(result.eps_star, 12)),
         ("claim", result.claim),
         ("method", result.method),
     ]
@@ -71,8 +71,8 @@ def _show(result) -> None:
             ("proven lower bound on ε* (closed form)", format_down(result.proven_lower_bound, 12))
         )
     rows += [
-        ("eps_star / (1/500)", format_down(data["eps_star_over_baseline"], 6)),
-        ("ball radius δ·L_i at eps_star", format_down(data["ball_radius"], 10)),
+        ("ε* / (1/500)", format_down(data["eps_star_over_baseline"], 6)),
+        ("ball radius δ·L_i at ε*", format_down(data["ball_radius"], 10)),
         ("relative residual", fmt(data["residual"], 3)),
         ("root-finder iterations", str(data["iterations"])),
         ("bracket", f"[{fmt(data['bracket'][0])}, {fmt(data['bracket'][1])}]"),
@@ -85,5 +85,5 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print(f"target: {data['target_statement']}")
-    print(f"premise: {data['premise']}")
+    print_footer(f"target: {data['target_statement']}")
+    print_footer(f"premise: {data['premise']}")

@@ -1,16 +1,18 @@
-"""The data behind the figures: Figure 3 of the paper and the comparison of modes."""
+"""The data behind the figures: Figure 3 of the paper, both targets' bounds per mode (the
+comparison and the ratio figure) and the gap histogram of a check."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..bounds.chain import chain_bounds
-from ..bounds.eps_star import EpsStar, solve_eps_star
+from ..bounds.eps_star import solve_eps_star
 from ..bounds.params import Mode, QualityParams, Target
-from ..constants import BASELINE_EPS
-from ..progress import Counter, Progress
+from ..constants import BASELINE_EPS, PAPER_EPS
+from ..rounding import format_down, format_up
 
 FIGURE3_POINTS = 400
 """ε values on the Figure 3 curves."""
@@ -34,23 +36,6 @@ class Figure3Data:
     mode: str
 
 
-@dataclass(frozen=True)
-class ModeCurve:
-    """bound(ε)/(ε L_i) for one mode, and its ε*."""
-
-    mode: str
-    eps: np.ndarray
-    bound_over_eps: np.ndarray
-    eps_star: float
-
-
-@dataclass(frozen=True)
-class ComparisonData:
-    curves: tuple[ModeCurve, ...]
-    target_over_eps: float
-    """(ρ_f − 1)·(δ/ε): the target divided by ε L_i, constant in ε."""
-
-
 def figure3_data(
     quality: QualityParams, mode: Mode | str = Mode.paper, points: int = FIGURE3_POINTS
 ) -> Figure3Data:
@@ -72,63 +57,162 @@ def figure3_data(
     )
 
 
-COMPARISON_EPS = np.geomspace(1e-4, 0.1, 300)
-"""ε grid of the comparison figure (closed-form chains)."""
-TIGHT_CURVE_POINTS = 7
-"""Points per tight curve (markers; the closed form makes each cheap, the optimizer where it
-is not proven exact takes about a second per point)."""
-TIGHT_CURVE_SPAN = (1 / 20, 3.0)
-"""The tight curve runs from ε*/20 to 3ε* (at most ``TIGHT_CURVE_EPS_MAX``)."""
-TIGHT_CURVE_EPS_MAX = 0.5
-
-
-def chain_curve(quality: QualityParams, mode: Mode | str, eps=COMPARISON_EPS) -> ModeCurve:
-    """bound(ε)/(ε L_i) of a chain on ``eps``, and its ε* (additive target)."""
-    quality = quality.but(target=Target.additive, lipschitz=None)
-    star = solve_eps_star(quality, mode)
-    chain = chain_bounds(quality.at(float(eps[0])), mode, eps=eps)
-    return ModeCurve(Mode(mode).value, eps, chain.bound / (eps * quality.lfs), star.eps_star)
-
-
-def tight_curve(star: EpsStar, progress: Progress | None = None) -> ModeCurve:
-    """Tight supremum / (ε L_i) at a few ε around a tight additive ε* (its parameters, λ
-    included)."""
-    from ..bounds.tight.method import tight_bound
-
-    low, high = TIGHT_CURVE_SPAN
-    eps = np.geomspace(
-        star.eps_star * low, min(high * star.eps_star, TIGHT_CURVE_EPS_MAX), TIGHT_CURVE_POINTS
-    )
-    quality, lipschitz = star.quality, star.lipschitz
-    name = "tight" if lipschitz is None else f"tight, λ = {lipschitz:g}"
-    counter = Counter(progress, f"{name} curve", len(eps))
-    values = []
-    for e in eps:
-        values.append(tight_bound(quality.at(float(e))).value)
-        counter.step()
-    return ModeCurve(name, eps, np.array(values) / (eps * quality.lfs), star.eps_star)
-
-
-def comparison_data(curves: list[ModeCurve], quality: QualityParams) -> ComparisonData:
-    """The comparison figure's data: every mode's curve and the target over ε L_i."""
-    return ComparisonData(tuple(curves), (quality.rho_f - 1) * quality.delta_ratio)
-
-
+TARGET_EPS = np.geomspace(1e-4, 0.3, 600)
+"""ε grid of the comparison and ratio figures: every mode in closed form (the chains, and the
+tight supremum, proven where the worst vertex is feasible), so the curves are smooth."""
 TIGHT_SETTINGS = (None, 1.0)
 """Tight-mode variants shown: the paper's constraints, and with the 1-Lipschitz condition."""
 
 
-def figure_set_data(
-    quality: QualityParams, tight_stars: list[EpsStar], progress: Progress | None = None
-) -> tuple[Figure3Data, ComparisonData]:
-    """The data of every figure: Figure 3 and the comparison of modes.
+@dataclass(frozen=True)
+class TargetCurve:
+    """One mode's bound against ε for one target.
 
-    ``tight_stars`` are the tight additive ε* to draw (one curve each); empty for none.
+    References
+    ----------
+    Eq. (29)–(30), (33)–(55); the tight closed forms of docs/tight.md.
     """
-    curves = [chain_curve(quality, mode) for mode in ("paper", "rigorous")]
-    for star in tight_stars:
-        curves.append(tight_curve(star, progress))
-    return figure3_data(quality), comparison_data(curves, quality)
+
+    mode: str
+    """"paper", "rigorous", "tight" or "tight, λ = 1"."""
+    target: str
+    """"additive" (R − R̂ ≤ (ρ_f − 1)δL_i) or "ratio" (R ≤ ρ_f·R̂, eq. (54))."""
+    eps: np.ndarray
+    value: np.ndarray
+    """The bound: on (R − R̂)/(εL_i) (additive) or on R/R̂ (ratio; inf where there is none)."""
+    fraction: np.ndarray
+    """The bound as a fraction of the target's allowance, ≤ 1 where the target is met:
+    bound/((ρ_f − 1)δL_i), or the bound on (R − R̂)/R over 1 − 1/ρ_f."""
+    upper_only: np.ndarray
+    """True where the value is a proven upper bound only (the tight closed form where its
+    worst vertex is infeasible); False everywhere for the chains."""
+    eps_star: float | None
+    """This mode's ε* for this target (None when none exists in the supported range)."""
+    claim: str
+    """The claim of ε*: proven, numerical or invalid."""
+
+
+@dataclass(frozen=True)
+class TargetFigureData:
+    """Every mode's bound against ε for both targets: the comparison and the ratio figures."""
+
+    curves: tuple[TargetCurve, ...]
+    rho_f: float
+    additive_over_eps: float
+    """(ρ_f − 1)·(δ/ε): the additive target over εL_i, constant in ε."""
+    paper_eps: float
+    """The paper's ε = 0.0047, marked."""
+
+    def of_target(self, target: str) -> tuple[TargetCurve, ...]:
+        return tuple(c for c in self.curves if c.target == target)
+
+
+def mode_label(mode: str, lipschitz: float | None) -> str:
+    """The name of a mode in the figures: "tight, λ = 1" for the tight mode with λ."""
+    return mode if lipschitz is None else f"{mode}, λ = {lipschitz:g}"
+
+
+def chain_target_curves(
+    quality: QualityParams, mode: Mode | str, stars: dict, eps=TARGET_EPS
+) -> list[TargetCurve]:
+    """A chain's bound on ``eps`` for both targets (``stars``: target ↦ EpsStar or None)."""
+    chain = chain_bounds(quality.but(lipschitz=None).at(float(eps[0])), mode, eps=eps)
+    exact = np.zeros(len(eps), dtype=bool)
+    name = Mode(mode).value
+    return [
+        _curve(
+            name,
+            "additive",
+            eps,
+            chain.bound / (eps * quality.lfs),
+            chain.bound / chain.gap_allowance,
+            exact,
+            stars.get("additive"),
+        ),
+        _curve(
+            name,
+            "ratio",
+            eps,
+            chain.ratio_bound,
+            chain.share_bound / chain.share_allowance,
+            exact,
+            stars.get("ratio"),
+        ),
+    ]
+
+
+def tight_target_curves(
+    quality: QualityParams, lipschitz: float | None, stars: dict, eps=TARGET_EPS
+) -> list[TargetCurve]:
+    """The tight supremum in closed form on ``eps`` for both targets: exact where the worst
+    vertex is feasible, a proven upper bound elsewhere (``upper_only``); NaN where no guide
+    triangle exists (σ(1 − ε) > √3)."""
+    from ..bounds.constraints import is_empty
+    from ..bounds.tight.closed_form import closed_form_is_exact, weight_ratio
+
+    sigma, ratio, rho_f = quality.sigma, quality.delta_ratio, quality.rho_f
+    share = np.minimum(1.0, weight_ratio(eps, sigma, ratio, lipschitz))
+    share = np.where([is_empty(e, sigma) for e in eps], np.nan, share)
+    upper = np.array([not closed_form_is_exact(e, sigma, ratio, lipschitz) for e in eps])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio_value = np.where(share < 1, 1 / (1 - share), np.inf)
+    ratio_value = np.where(np.isnan(share), np.nan, ratio_value)
+    gap_over_eps = share / (1 - eps)
+    name = mode_label("tight", lipschitz)
+    return [
+        _curve(
+            name,
+            "additive",
+            eps,
+            gap_over_eps,
+            gap_over_eps / ((rho_f - 1) * ratio),
+            upper,
+            stars.get("additive"),
+        ),
+        _curve(name, "ratio", eps, ratio_value, share / (1 - 1 / rho_f), upper, stars.get("ratio")),
+    ]
+
+
+def _curve(mode, target, eps, value, fraction, upper, star) -> TargetCurve:
+    return TargetCurve(
+        mode=mode,
+        target=target,
+        eps=eps,
+        value=np.asarray(value, dtype=float),
+        fraction=np.asarray(fraction, dtype=float),
+        upper_only=np.asarray(upper, dtype=bool),
+        eps_star=None if star is None else star.eps_star,
+        claim="" if star is None else star.claim,
+    )
+
+
+def target_figure_data(
+    quality: QualityParams, stars: list, tight: bool = True, eps=TARGET_EPS
+) -> TargetFigureData:
+    """Both targets' curves for paper, rigorous and (with ``tight``) each tight setting of
+    :data:`TIGHT_SETTINGS`; ``stars`` are the ε* to mark (EpsStar of any mode, target and λ;
+    a missing one is not marked)."""
+    found = {(mode_label(s.mode, s.lipschitz), s.target): s for s in stars}
+
+    def of(name):
+        return {t: found.get((name, t)) for t in ("additive", "ratio")}
+
+    curves = []
+    for mode in ("paper", "rigorous"):
+        curves += chain_target_curves(quality, mode, of(mode), eps)
+    for lam in TIGHT_SETTINGS if tight else ():
+        curves += tight_target_curves(quality, lam, of(mode_label("tight", lam)), eps)
+    return TargetFigureData(
+        tuple(curves), quality.rho_f, (quality.rho_f - 1) * quality.delta_ratio, PAPER_EPS
+    )
+
+
+def figure_set_data(
+    quality: QualityParams, stars: list, tight: bool = True
+) -> tuple[Figure3Data, TargetFigureData]:
+    """The data of every figure: Figure 3, and both targets' curves (the comparison and the
+    ratio figure). ``stars``: the ε* to mark (see :func:`target_figure_data`)."""
+    return figure3_data(quality), target_figure_data(quality, stars, tight)
 
 
 HISTOGRAM_BINS = 120
@@ -142,8 +226,11 @@ bar or line lies on the frame."""
 class GapHistogramData:
     """What the gap histogram of ``vorobound check`` shows (realized (R − R̂)/(εL_i)).
 
-    When every triangle falls in one bin (a point mass: constant L gives R − R̂ = 0 exactly)
-    there are no bins; ``point_mass`` holds the value and ``note`` says it in words.
+    When every triangle would fall in one bin on the scale of the bounds (a point mass:
+    constant L gives R − R̂ = 0 exactly; a CAD part gives values within 10⁻⁵ of it beside
+    bounds near 1), the histogram is drawn on the data's own scale instead (``zoomed``), the
+    bounds beyond it are listed as off the scale, and ``note`` says so for the title. When
+    every value is the same there is no distribution to draw: one bar at ``point_mass``.
 
     References
     ----------
@@ -155,14 +242,21 @@ class GapHistogramData:
     count: int
     """Guide triangles, including any without a finite gap."""
     bins: np.ndarray | None
-    """Bin edges, or None for a point mass."""
+    """Bin edges, or None for a point mass of one value."""
     point_mass: float | None
-    """The common value when every finite gap falls in one bin (its centre if they differ)."""
+    """The common value when every finite gap is the same."""
     note: str | None
-    """The point mass in words, e.g. "all 1,234 triangles have R − R̂ = 0"."""
+    """The point mass in words for the title, e.g. "point mass: all 1,234 have R − R̂ = 0"."""
     marks: tuple[tuple[str, float, str], ...]
-    """(mode, bound over εL_i, claim) of every mode with a finite bound."""
+    """(mode, bound over εL_i, claim) of every mode with a finite bound inside the range."""
     xlim: tuple[float, float]
+    off_scale: tuple[tuple[str, float, str], ...] = ()
+    """The marks beyond the range shown (a point mass drawn on its own scale)."""
+
+    @property
+    def zoomed(self) -> bool:
+        """True when the histogram is drawn on the data's own scale, not the bounds'."""
+        return self.note is not None and self.bins is not None
 
 
 def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
@@ -180,31 +274,41 @@ def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
     width = (high - low) / HISTOGRAM_BINS
     margin = HISTOGRAM_MARGIN * (high - low)
     xlim = (low - margin, high + margin)
+    count = len(gap_ratio)
     if len(values) and float(np.ptp(values)) <= width:
-        return GapHistogramData(
-            values,
-            len(gap_ratio),
-            None,
-            *_point_mass(values, len(gap_ratio)),
-            shown,
-            xlim,
+        smallest, largest = float(values.min()), float(values.max())
+        if smallest == largest:  # exact equality is the point: R − R̂ = 0 with no rounding
+            note = _point_mass_note(values, count)
+            return GapHistogramData(values, count, None, smallest, note, shown, xlim)
+        spread = largest - smallest
+        pad = HISTOGRAM_MARGIN * spread
+        own = (smallest - pad, largest + pad)
+        inside = tuple(m for m in shown if own[0] <= m[1] <= own[1])
+        beyond = tuple(m for m in shown if m not in inside)
+        bins = np.linspace(smallest, largest, HISTOGRAM_BINS + 1)
+        # enough digits to tell the ends apart, rounded outward
+        size = max(abs(smallest), abs(largest))
+        digits = min(12, max(3, math.ceil(math.log10(size / spread)) + 2))
+        note = (
+            "a point mass beside the bounds, drawn on its own scale: every value in "
+            f"[{format_down(smallest, digits)}, {format_up(largest, digits)}]"
         )
+        return GapHistogramData(values, count, bins, None, note, inside, own, beyond)
     bins = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
-    return GapHistogramData(values, len(gap_ratio), bins, None, None, shown, xlim)
+    return GapHistogramData(values, count, bins, None, None, shown, xlim)
 
 
-def _point_mass(values: np.ndarray, count: int) -> tuple[float, str]:
-    """The value of a point mass and the sentence that states it (exact equality is the
-    point: constant L gives R − R̂ = 0 with no rounding)."""
-    smallest, largest = float(values.min()), float(values.max())
+def _everyone(values: np.ndarray, count: int) -> str:
+    """Who has the value, short enough for a title ("all 1,234 have")."""
     with_value = " with a value" if len(values) < count else ""
     if len(values) == 1:
-        everyone = f"the one triangle{with_value} has"
-    else:
-        everyone = f"all {len(values):,} triangles{with_value} have"
-    if smallest == largest == 0.0:
-        return 0.0, f"{everyone} R − R̂ = 0"
-    if smallest == largest:
-        return smallest, f"{everyone} (R − R̂)/(εL_i) = {smallest:.6g}"
-    middle = 0.5 * (smallest + largest)
-    return middle, f"{everyone} (R − R̂)/(εL_i) in [{smallest:.6g}, {largest:.6g}]"
+        return f"the one{with_value} has"
+    return f"all {len(values):,}{with_value} have"
+
+
+def _point_mass_note(values: np.ndarray, count: int) -> str:
+    """The sentence that states a point mass of one value."""
+    value = float(values[0])
+    if value == 0.0:
+        return f"point mass: {_everyone(values, count)} R − R̂ = 0"
+    return f"point mass: {_everyone(values, count)} (R − R̂)/(εL_i) = {value:.6g}"

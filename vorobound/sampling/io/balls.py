@@ -3,7 +3,8 @@
 Accepted inputs, each giving centers x, y, z and radii r:
 
 * CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
-  separated by commas, semicolons or tabs (:mod:`.tables`);
+  separated by commas, semicolons, tabs or spaces (:mod:`.tables`); a file with another
+  suffix (``.txt``, ``.dat``) is read as one when its content is such a table;
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
 * Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
   ``radius``);
@@ -56,14 +57,63 @@ def read_ball_arrays(path: str | Path):
         raise ReadError(f"cannot read balls {path}: no such file")
     if not path.is_file():
         raise ReadError(f"cannot read balls {path}: not a regular file")
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
+    kind = ball_format(path)
+    if kind == "csv":
         return _read_csv(path)
-    if suffix == ".npz":
+    if kind == "npz":
         return (*_read_npz(path), None)
-    if suffix in PARQUET_SUFFIXES:
+    if kind == "parquet":
         return (*_read_parquet(path), None)
     return (*_read_meshio(path), None)
+
+
+SNIFF_BYTES = 1 << 16
+"""How much of a file with an unknown suffix is read to tell a table of numbers."""
+
+
+def ball_format(path: Path) -> str:
+    """ "csv", "npz", "parquet" or "meshio": from the suffix, or for any other suffix (a
+    ``.txt`` of whitespace-separated numbers, a ``.dat``) from the content: a zip archive is
+    NPZ, ``PAR1`` Parquet, and text whose first row is four or more numbers (or names x, y, z
+    and r) is a table, read as a CSV is."""
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        return "csv"
+    if suffix == ".npz":
+        return "npz"
+    if suffix in PARQUET_SUFFIXES:
+        return "parquet"
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(SNIFF_BYTES)
+    except OSError:
+        return "meshio"  # its reader names the problem
+    if head.startswith(b"PK\x03\x04"):
+        return "npz"
+    if head.startswith(b"PAR1"):
+        return "parquet"
+    return "csv" if _number_table_head(head) else "meshio"
+
+
+def _number_table_head(head: bytes) -> bool:
+    """True when ``head`` starts a text table of balls: its first row (after blank and ``#``
+    lines) is four or more numbers, or a header naming x, y, z and a radius."""
+    from .tables import cells_of, delimiter_of, is_number
+
+    try:
+        text = head.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = head[: head.rfind(b"\n") + 1].decode("utf-8-sig", errors="replace")
+    rows = [
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not rows:
+        return False
+    cells = cells_of(rows[0], delimiter_of(rows[0]))
+    if len(cells) >= 4 and all(is_number(cell) for cell in cells):
+        return True
+    names = {cell.strip("\"'").lower() for cell in cells}
+    return {"x", "y", "z"} <= names and bool(names & set(RADIUS_NAMES))
 
 
 def pyarrow_available() -> bool:

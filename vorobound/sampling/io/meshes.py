@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...checks import LFS_RANGE
-from ...errors import ReadError, VoroboundWarning
+from ...errors import ReadError, warn_once
 
 MIN_AREA_RTOL = 1e-14
 """Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area."""
@@ -53,6 +53,17 @@ class TriangleMesh:
     def triangle_areas(self) -> np.ndarray:
         """Area of each triangle (cross product of two edges)."""
         return 0.5 * triangle_shapes(self.points, self.triangles)[0]
+
+
+def fingerprint(points: np.ndarray, triangles: np.ndarray | None = None) -> str:
+    """A digest of a mesh's vertices (and triangles): what a warning about the mesh is given
+    once per process for (:func:`vorobound.errors.warn_once`)."""
+    import hashlib
+
+    digest = hashlib.blake2b(np.ascontiguousarray(points).tobytes(), digest_size=16)
+    if triangles is not None:
+        digest.update(np.ascontiguousarray(triangles).tobytes())
+    return digest.hexdigest()
 
 
 def quiet_meshio(call, path: Path, what: str):
@@ -128,7 +139,7 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
     split = triangulate(points, [_face_indices(block, len(points), path) for block in blocks])
     note = split.note(path.name)
     if note is not None:
-        warnings.warn(note, VoroboundWarning, stacklevel=2)
+        warn_once(note, fingerprint(points))
     if len(split.triangles) == 0:
         raise ReadError(f"mesh {path} has no triangles (every face repeats a vertex)")
     return TriangleMesh(points, _without_repeats(points, split.triangles, path), path.name)
@@ -143,10 +154,10 @@ def _without_repeats(points: np.ndarray, triangles: np.ndarray, path: Path) -> n
     repeats = len(triangles) - len(first)
     if repeats == 0:
         return triangles
-    warnings.warn(
+    warn_once(
         f"mesh {path.name}: {repeats} triangles repeat another one (the same three vertex "
         "positions); each is counted once",
-        VoroboundWarning,
+        fingerprint(points, triangles),
         stacklevel=3,
     )
     return triangles[np.sort(first)]

@@ -28,17 +28,16 @@ do not enter the pole sample), capped by the thickness and curvature bound.
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
 from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
-from ...errors import InputError, VoroboundError, VoroboundWarning
+from ...errors import InputError, VoroboundError, warn_once
 from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
-from ..io.meshes import TriangleMesh
+from ..io.meshes import TriangleMesh, fingerprint
 from ..surfaces.base import SurfaceCounts
 from .curved import edge_midpoints, tangent_basis
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points
@@ -1106,8 +1105,9 @@ def _result(
             "surface analysis does not cover the sharp features themselves"
         )
     notes += _coarse(prepared, patches, vertex_lfs)
+    subject = fingerprint(mesh.points, mesh.triangles)
     for note in notes:
-        warnings.warn(f"mesh {mesh.name}: {note}", VoroboundWarning, stacklevel=3)
+        warn_once(f"mesh {mesh.name}: {note}", subject, stacklevel=3)
     feature_length, feature_inv = _feature_integrals(prepared.points, patches.feature_edges, field)
     feature_length *= scale
     medial_points = np.zeros((0, 3)) if poles is None else scale * poles + centre

@@ -8,12 +8,10 @@ mesh encloses a positive volume).
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
-from ...errors import InputError, VoroboundWarning
-from ..io.meshes import TriangleMesh, has_area, triangle_shapes
+from ...errors import InputError, warn_once
+from ..io.meshes import TriangleMesh, fingerprint, has_area, triangle_shapes
 from ..sampler.lattice import SPARSITY_SLACK
 from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
@@ -241,10 +239,10 @@ def warn_if_steep(mesh: TriangleMesh, vertex_lfs: np.ndarray, source: str) -> No
         slope = np.where(length > 0, change / length, np.where(change > 0, np.inf, 0.0))
     steepest = float(slope.max())
     if steepest > 1 + LIPSCHITZ_SLACK:
-        warnings.warn(
+        warn_once(
             f"{source}: L changes by up to {steepest:.3g} per unit length along a mesh edge; a "
             "local feature size is 1-Lipschitz and the bounds assume it (`vorobound lfs "
             "--lipschitz` gives such a sizing)",
-            VoroboundWarning,
+            fingerprint(mesh.points, mesh.triangles),
             stacklevel=3,
         )
