@@ -14,6 +14,7 @@ from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json
 
 
@@ -109,6 +110,7 @@ def _eps_values(eps) -> list[float] | None:
     return values
 
 
+@checked_arguments
 def reconstruct(
     *,
     eps: float | Sequence[float] | None = None,

@@ -18,6 +18,7 @@ from ..bounds.params import checked_modes, checked_targets
 from ..errors import InputError
 from ..progress import Progress
 from ..reports.sweep import MAX_GRID_ROWS, SweepRow, SweepSpec
+from .arguments import checked_arguments
 from .result import Result, frame, jsonable
 
 MAX_JOBS = 1 << 16
@@ -141,6 +142,7 @@ def write_sweep(rows: Iterable[SweepRow], spec: SweepSpec, handle, fmt: str) -> 
     return count
 
 
+@checked_arguments
 def sweep(
     *,
     eps=None,

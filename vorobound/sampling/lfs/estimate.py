@@ -225,6 +225,20 @@ class LfsEstimate:
         return sharp
 
 
+def checked_lfs_options(samples, lipschitz, sharp_angle, seed) -> tuple[float, int]:
+    """Refuse bad options of :func:`estimate_lfs` (before a mesh is read); the λ and seed as
+    plain numbers."""
+    if samples is not None and (
+        isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 0
+    ):
+        raise InputError(f"--samples must be a whole number ≥ 0, got {samples!r}")
+    lipschitz = checked_number(lipschitz, "lipschitz", *LIPSCHITZ_RANGE)
+    angle = checked_number(sharp_angle, "sharp_angle", 0.0, 180.0, open_low=True)
+    if angle == 180.0:
+        raise InputError(f"sharp_angle must be between 0 and 180 degrees, got {sharp_angle}")
+    return lipschitz, checked_seed(seed)
+
+
 def estimate_lfs(
     mesh: TriangleMesh,
     *,
@@ -263,14 +277,7 @@ def estimate_lfs(
     Local feature size and ε-samples as in Section 4.1 of "Analytic formula for the difference
     of the circumradius and orthoradius of a weighted triangle"; poles from Amenta & Bern (1999).
     """
-    if samples is not None and (
-        isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 0
-    ):
-        raise InputError(f"--samples must be a whole number ≥ 0, got {samples!r}")
-    lipschitz = checked_number(lipschitz, "lipschitz", *LIPSCHITZ_RANGE)
-    if not (math.isfinite(sharp_angle) and 0 < sharp_angle < 180):
-        raise InputError(f"--sharp-angle must be between 0 and 180 degrees, got {sharp_angle}")
-    seed = checked_seed(seed)
+    lipschitz, seed = checked_lfs_options(samples, lipschitz, sharp_angle, seed)
     slope = float(min(lipschitz, 1.0))
     prepared = prepare_mesh(mesh)
     points, faces = prepared.points, prepared.triangles
