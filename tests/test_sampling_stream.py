@@ -93,7 +93,7 @@ def test_a_bad_row_is_named_by_its_row_in_the_file(tmp_path, csv_reader):
     [
         ("", "is empty"),
         ("a,b,c,d\n1,2,3,4\n", "header must name x, y, z and r"),
-        ("x,y,z,r\n1,2,3,4\n1,2,three,4\n", "not a table of numbers"),
+        ("x,y,z,r\n1,2,3,4\n1,2,three,4\n", "line 3: .three. is not a number"),
         ("1,2,3\n4,5,6\n", "need 4 columns"),
     ],
 )
