@@ -80,3 +80,41 @@ def test_lfs_of_an_obj_named_stl_says_so_and_reads_the_obj(sphere, tmp_path, run
     payload = json.loads(out)
     assert payload["vertices"] == len(sphere.points)
     assert payload["triangles"] == len(sphere.triangles)
+
+
+TETRAHEDRON = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
+TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+
+
+def _pinched_pair():
+    """Two tetrahedra touching at the origin (vertex 0 of both)."""
+    points = np.vstack([TETRAHEDRON, -TETRAHEDRON[1:]])
+    faces = np.vstack([TET_FACES, np.where(TET_FACES == 0, 0, TET_FACES + 3)])
+    return points, faces
+
+
+def test_two_tetrahedra_touching_at_a_vertex_are_refused_by_lfs(tmp_path, run_cli):
+    """lfs exited 0 without a word, and L at the pinch (true value 0) was the largest."""
+    points, faces = _pinched_pair()
+    path = tmp_path / "pinch.obj"
+    meshio.write(path, meshio.Mesh(points, [("triangle", faces)]))
+    code, out, err = run_cli("lfs", "--mesh", str(path), "--json")
+    assert code == 2 and out == ""
+    assert "touch at a point" in err and "(0, 0, 0)" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_pinched_vertices_are_found_and_only_they():
+    from vorobound.sampling.io.meshes import TriangleMesh
+    from vorobound.sampling.lfs.mesh_quality import prepare_mesh
+    from vorobound.sampling.surfaces.demo_meshes import cube_mesh
+
+    points, faces = _pinched_pair()
+    prepared = prepare_mesh(TriangleMesh(points, faces, "pinch"))
+    (pinch,) = prepared.report.pinched_vertices
+    assert np.allclose(prepared.centre + prepared.scale * prepared.points[pinch], 0, atol=1e-12)
+    for clean in (icosphere(1.0, 2), cube_mesh(1.0, 3), TriangleMesh(TETRAHEDRON, TET_FACES, "t")):
+        assert len(prepare_mesh(clean).report.pinched_vertices) == 0
+    # An open fan (a boundary vertex) is one fan, not a pinch.
+    fan = TriangleMesh(TETRAHEDRON, TET_FACES[:3], "fan")
+    assert len(prepare_mesh(fan).report.pinched_vertices) == 0

@@ -225,6 +225,21 @@ class LfsEstimate:
         return sharp
 
 
+def _refuse_pinched(prepared, name: str) -> None:
+    """Refuse a surface whose parts touch at a vertex: L there is 0 (any ball around the
+    point meets two sheets), which no positive estimate can stand for (issue 34: L at such a
+    pinch was the largest on the mesh)."""
+    pinched = prepared.report.pinched_vertices
+    if len(pinched):
+        where = prepared.centre + prepared.scale * prepared.points[pinched[0]]
+        at = ", ".join(f"{value:.6g}" for value in where)
+        raise InputError(
+            f"mesh {name}: {len(pinched)} vertices where parts of the surface touch at a point "
+            f"(non-manifold; the first at ({at})): the local feature size there is 0; move "
+            "the parts apart or join them along faces"
+        )
+
+
 def checked_lfs_options(samples, lipschitz, sharp_angle, seed) -> tuple[float, int]:
     """Refuse bad options of :func:`estimate_lfs` (before a mesh is read); the λ and seed as
     plain numbers."""
@@ -280,6 +295,7 @@ def estimate_lfs(
     lipschitz, seed = checked_lfs_options(samples, lipschitz, sharp_angle, seed)
     slope = float(min(lipschitz, 1.0))
     prepared = prepare_mesh(mesh)
+    _refuse_pinched(prepared, mesh.name)
     points, faces = prepared.points, prepared.triangles
     surface_ids = np.unique(faces)
     if len(surface_ids) < 5:
