@@ -61,10 +61,11 @@ CSV = {
 def _npy(array: np.ndarray, shape=None) -> bytes:
     """The bytes of a .npy file of ``array``, its header saying ``shape`` (a lie if given)."""
     handle = io.BytesIO()
-    header = {"descr": np.lib.format.dtype_to_descr(array.dtype), "fortran_order": False}
+    fortran = bool(array.flags.f_contiguous and not array.flags.c_contiguous)
+    header = {"descr": np.lib.format.dtype_to_descr(array.dtype), "fortran_order": fortran}
     header["shape"] = array.shape if shape is None else shape
     np.lib.format.write_array_header_1_0(handle, header)
-    return handle.getvalue() + array.tobytes()
+    return handle.getvalue() + array.tobytes(order="F" if fortran else "C")
 
 
 def _npz(path, compress=False, **arrays) -> None:
@@ -87,6 +88,7 @@ NPZ = {
     "columns": {"x": X, "y": Y, "z": Z, "r": R},
     "columns compressed": ({"x": X, "y": Y, "z": Z, "radius": R}, True),
     "points": {"points": GRID, "radii": R},
+    "points in Fortran order": {"points": np.asfortranarray(GRID), "radii": R},
     "integer columns": {"x": X.astype(int), "y": Y.astype(int), "z": Z.astype(int), "r": R},
     "2-D columns": {
         "x": X.reshape(-1, 2),
@@ -179,6 +181,13 @@ def test_an_npz_is_read_alike_whole_and_streamed(name, tmp_path):
         ("only x truncated", "says 20 rows but its data holds 17"),
     ],
 )
+def test_fortran_ordered_points_are_read_both_ways(tmp_path):
+    path = tmp_path / "balls.npz"
+    _npz(path, True, **NPZ["points in Fortran order"])
+    assert np.array_equal(_whole(path)[0], GRID)
+    assert np.array_equal(_streamed(path)[0], GRID)
+
+
 def test_npz_whose_headers_do_not_fit_the_data_is_refused(name, message, tmp_path):
     path = tmp_path / "balls.npz"
     arrays, compress = NPZ[name] if isinstance(NPZ[name], tuple) else (NPZ[name], False)

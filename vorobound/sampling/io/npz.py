@@ -52,13 +52,13 @@ def npz_chunks(path: Path, chunk_rows: int) -> Iterator[tuple[np.ndarray, np.nda
                     f"balls {path}: need arrays x, y, z and r (or points and radii), got "
                     f"{sorted(members)}"
                 )
-            streams = [
-                _NpyStream(archive, points, path, 3),
-                _NpyStream(archive, members[radius], path, 1),
-            ]
-            if streams[0].rows != streams[1].rows:
+            streams = [_NpyStream(archive, points, path, 3)]
+            if streams[0].fortran:  # column after column: read each column as an array
+                streams = [_NpyStream(archive, points, path, 3, column) for column in range(3)]
+            streams.append(_NpyStream(archive, members[radius], path, 1))
+            if streams[0].rows != streams[-1].rows:
                 raise ReadError(
-                    f"balls {path}: {streams[0].rows} points but {streams[1].rows} radii"
+                    f"balls {path}: {streams[0].rows} points but {streams[-1].rows} radii"
                 )
         for _ in range(0, streams[0].rows, chunk_rows):
             parts = [s.read(chunk_rows) for s in streams]
@@ -72,9 +72,17 @@ def npz_chunks(path: Path, chunk_rows: int) -> Iterator[tuple[np.ndarray, np.nda
 
 class _NpyStream:
     """Rows of one .npy member of a zip archive, read a block at a time; ``width`` is 1 for a
-    1-D array, 3 for points (n, 3)."""
+    1-D array, 3 for points (n, 3). ``column`` reads one column of Fortran-ordered points
+    (stored column after column) as a 1-D array."""
 
-    def __init__(self, archive: zipfile.ZipFile, member: str, path: Path, width: int):
+    def __init__(
+        self,
+        archive: zipfile.ZipFile,
+        member: str,
+        path: Path,
+        width: int,
+        column: int | None = None,
+    ):
         self.path, self.member = path, member
         try:
             self.handle = archive.open(member)
@@ -97,12 +105,14 @@ class _NpyStream:
                 f"balls {path}: {member[:-4]} has shape {tuple(shape)}; it must be {want} "
                 "(one value per ball)"
             )
-        if fortran and width > 1 and shape[0] > 1:
-            raise ReadError(
-                f"balls {path}: {member} is stored in Fortran order; save it C-ordered "
-                "(numpy.ascontiguousarray) to read it"
-            )
         self.rows, self.width, self.dtype, self.done = int(shape[0]), width, dtype, 0
+        self.fortran, self.last = bool(fortran and width > 1 and shape[0] > 1), True
+        if column is not None:
+            self.width, self.last = 1, column == width - 1
+            try:
+                self.handle.seek(column * self.rows * dtype.itemsize, 1)
+            except (*_BROKEN, ValueError) as exc:
+                raise ReadError(f"cannot read balls {path}: {member}: {_why(exc)}") from None
 
     def read(self, rows: int) -> np.ndarray:
         rows = min(rows, self.rows - self.done)
@@ -123,6 +133,9 @@ class _NpyStream:
 
     def finish(self) -> None:
         """Refuse data beyond what the header says."""
+        if not self.last:  # a column of Fortran-ordered points: the next column follows
+            self.handle.close()
+            return
         try:
             extra = self.handle.read(1)
         except _BROKEN as exc:
