@@ -225,18 +225,29 @@ class LfsEstimate:
         return sharp
 
 
-def _refuse_pinched(prepared, name: str) -> None:
-    """Refuse a surface whose parts touch at a vertex: L there is 0 (any ball around the
-    point meets two sheets), which no positive estimate can stand for (issue 34: L at such a
-    pinch was the largest on the mesh)."""
-    pinched = prepared.report.pinched_vertices
-    if len(pinched):
-        where = prepared.centre + prepared.scale * prepared.points[pinched[0]]
-        at = ", ".join(f"{value:.6g}" for value in where)
+def _refuse_non_manifold(prepared, name: str) -> None:
+    """Refuse a surface whose parts touch at a vertex or meet along an edge of three or more
+    faces: L there is 0 (any ball around such a point meets two sheets), which no positive
+    estimate can stand for (issue 34: L at a pinch was the largest on the mesh, L along a fin's
+    edge that of the sphere it stands on)."""
+
+    def at(vertex) -> str:
+        where = prepared.centre + prepared.scale * prepared.points[vertex]
+        return "(" + ", ".join(f"{value:.6g}" for value in where) + ")"
+
+    report = prepared.report
+    if len(report.pinched_vertices):
         raise InputError(
-            f"mesh {name}: {len(pinched)} vertices where parts of the surface touch at a point "
-            f"(non-manifold; the first at ({at})): the local feature size there is 0; move "
-            "the parts apart or join them along faces"
+            f"mesh {name}: {len(report.pinched_vertices)} vertices where parts of the surface "
+            f"touch at a point (non-manifold; the first at {at(report.pinched_vertices[0])}): "
+            "the local feature size there is 0; move the parts apart or join them along faces"
+        )
+    edges = report.nonmanifold_edge_vertices
+    if len(edges):
+        raise InputError(
+            f"mesh {name}: {len(edges)} edges shared by more than two faces (non-manifold; the "
+            f"first from {at(edges[0, 0])} to {at(edges[0, 1])}): the local feature size along "
+            "them is 0; remove the extra faces or move the parts apart"
         )
 
 
@@ -295,7 +306,7 @@ def estimate_lfs(
     lipschitz, seed = checked_lfs_options(samples, lipschitz, sharp_angle, seed)
     slope = float(min(lipschitz, 1.0))
     prepared = prepare_mesh(mesh)
-    _refuse_pinched(prepared, mesh.name)
+    _refuse_non_manifold(prepared, mesh.name)
     points, faces = prepared.points, prepared.triangles
     surface_ids = np.unique(faces)
     if len(surface_ids) < 5:

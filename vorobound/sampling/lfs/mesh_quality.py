@@ -39,6 +39,10 @@ class MeshReport:
     """Non-manifold vertices (indices into the merged vertices): the faces around each form
     more than one fan, joined through no edge (two parts touching at a point, where the local
     feature size is 0)."""
+    nonmanifold_edge_vertices: np.ndarray = field(
+        default_factory=lambda: np.empty((0, 2), dtype=np.int64)
+    )
+    """The two vertices (merged indices) of each edge of three or more faces."""
 
     def problems(self) -> list[str]:
         """One sentence per defect found (empty for a clean closed manifold mesh)."""
@@ -135,6 +139,7 @@ def prepare_mesh(mesh: TriangleMesh) -> PreparedMesh:
         nonmanifold_edges=int((counts > 2).sum()),
         inconsistent_edges=int(((counts == 2) & ~consistent).sum()),
         pinched_vertices=pinched_vertices(good, len(unique)),
+        nonmanifold_edge_vertices=edges[counts > 2],
     )
     return PreparedMesh(unique, centre, scale, good, merged, edges, edge_faces, consistent, report)
 
