@@ -172,7 +172,7 @@ def test_a_mixed_up_row_names_its_line_and_why(tmp_path):
         read_balls(path)
     text[5] = text[5].replace(",", ";", 1)
     path.write_text("\n".join(text) + "\n")
-    with pytest.raises(ReadError, match=r"line 8: 3 columns where line 2 has 4 .*semicolons"):
+    with pytest.raises(ReadError, match=r"line 8: 3 columns where line 1 has 4 .*semicolons"):
         read_balls(path)
 
 

@@ -15,7 +15,7 @@ LAYERS = [
     {"reports"},
     {"plotting"},
     {"api"},
-    {"cli", "__main__"},
+    {"cli", "launch", "__main__"},
 ]
 """Lowest first; a module may import from its own layer and the layers below it. The root
 ``vorobound/__init__.py`` imports only ``errors`` (the rest of its names load lazily)."""

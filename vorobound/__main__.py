@@ -1,5 +1,5 @@
 """``python -m vorobound``."""
 
-from .cli import entry
+from .launch import entry
 
 entry()

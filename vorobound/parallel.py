@@ -165,8 +165,7 @@ def process_pool(workers: int) -> Iterator[multiprocessing.pool.Pool]:
             # them first would have it start new ones); workers started before an interrupt
             # inside Pool() are known only to `started`.
             if pool is not None:
-                pool.terminate()
-                pool.join()
+                _bounded(lambda: (pool.terminate(), pool.join()))
             _kill_started(started)
             raise
     pool.close()
@@ -237,26 +236,38 @@ def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor, started: list) -> N
     table = list((getattr(pool, "_processes", None) or {}).values())
     _kill_started(table + [p for p in started if p not in table])
     # With its workers gone the pool's manager thread ends at once; waiting for it releases
-    # the pool's semaphores before this process exits (else the resource tracker warns).
-    pool.shutdown(wait=True, cancel_futures=True)
+    # the pool's semaphores before this process exits (else the resource tracker warns). A
+    # worker killed while it sent a result can leave that thread waiting for ever (a hang of
+    # over 13 minutes after Ctrl-C, issue 34): the wait is bounded.
+    _bounded(lambda: pool.shutdown(wait=True, cancel_futures=True))
+
+
+SHUTDOWN_SECONDS = 10
+"""The longest wait for a pool to stop once its workers are killed (Ctrl-C, an error)."""
+
+
+def _bounded(call) -> bool:
+    """Run ``call`` in a daemon thread for at most :data:`SHUTDOWN_SECONDS`; whether it ended
+    (a stop that hangs is left behind: its workers are dead, the process is leaving)."""
+    thread = threading.Thread(target=call, name="vorobound-pool-stop", daemon=True)
+    thread.start()
+    thread.join(SHUTDOWN_SECONDS)
+    return not thread.is_alive()
 
 
 @contextlib.contextmanager
 def _dask_executor(address: str) -> Iterator[tuple[concurrent.futures.Executor, int]]:
-    from .errors import InputError, WorkerError
+    from .errors import WorkerError
 
+    client = _dask_client(address)
     try:
-        from distributed import Client
-    except ImportError:
-        raise InputError(
-            "--scheduler needs dask.distributed: pip install 'vorobound[dask]'"
-        ) from None
-    try:
-        client = Client(address, timeout=DASK_CONNECT_SECONDS, set_as_default=False)
-    except (OSError, TimeoutError, ValueError, TypeError) as exc:
-        reason = " ".join(str(exc).split()) or type(exc).__name__
-        raise WorkerError(f"cannot reach the dask scheduler at {address}: {reason}") from None
-    try:
+        try:
+            client.wait_for_workers(1, timeout=DASK_WORKER_SECONDS)
+        except (TimeoutError, OSError) as exc:
+            raise WorkerError(
+                f"the dask cluster at {address} has no workers (waited {DASK_WORKER_SECONDS:g} "
+                f"s: {type(exc).__name__}); start some with dask worker {address}"
+            ) from None
         executor = client.get_executor(pure=False)
         slots = max(1, sum(client.nthreads().values()))
         try:
@@ -267,11 +278,65 @@ def _dask_executor(address: str) -> Iterator[tuple[concurrent.futures.Executor, 
         executor.shutdown(wait=True)
     finally:
         with contextlib.suppress(Exception):
-            client.close()
+            client.close(timeout=DASK_CONNECT_SECONDS)
+
+
+def _dask_client(address: str):
+    """A dask.distributed client of the scheduler at ``address``, connected within
+    :data:`DASK_CONNECT_SECONDS` (plus a grace second) or a WorkerError: dask's own timeout
+    does not cover a listener that accepts the connection and never answers its handshake
+    (issue 34: a hang of over 300 s), so the connection is made in a thread and given up on."""
+    from .errors import InputError, WorkerError
+
+    try:
+        from distributed import Client
+    except ImportError:
+        raise InputError(
+            "--scheduler needs dask.distributed: pip install 'vorobound[dask]'"
+        ) from None
+    found: dict = {}
+
+    def connect() -> None:
+        try:
+            found["client"] = Client(address, timeout=DASK_CONNECT_SECONDS, set_as_default=False)
+        except BaseException as exc:  # handed to the caller
+            found["error"] = exc
+            _quiet_del(exc)
+
+    thread = threading.Thread(target=connect, name="vorobound-dask-connect", daemon=True)
+    thread.start()
+    thread.join(DASK_CONNECT_SECONDS + 1)
+    if thread.is_alive():
+        raise WorkerError(
+            f"cannot reach the dask scheduler at {address}: no dask scheduler answered within "
+            f"{DASK_CONNECT_SECONDS:g} s (is another program listening there?)"
+        )
+    exc = found.get("error")
+    if exc is None:
+        return found["client"]
+    if isinstance(exc, OSError | TimeoutError | ValueError | TypeError):
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise WorkerError(f"cannot reach the dask scheduler at {address}: {reason}") from None
+    raise exc
+
+
+def _quiet_del(exc: BaseException) -> None:
+    """Let a client whose construction failed be collected without its ``__del__`` waiting
+    for and then printing a traceback (``--scheduler foo``: a 20 s wait, then 9 lines): the
+    half-built client is reachable from the traceback's frames, whose ``self`` is cleared."""
+    traceback = exc.__traceback__
+    while traceback is not None:
+        client = traceback.tb_frame.f_locals.get("self")
+        if type(client).__name__ == "Client":
+            with contextlib.suppress(Exception):
+                client.status = "closed"  # __del__ then has nothing to close
+        traceback = traceback.tb_next
 
 
 DASK_CONNECT_SECONDS = 10
 """How long to wait for a dask scheduler to answer."""
+DASK_WORKER_SECONDS = 30
+"""How long to wait for a dask cluster's first worker."""
 
 
 def task_result(future: concurrent.futures.Future, what: str):
@@ -282,6 +347,11 @@ def task_result(future: concurrent.futures.Future, what: str):
 
     try:
         return future.result()
+    except concurrent.futures.CancelledError:  # a dask scheduler or worker gone mid-run
+        raise WorkerError(
+            f"the computation of {what} was cancelled (the dask scheduler or its workers went "
+            "away?); nothing was written"
+        ) from None
     except concurrent.futures.process.BrokenProcessPool:
         raise WorkerError(
             f"a worker process died while computing {what} (killed, or out of memory?); "

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams, checked_modes, checked_targets
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, params_json
 
 H3_ROUTE_STATEMENT = "H3 alone gives R <= rho_f*delta*L_i (eq. (55)); not eq. (54)"
@@ -108,6 +109,7 @@ class AdviseResult(Result):
         }
 
 
+@checked_arguments
 def advise(
     *,
     rho_f: float = PAPER_RHO_F,

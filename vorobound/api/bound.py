@@ -11,6 +11,7 @@ from ..bounds.params import Mode, SamplingParams, Target
 from ..bounds.targets import H3_STATUS, STATEMENT
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import VoroboundError
+from .arguments import checked_arguments
 from .result import Result, params_json
 
 UNBOUNDED = "no finite bound: the bound on (R - R^)/R is 1 or more, so R^ may be 0"
@@ -78,6 +79,7 @@ class BoundResult(Result):
         return out
 
 
+@checked_arguments
 def bound(
     *,
     eps: float,

@@ -9,6 +9,7 @@ from ..bounds.params import QualityParams, Target
 from ..bounds.targets import H3_STATUS
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, params_json
 
 DEFAULT_FRACTION = 0.999
@@ -104,6 +105,7 @@ def _failure_payload(failure, target: str) -> dict:
     return out
 
 
+@checked_arguments
 def certify(
     *,
     sigma: float = PAPER_SIGMA,
@@ -267,6 +269,7 @@ class CertificateCheck(Result):
         }
 
 
+@checked_arguments
 def check_certificate(path: str | os.PathLike, progress: Progress | None = None):
     """Re-verify a certificate file with both checkers (``vorobound certify --check``).
 

@@ -12,6 +12,7 @@ from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.check import TABLES
+from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
@@ -111,6 +112,7 @@ class CheckResult(Result):
         )
 
 
+@checked_arguments
 def check(
     *,
     eps: float,

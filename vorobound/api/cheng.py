@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result
 
 
@@ -42,6 +43,7 @@ class ChengOutcome(Result):
         }
 
 
+@checked_arguments
 def cheng(*, alpha: float, dim: int = 2, seed: int = 0, progress: Progress | None = None):
     """R/R̂ for weights in [0, α²N(s)²]: c_rad = 1/sqrt(1 − 4α²), the conjectured
     1/sqrt(1 − 3α²), and the numerically maximized ratio (docs/cheng.md)."""

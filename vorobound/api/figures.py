@@ -10,6 +10,7 @@ from pathlib import Path
 from ..bounds.params import QualityParams, Target
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, checked_outputs, params_json
 
 DEFAULT_OUT = Path("vorobound-figures")
@@ -74,6 +75,7 @@ class FigureResult(Result):
         return {"params": params, "figures": list(self.written)}
 
 
+@checked_arguments
 def figure(
     *,
     out: str | os.PathLike = DEFAULT_OUT,
@@ -123,6 +125,7 @@ class ReproduceResult(Result):
         }
 
 
+@checked_arguments
 def reproduce(
     *,
     out: str | os.PathLike = DEFAULT_OUT,

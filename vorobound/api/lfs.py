@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, frame
 
 
@@ -81,6 +82,7 @@ class LfsResult(Result):
         )
 
 
+@checked_arguments
 def lfs(
     *,
     mesh: str | os.PathLike,
@@ -102,13 +104,12 @@ def lfs(
     """
     import numpy as np
 
-    from ..checks import checked_seed
     from ..files import write_set
     from ..sampling.io.lfs_files import checked_lfs_output, lfs_writers
     from ..sampling.io.meshes import read_triangle_mesh
-    from ..sampling.lfs.estimate import estimate_lfs
+    from ..sampling.lfs.estimate import checked_lfs_options, estimate_lfs
 
-    seed = checked_seed(seed)
+    checked_lfs_options(samples, lipschitz, sharp_angle, seed)
     if output is None:
         paths = []
     elif isinstance(output, str | os.PathLike):

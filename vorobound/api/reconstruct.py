@@ -15,6 +15,7 @@ from ..checks import parse_values
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json
 
 REPEATS_MAX = 10_000
@@ -172,6 +173,7 @@ def _eps_values(eps) -> list[float] | None:
     return values
 
 
+@checked_arguments
 def reconstruct(
     *,
     eps: float | Sequence[float] | None = None,

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, params_json, sample_lfs
 
 
@@ -72,6 +73,7 @@ class SampleResult(Result):
         }
 
 
+@checked_arguments
 def sample(
     *,
     eps: float,

@@ -9,6 +9,7 @@ from ..bounds.params import Mode, QualityParams, Target
 from ..bounds.targets import H3_STATUS, STATEMENT, H3Route
 from ..constants import BASELINE_EPS, PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
+from .arguments import checked_arguments
 from .result import Result, params_json
 
 H3_ROUTE_STATEMENT = "H3 alone gives R <= rho_f*delta*L_i (eq. (55)) for every eps up to eps_star"
@@ -66,6 +67,7 @@ class SolveResult(Result):
         return out
 
 
+@checked_arguments
 def solve(
     *,
     sigma: float = PAPER_SIGMA,

@@ -19,6 +19,7 @@ from ..checks import parse_values
 from ..errors import InputError
 from ..progress import Progress
 from ..reports.sweep import MAX_GRID_ROWS, SweepRow, SweepSpec
+from .arguments import checked_arguments
 from .result import Result, frame, jsonable
 
 MAX_JOBS = 1 << 16
@@ -145,6 +146,7 @@ def write_sweep(rows: Iterable[SweepRow], spec: SweepSpec, handle, fmt: str) -> 
     return count
 
 
+@checked_arguments
 def sweep(
     *,
     eps=None,

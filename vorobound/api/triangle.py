@@ -6,6 +6,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..errors import InputError
+from .arguments import checked_arguments
 from .result import Result, as_float
 
 OVERFLOW = (
@@ -107,6 +108,7 @@ def _finite_numbers(values, what: str, counts: tuple[int, ...]) -> list[float]:
     return out
 
 
+@checked_arguments
 def triangle(
     *,
     points: Sequence[Sequence[float]] | None = None,

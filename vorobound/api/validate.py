@@ -10,6 +10,7 @@ from ..bounds.params import QualityParams, SamplingParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.validate import ValidationReport
+from .arguments import checked_arguments
 from .result import Result, params_json
 
 
@@ -54,6 +55,7 @@ class ValidateResult(Result):
         }
 
 
+@checked_arguments
 def validate(
     *,
     eps: float,

@@ -5,7 +5,8 @@ Accepted inputs, each giving centers x, y, z and radii r:
 * CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
   separated by commas, semicolons, tabs or spaces (:mod:`.tables`); a file with another
   suffix (``.txt``, ``.dat``) is read as one when its content is such a table;
-* NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
+* NPZ: 1-D arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with
+  ``radii``, each header checked against its data (:mod:`.npz`);
 * Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
   ``radius``);
 * any point set meshio reads (VTU, VTK, PLY, ...) with a point-data array named ``radius``,
@@ -28,10 +29,9 @@ from ...files import checked_destination, write_set
 from ..balls import Balls, make_balls
 from .columns import columns_writer
 from .meshes import quiet_meshio
+from .npz import RADIUS_NAMES, npz_chunks
 from .tables import DELIMITER_NAMES, read_number_table
 
-RADIUS_NAMES = ("r", "radius", "radii")
-"""Names under which a radius column or array is recognised."""
 PARQUET_SUFFIXES = (".parquet", ".pq")
 
 
@@ -163,75 +163,38 @@ def _read_parquet(path: Path):
 def _read_csv(path: Path):
     """Centers, radii and the file line of each ball (for messages about a row)."""
     table = read_number_table(path, "balls")
+    columns = csv_columns(path, table.header, table.values.shape[1], table.delimiter)
+    values = table.values
+    return values[:, columns[:3]], values[:, columns[3]], table.lines
+
+
+def csv_columns(path: Path, header, width: int, delimiter: str | None) -> list[int]:
+    """The columns of x, y, z and r in a ball CSV of ``width`` columns with ``header`` (None:
+    the first four): the one rule of the whole and the streamed reader."""
     columns = [0, 1, 2, 3]
-    if table.header is not None:
-        header = table.header
+    if header is not None:
         radius = next((name for name in RADIUS_NAMES if name in header), None)
         if radius is None or not {"x", "y", "z"} <= set(header):
             raise ReadError(
                 f"balls {path}: the header must name x, y, z and r, got {', '.join(header)!r}"
             )
         columns = [header.index("x"), header.index("y"), header.index("z"), header.index(radius)]
-    values = table.values
-    if values.shape[1] <= max(columns):
-        found = values.shape[1]
+    if width <= max(columns):
         how = (
-            f"separated by {DELIMITER_NAMES[table.delimiter]}"
-            if found > 1
+            f"separated by {DELIMITER_NAMES[delimiter]}"
+            if width > 1
             else "no comma, semicolon, tab or space between the numbers"
         )
-        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {found} ({how})")
-    return values[:, columns[:3]], values[:, columns[3]], table.lines
+        raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {width} ({how})")
+    return columns
 
 
 def _read_npz(path: Path):
-    import zipfile
-    import zlib
-
-    if not zipfile.is_zipfile(path):
-        raise ReadError(f"cannot read balls {path}: {_not_npz(path)}")
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {name: np.asarray(data[name]) for name in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
-        broken = isinstance(exc, EOFError | zipfile.BadZipFile | zlib.error)
-        reason = "a damaged NPZ archive" if broken else " ".join(str(exc).split())
-        raise ReadError(f"cannot read balls {path}: {reason}") from None
-    radius = next((arrays[n] for n in RADIUS_NAMES if n in arrays), None)
-    if {"x", "y", "z"} <= arrays.keys():
-        columns = [_numeric(np.ravel(arrays[name]), path) for name in "xyz"]
-        if len({len(column) for column in columns}) != 1:
-            raise ReadError(
-                f"balls {path}: arrays x, y and z have different lengths "
-                f"{[len(c) for c in columns]}"
-            )
-        centers = np.column_stack(columns)
-    else:
-        centers = arrays.get("points", arrays.get("centers"))
-    if centers is None or radius is None:
-        raise ReadError(
-            f"balls {path}: need arrays x, y, z and r (or points and radii), got {sorted(arrays)}"
-        )
-    return _numeric(centers, path), _numeric(radius, path).ravel()
-
-
-NPY_MAGIC = b"\x93NUMPY"
-"""The first bytes of a single-array .npy file (what np.save writes)."""
-
-
-def _not_npz(path: Path) -> str:
-    """Why a file named .npz is not an NPZ archive, for the error message."""
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(len(NPY_MAGIC))
-    except OSError as exc:
-        return exc.strerror or str(exc)
-    if head == NPY_MAGIC:
-        return (
-            "it is a single NPY array (np.save), not an NPZ archive of named arrays "
-            "(np.savez with x, y, z and r)"
-        )
-    return "not an NPZ archive (a zip file of named arrays, as np.savez writes)"
+    """Every ball of an NPZ file, by the reader the streamed check uses (:mod:`.npz`)."""
+    parts = list(npz_chunks(path, 1 << 20))
+    if not parts:
+        return np.empty((0, 3)), np.empty(0)
+    return np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts])
 
 
 def _read_meshio(path: Path):

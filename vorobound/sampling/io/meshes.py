@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...checks import LFS_RANGE
-from ...errors import ReadError, warn_once
+from ...errors import ReadError, VoroboundWarning, warn_once
 
 MIN_AREA_RTOL = 1e-14
 """Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area."""
@@ -89,6 +89,77 @@ def quiet_meshio(call, path: Path, what: str):
         raise ReadError(f"cannot read {what} {path}: {message}") from None
 
 
+SUFFIX_FORMATS = {
+    ".stl": "stl",
+    ".obj": "obj",
+    ".ply": "ply",
+    ".off": "off",
+    ".vtk": "vtk",
+    ".vtu": "vtu",
+    ".msh": "gmsh",
+}
+"""The meshio format of the suffixes whose content :func:`format_by_content` recognises."""
+_OBJ_KEYWORDS = ("v", "vn", "vt", "f", "o", "g", "s", "l", "mtllib", "usemtl")
+
+
+def format_by_content(path: Path) -> str | None:
+    """The meshio format a mesh file holds, by its first bytes, where its suffix says another
+    one (an OBJ named .stl was read as an STL of garbage, issue 34): None to let meshio go by
+    the suffix. A one-line warning names the format read; a file named .stl that is neither
+    ASCII nor binary STL is refused with the reason."""
+    suffix_format = SUFFIX_FORMATS.get(path.suffix.lower())
+    if suffix_format is None:
+        return None
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+        size = path.stat().st_size
+    except OSError as exc:
+        raise ReadError(f"cannot read mesh {path}: {exc.strerror or exc}") from None
+    found = _sniff(head, size)
+    if found is None or found == suffix_format:
+        if suffix_format == "stl" and found is None:
+            raise ReadError(
+                f"cannot read mesh {path}: not an STL file (no 'solid' line, and its size is "
+                "not that of a binary STL with the triangle count of its header)"
+            )
+        return None
+    warnings.warn(
+        f"mesh {path.name}: the file holds {found.upper()}, not what its suffix "
+        f"{path.suffix} says; read as {found.upper()}",
+        VoroboundWarning,
+        stacklevel=3,
+    )
+    return found
+
+
+def _sniff(head: bytes, size: int) -> str | None:
+    """The format of a mesh file from its first bytes and size (None: not recognised)."""
+    if len(head) >= 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little"):
+        return "stl"  # binary STL: 80-byte header, count, 50 bytes a triangle
+    text = head.lstrip()
+    if text.startswith(b"solid"):
+        return "stl"
+    if text.startswith(b"ply"):
+        return "ply"
+    if text[:4] in (b"OFF\n", b"OFF\r", b"OFF ") or text.startswith((b"COFF", b"NOFF")):
+        return "off"
+    if text.startswith(b"# vtk DataFile"):
+        return "vtk"
+    if text.startswith(b"<?xml") or text.startswith(b"<VTKFile"):
+        return "vtu" if b"UnstructuredGrid" in head else None
+    if text.startswith(b"$MeshFormat"):
+        return "gmsh"
+    try:
+        lines = head.decode("utf-8").splitlines()[:-1] or head.decode("utf-8").splitlines()
+    except UnicodeDecodeError:
+        return None
+    words = [line.split()[0] for line in lines if line.strip() and not line.startswith("#")]
+    if words and all(word in _OBJ_KEYWORDS for word in words) and "v" in words:
+        return "obj"
+    return None
+
+
 FACE_TYPES = ("triangle", "quad", "polygon")
 """meshio cell types read as surface faces; quads and polygons are split into triangles (with a
 one-line warning). Other cells (vertices, lines, volumes) are ignored."""
@@ -111,7 +182,8 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
         raise ReadError(f"cannot read mesh {path}: not a regular file")
     import meshio
 
-    mesh = quiet_meshio(lambda: meshio.read(path), path, "mesh")
+    file_format = format_by_content(path)
+    mesh = quiet_meshio(lambda: meshio.read(path, file_format=file_format), path, "mesh")
     points = np.asarray(mesh.points)
     if points.size == 0:
         raise ReadError(f"mesh {path} has no vertices (is it a mesh file?)")

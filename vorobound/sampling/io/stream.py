@@ -22,7 +22,6 @@ names are those of :func:`vorobound.sampling.io.balls.read_balls`:
 from __future__ import annotations
 
 import itertools
-import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,12 +32,13 @@ from ...errors import ReadError
 from ..balls import checked_rows
 from .balls import (
     PARQUET_SUFFIXES,
-    RADIUS_NAMES,
+    csv_columns,
     parquet_columns,
     pyarrow_available,
     read_ball_arrays,
 )
-from .tables import cells_of, delimiter_of, is_number
+from .npz import npz_chunks
+from .tables import cells_of, delimiter_of, is_header, numbered_lines, parse_rows
 
 CHUNK_ROWS = 1 << 18
 """Balls per chunk (8 MB of float64 centers and radii; larger chunks were slower, not faster,
@@ -68,7 +68,7 @@ def ball_chunks(path: str | Path, chunk_rows: int = CHUNK_ROWS) -> Iterator[tupl
             _csv_arrow(path, chunk_rows) if pyarrow_available() else _csv_numpy(path, chunk_rows)
         )
     elif suffix == ".npz":
-        chunks = _npz(path, chunk_rows)
+        chunks = npz_chunks(path, chunk_rows)
     elif suffix in PARQUET_SUFFIXES:
         chunks = _parquet(path, chunk_rows)
     else:
@@ -88,7 +88,7 @@ def ball_chunks(path: str | Path, chunk_rows: int = CHUNK_ROWS) -> Iterator[tupl
 
 @dataclass(frozen=True)
 class _CsvLayout:
-    """Where the numbers of a ball CSV are, decided from its first line as read_balls does."""
+    """Where the numbers of a ball CSV are, found as :func:`read_number_table` finds them."""
 
     columns: list[int]
     """Columns of x, y, z and r."""
@@ -96,20 +96,19 @@ class _CsvLayout:
     """Lines before the first row of numbers (comments, blank lines and the header)."""
     delimiter: str | None
     """The delimiter (None: runs of spaces)."""
-    rows: bool
-    """Whether any line follows a header."""
+    source: int
+    """The line (from 1) the delimiter was found on: the header's, else the first row's."""
+    width: int
+    """Columns of every row."""
+    header: tuple[str, ...] | None
 
 
-def _header(path: Path) -> _CsvLayout:
-    """The columns, delimiter and header of a ball CSV (as :func:`read_number_table` finds
-    them: blank lines and lines starting with ``#`` are skipped)."""
+def _layout(path: Path) -> _CsvLayout:
+    """The columns, delimiter and header of a ball CSV (blank lines and lines starting with
+    ``#`` are skipped)."""
     try:
         with open(path, encoding="utf-8-sig") as handle:
-            lines = (
-                (number, text)
-                for number, text in enumerate(handle)
-                if text.strip() and not text.lstrip().startswith("#")
-            )
+            lines = numbered_lines(handle)
             number, line = next(lines, (0, None))
             more = next(lines, None) is not None
     except (OSError, UnicodeDecodeError) as exc:
@@ -119,23 +118,28 @@ def _header(path: Path) -> _CsvLayout:
     if line is None:
         raise ReadError(f"balls {path} is empty")
     delimiter = delimiter_of(line)
-    cells = [cell.strip("\"'").strip().lower() for cell in cells_of(line, delimiter)]
-    if all(is_number(cell) for cell in cells):
-        return _CsvLayout([0, 1, 2, 3], number, delimiter, True)
-    radius = next((name for name in RADIUS_NAMES if name in cells), None)
-    if radius is None or not {"x", "y", "z"} <= set(cells):
-        raise ReadError(f"balls {path}: the header must name x, y, z and r, got {line.strip()!r}")
-    columns = [cells.index("x"), cells.index("y"), cells.index("z"), cells.index(radius)]
-    return _CsvLayout(columns, number + 1, delimiter, more)
+    cells = cells_of(line, delimiter)
+    header = None
+    if is_header(cells):
+        header = tuple(cell.strip("\"'").strip().lower() for cell in cells)
+        if not more:
+            raise ReadError(
+                f"balls {path}: line {number} is not all numbers (a header?) and no rows "
+                "follow; columns are separated by commas, semicolons, tabs or spaces"
+            )
+    columns = csv_columns(path, header, len(cells), delimiter)
+    skip = number if header is not None else number - 1
+    return _CsvLayout(columns, skip, delimiter, number, len(cells), header)
 
 
 def _csv_arrow(path: Path, chunk_rows: int):
+    """pyarrow's streaming reader, strict: every column float64, no quotes, every row as wide
+    as the first. Where it refuses a block, the rows from there on are read by
+    :func:`_csv_numpy`, whose verdict (and message) is the whole reader's."""
     import pyarrow as pa
     from pyarrow import csv
 
-    layout = _header(path)
-    if not layout.rows:
-        return
+    layout = _layout(path)
     if layout.delimiter is None:  # runs of spaces: pyarrow reads one delimiter character
         yield from _csv_numpy(path, chunk_rows)
         return
@@ -144,27 +148,57 @@ def _csv_arrow(path: Path, chunk_rows: int):
         start = handle.read(3)
     options = csv.ReadOptions(
         block_size=_CSV_BLOCK_BYTES,
-        autogenerate_column_names=True,
+        column_names=[f"f{i}" for i in range(layout.width)],
         skip_rows=layout.skip,
         encoding="utf-8-sig" if start == b"\xef\xbb\xbf" else "utf8",
     )
-    parse = csv.ParseOptions(delimiter=layout.delimiter)
-    # No text stands for a missing value: "nan" and "inf" are numbers (then refused as balls
-    # are), an empty cell is not a number.
-    convert = csv.ConvertOptions(null_values=[], quoted_strings_can_be_null=False)
+    parse = csv.ParseOptions(delimiter=layout.delimiter, quote_char=False)
+    # Every column float64 (a first block of integers made int64 columns that a later "0.5"
+    # broke); no text stands for a missing value: "nan" and "inf" are numbers (then refused
+    # as balls are), an empty cell is not a number.
+    convert = csv.ConvertOptions(
+        column_types={f"f{i}": pa.float64() for i in range(layout.width)},
+        null_values=[],
+        quoted_strings_can_be_null=False,
+    )
+    done = 0
     try:
         reader = csv.open_csv(
             path, read_options=options, parse_options=parse, convert_options=convert
         )
         for batch in reader:
-            if batch.num_columns <= max(columns):
-                raise ReadError(f"balls {path}: need 4 columns x, y, z, r, got {batch.num_columns}")
-            table = np.column_stack([_float_column(batch.column(c), path) for c in columns])
+            if batch.num_columns != layout.width or any(c.null_count for c in batch.columns):
+                break
+            table = np.column_stack(
+                [batch.column(c).to_numpy(zero_copy_only=False) for c in columns]
+            )
             for s in range(0, len(table), chunk_rows):
                 yield table[s : s + chunk_rows, :3], table[s : s + chunk_rows, 3]
-    except (pa.ArrowInvalid, pa.ArrowTypeError, OSError) as exc:
-        message = " ".join(str(exc).split())
-        raise ReadError(f"balls {path}: not a table of numbers ({message})") from None
+            done += len(table)
+        else:
+            return
+    except (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError, OSError):
+        pass
+    yield from _csv_numpy(path, chunk_rows, done)
+
+
+def _csv_numpy(path: Path, chunk_rows: int, done: int = 0):
+    """The rows after the first ``done`` (parsed by :func:`parse_rows`, as the whole file is)."""
+    layout = _layout(path)
+    columns, what = layout.columns, f"balls {path}"
+    try:
+        with open(path, encoding="utf-8-sig") as handle:
+            rows = itertools.islice(numbered_lines(handle), int(layout.header is not None), None)
+            rows = itertools.islice(rows, done, None)
+            while block := list(itertools.islice(rows, chunk_rows)):
+                table = parse_rows(
+                    block, layout.delimiter, what, layout.source, layout.width, layout.header
+                )
+                yield table[:, columns[:3]], table[:, columns[3]]
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ReadError(
+            f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
+        ) from None
 
 
 def _float_column(column, path: Path) -> np.ndarray:
@@ -179,35 +213,6 @@ def _float_column(column, path: Path) -> np.ndarray:
     return column.to_numpy(zero_copy_only=False).astype(float)
 
 
-def _csv_numpy(path: Path, chunk_rows: int):
-    layout = _header(path)
-    columns = layout.columns
-    try:
-        with open(path, encoding="utf-8-sig") as handle:
-            lines = (
-                line
-                for line in itertools.islice(handle, layout.skip, None)
-                if line.strip() and not line.lstrip().startswith("#")
-            )
-            while True:
-                block = list(itertools.islice(lines, chunk_rows))
-                if not block:
-                    return
-                try:
-                    table = np.loadtxt(block, delimiter=layout.delimiter, comments=None, ndmin=2)
-                except ValueError as exc:
-                    raise ReadError(f"balls {path}: not a table of numbers ({exc})") from None
-                if table.shape[1] <= max(columns):
-                    raise ReadError(
-                        f"balls {path}: need 4 columns x, y, z, r, got {table.shape[1]}"
-                    )
-                yield table[:, columns[:3]], table[:, columns[3]]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ReadError(
-            f"cannot read balls {path}: {getattr(exc, 'strerror', None) or exc}"
-        ) from None
-
-
 def _parquet(path: Path, chunk_rows: int):
     handle, columns = parquet_columns(path)  # refuses first when pyarrow is missing
     import pyarrow as pa
@@ -219,72 +224,3 @@ def _parquet(path: Path, chunk_rows: int):
     except (pa.ArrowException, OSError) as exc:
         message = " ".join(str(exc).split())
         raise ReadError(f"cannot read balls {path}: {message}") from None
-
-
-def _npz(path: Path, chunk_rows: int):
-    try:
-        archive = zipfile.ZipFile(path)
-    except (OSError, zipfile.BadZipFile):
-        raise ReadError(f"cannot read balls {path}: not an NPZ archive") from None
-    with archive:
-        members = {name[:-4]: name for name in archive.namelist() if name.endswith(".npy")}
-        radius = next((n for n in RADIUS_NAMES if n in members), None)
-        if {"x", "y", "z"} <= members.keys() and radius is not None:
-            streams = [_NpyStream(archive, members[n], path) for n in ("x", "y", "z", radius)]
-            if len({s.rows for s in streams}) != 1:
-                raise ReadError(
-                    f"balls {path}: arrays x, y, z and r have different lengths "
-                    f"{[s.rows for s in streams]}"
-                )
-            for _ in range(0, streams[0].rows, chunk_rows):
-                parts = [s.read(chunk_rows) for s in streams]
-                yield np.column_stack(parts[:3]), parts[3]
-            return
-        points = members.get("points", members.get("centers"))
-        radii = members.get(radius) if radius is not None else None
-        if points is None or radii is None:
-            raise ReadError(
-                f"balls {path}: need arrays x, y, z and r (or points and radii), got "
-                f"{sorted(members)}"
-            )
-        centers, radius_stream = _NpyStream(archive, points, path), _NpyStream(archive, radii, path)
-        for _ in range(0, centers.rows, chunk_rows):
-            yield centers.read(chunk_rows), radius_stream.read(chunk_rows)
-
-
-class _NpyStream:
-    """Rows of one .npy member of a zip archive, read a block at a time."""
-
-    def __init__(self, archive: zipfile.ZipFile, member: str, path: Path):
-        self.path = path
-        try:
-            self.handle = archive.open(member)
-            version = np.lib.format.read_magic(self.handle)
-            reader = {
-                (1, 0): np.lib.format.read_array_header_1_0,
-                (2, 0): np.lib.format.read_array_header_2_0,
-            }.get(version)
-            if reader is None:
-                raise ValueError(f"unsupported .npy version {version}")
-            shape, fortran, dtype = reader(self.handle)
-        except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-            raise ReadError(f"cannot read balls {path}: {member}: {exc}") from None
-        if dtype.kind not in "iuf" or dtype.hasobject:
-            raise ReadError(f"balls {path}: values are not real numbers")
-        self.width = int(np.prod(shape[1:])) if len(shape) > 1 else 1
-        if fortran and len(shape) > 1 and shape[0] > 1:
-            raise ReadError(
-                f"balls {path}: {member} is stored in Fortran order; save it C-ordered "
-                "(numpy.ascontiguousarray) to stream it"
-            )
-        self.rows = int(shape[0]) if shape else 1
-        self.dtype, self.shape = dtype, shape
-
-    def read(self, rows: int) -> np.ndarray:
-        count = rows * self.width
-        data = self.handle.read(count * self.dtype.itemsize)
-        values = np.frombuffer(data, dtype=self.dtype)
-        if len(values) % self.width:
-            raise ReadError(f"cannot read balls {self.path}: an array ends early")
-        values = values.astype(float)
-        return values.reshape(-1, self.width) if len(self.shape) > 1 else values

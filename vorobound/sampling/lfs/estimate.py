@@ -224,6 +224,46 @@ class LfsEstimate:
         return sharp
 
 
+def _refuse_non_manifold(prepared, name: str) -> None:
+    """Refuse a surface whose parts touch at a vertex or meet along an edge of three or more
+    faces: L there is 0 (any ball around such a point meets two sheets), which no positive
+    estimate can stand for (issue 34: L at a pinch was the largest on the mesh, L along a fin's
+    edge that of the sphere it stands on)."""
+
+    def at(vertex) -> str:
+        where = prepared.centre + prepared.scale * prepared.points[vertex]
+        return "(" + ", ".join(f"{value:.6g}" for value in where) + ")"
+
+    report = prepared.report
+    if len(report.pinched_vertices):
+        raise InputError(
+            f"mesh {name}: {len(report.pinched_vertices)} vertices where parts of the surface "
+            f"touch at a point (non-manifold; the first at {at(report.pinched_vertices[0])}): "
+            "the local feature size there is 0; move the parts apart or join them along faces"
+        )
+    edges = report.nonmanifold_edge_vertices
+    if len(edges):
+        raise InputError(
+            f"mesh {name}: {len(edges)} edges shared by more than two faces (non-manifold; the "
+            f"first from {at(edges[0, 0])} to {at(edges[0, 1])}): the local feature size along "
+            "them is 0; remove the extra faces or move the parts apart"
+        )
+
+
+def checked_lfs_options(samples, lipschitz, sharp_angle, seed) -> tuple[float, int]:
+    """Refuse bad options of :func:`estimate_lfs` (before a mesh is read); the λ and seed as
+    plain numbers."""
+    if samples is not None and (
+        isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 0
+    ):
+        raise InputError(f"--samples must be a whole number ≥ 0, got {samples!r}")
+    lipschitz = checked_number(lipschitz, "lipschitz", *LIPSCHITZ_RANGE)
+    angle = checked_number(sharp_angle, "sharp_angle", 0.0, 180.0, open_low=True)
+    if angle == 180.0:
+        raise InputError(f"sharp_angle must be between 0 and 180 degrees, got {sharp_angle}")
+    return lipschitz, checked_seed(seed)
+
+
 def estimate_lfs(
     mesh: TriangleMesh,
     *,
@@ -262,16 +302,10 @@ def estimate_lfs(
     Local feature size and ε-samples as in Section 4.1 of "Analytic formula for the difference
     of the circumradius and orthoradius of a weighted triangle"; poles from Amenta & Bern (1999).
     """
-    if samples is not None and (
-        isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 0
-    ):
-        raise InputError(f"--samples must be a whole number ≥ 0, got {samples!r}")
-    lipschitz = checked_number(lipschitz, "lipschitz", *LIPSCHITZ_RANGE)
-    if not (math.isfinite(sharp_angle) and 0 < sharp_angle < 180):
-        raise InputError(f"--sharp-angle must be between 0 and 180 degrees, got {sharp_angle}")
-    seed = checked_seed(seed)
+    lipschitz, seed = checked_lfs_options(samples, lipschitz, sharp_angle, seed)
     slope = float(min(lipschitz, 1.0))
     prepared = prepare_mesh(mesh)
+    _refuse_non_manifold(prepared, mesh.name)
     points, faces = prepared.points, prepared.triangles
     surface_ids = np.unique(faces)
     if len(surface_ids) < 5:

@@ -9,7 +9,7 @@ It also gives orientation-free vertex normals and the sharp edges (large dihedra
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -35,6 +35,14 @@ class MeshReport:
     """Edges of three or more faces."""
     inconsistent_edges: int
     """Edges whose two faces are oriented against each other."""
+    pinched_vertices: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    """Non-manifold vertices (indices into the merged vertices): the faces around each form
+    more than one fan, joined through no edge (two parts touching at a point, where the local
+    feature size is 0)."""
+    nonmanifold_edge_vertices: np.ndarray = field(
+        default_factory=lambda: np.empty((0, 2), dtype=np.int64)
+    )
+    """The two vertices (merged indices) of each edge of three or more faces."""
 
     def problems(self) -> list[str]:
         """One sentence per defect found (empty for a clean closed manifold mesh)."""
@@ -130,6 +138,8 @@ def prepare_mesh(mesh: TriangleMesh) -> PreparedMesh:
         boundary_edges=int((counts == 1).sum()),
         nonmanifold_edges=int((counts > 2).sum()),
         inconsistent_edges=int(((counts == 2) & ~consistent).sum()),
+        pinched_vertices=pinched_vertices(good, len(unique)),
+        nonmanifold_edge_vertices=edges[counts > 2],
     )
     return PreparedMesh(unique, centre, scale, good, merged, edges, edge_faces, consistent, report)
 
@@ -201,6 +211,34 @@ def dihedral_angles(prepared: PreparedMesh) -> np.ndarray:
     cosine = (first * second).sum(axis=1) * np.where(prepared.edge_consistent[two], 1.0, -1.0)
     angles[two] = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
     return angles
+
+
+def pinched_vertices(faces: np.ndarray, count: int) -> np.ndarray:
+    """Vertices whose faces form more than one fan (faces around a vertex are one fan when
+    they are joined through edges at that vertex): where parts of the surface touch at a
+    point, not across an edge (two tetrahedra sharing a vertex)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    corner = np.arange(faces.size).reshape(-1, 3)  # one node per (face, vertex)
+    rows = []
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        key = np.sort(faces[:, [a, b]], axis=1)
+        # Both ends of each edge: (edge, vertex at the end, the face's corner there).
+        rows.append(np.c_[key, faces[:, a], corner[:, a]])
+        rows.append(np.c_[key, faces[:, b], corner[:, b]])
+    table = np.concatenate(rows)
+    table = table[np.lexsort(table[:, :3].T[::-1])]
+    same = (table[1:, :3] == table[:-1, :3]).all(axis=1)
+    graph = coo_matrix(
+        (np.ones(int(same.sum())), (table[:-1][same, 3], table[1:][same, 3])),
+        shape=(faces.size, faces.size),
+    )
+    _, fan = connected_components(graph, directed=False)
+    vertex = faces.reshape(-1)
+    pairs = np.unique(np.c_[vertex, fan], axis=0)
+    fans = np.bincount(pairs[:, 0], minlength=count)
+    return np.flatnonzero(fans > 1)
 
 
 def _edge_topology(faces: np.ndarray):

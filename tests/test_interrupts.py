@@ -1,0 +1,45 @@
+"""Ctrl-C at awkward moments is one line and exit 130 (issue 34: during the half second the
+command line takes to import, it was a 20-line traceback)."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# SIGINT arrives while the command line imports typer: deterministic, not a race.
+INTERRUPT_DURING_IMPORT = """
+import builtins, os, signal, sys
+real = builtins.__import__
+def importing(name, *args, **kwargs):
+    if name == "typer":
+        os.kill(os.getpid(), signal.SIGINT)
+    return real(name, *args, **kwargs)
+builtins.__import__ = importing
+sys.argv = ["vorobound", "--help"]
+{run}
+"""
+
+
+@pytest.mark.parametrize(
+    "run",
+    [
+        "import runpy; runpy.run_module('vorobound', run_name='__main__')",
+        "from vorobound.launch import entry; entry()",
+    ],
+    ids=["python -m vorobound", "console script"],
+)
+def test_an_interrupt_during_import_is_one_line(run):
+    env = os.environ | {"PYTHONPATH": str(ROOT)}
+    done = subprocess.run(
+        [sys.executable, "-c", INTERRUPT_DURING_IMPORT.format(run=run)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+    )
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "interrupted\n"
