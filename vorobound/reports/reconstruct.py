@@ -81,9 +81,10 @@ class ReconstructReport:
     @property
     def topology_correct(self) -> bool:
         """M̂ is a closed 2-manifold with the surface's Euler characteristic and components
-        (only the first when the surface is not known)."""
+        (only the first when the surface is not known), built from every seed (a seed left
+        out of the triangulation, other than an exact copy, misses its facets)."""
         top = self.topology
-        if not top.closed_manifold:
+        if not top.closed_manifold or self.facets.skipped_seeds:
             return False
         if self.expected is None:
             return True
@@ -138,6 +139,7 @@ class ReconstructReport:
             "unresolved_facets": self.facets.unresolved,
             "non_simple_facets": self.facets.non_simple,
             "skipped_seeds": self.facets.skipped_seeds,
+            "duplicate_seeds": self.facets.duplicate_seeds,
             "nonmanifold_facets": self._listed(top.bad_facets),
             "unbounded_seed_pairs": self.facets.unbounded[:LISTED_FACETS].tolist(),
             "edge_ratio_min": _min(q.edge_ratio),
