@@ -5,11 +5,11 @@ result over only as a simplex tree, whose Python iterators build one list per si
 triangulation of 10⁶ points that loop cost more CPU time than CGAL itself (issue 35). The tree
 pickles itself into one byte array (``SimplexTree.__getstate__``, GUDHI's pickle support), and
 :mod:`.simplex_kernel` (compiled, with the optional numba) reads every triangle and
-tetrahedron out of that array (a pass that counts, a pass that fills: 0.04 s for the 4·10⁶
-simplices of 2·10⁵ weighted points, against 0.33 s for the serialization and 1.4 s for the
-iterator). The bytes must end where the last block does; where numba is missing, the tree is small (loading numba costs
-a process about 0.7 s) or the layout is not the expected one (another GUDHI version), GUDHI's
-iterator gives the same simplices. docs/performance.md compares the alternatives.
+tetrahedron out of that array (a pass that counts, a pass that fills: 0.05–0.13 CPU-s for the
+4·10⁶ simplices of 2·10⁵ weighted points, against 0.4–0.6 for the serialization and 1.4 for
+the iterator). The bytes must end where the last block does. Where numba is missing, the tree
+is small (loading numba costs a process about 0.7 s) or the layout is not the expected one
+(another GUDHI version), GUDHI's iterator gives the same simplices. docs/performance.md compares the alternatives.
 """
 
 from __future__ import annotations
