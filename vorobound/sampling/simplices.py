@@ -9,7 +9,8 @@ tetrahedron out of that array (a pass that counts, a pass that fills: 0.05–0.1
 4·10⁶ simplices of 2·10⁵ weighted points, against 0.4–0.6 for the serialization and 1.4 for
 the iterator). The bytes must end where the last block does. Where numba is missing, the tree
 is small (loading numba costs a process about 0.7 s) or the layout is not the expected one
-(another GUDHI version), GUDHI's iterator gives the same simplices. docs/performance.md compares the alternatives.
+(another GUDHI version), GUDHI's iterator gives the same simplices. docs/performance.md
+compares the alternatives.
 """
 
 from __future__ import annotations
