@@ -137,8 +137,11 @@ def face_neighbours(tets: np.ndarray) -> np.ndarray:
     out = np.full(tets.shape, -1, dtype=np.int64)
     if not len(tets):
         return out
-    ordered = np.sort(tets, axis=1)
-    faces = np.stack([np.delete(ordered, corner, axis=1) for corner in range(4)])
+    presorted = bool((tets[:, :-1] < tets[:, 1:]).all())  # as a simplex tree gives them
+    ordered = tets if presorted else np.sort(tets, axis=1)
+    faces = np.empty((4, len(tets), 3), dtype=np.int64)
+    for corner, keep in enumerate(((1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2))):
+        faces[corner] = ordered[:, keep]
     faces = faces.reshape(-1, 3)  # face k·t + i is tetrahedron i without corner k
     if int(ordered.max()) < 1 << PACKED_BITS:
         key = (faces[:, 0] << (2 * PACKED_BITS)) | (faces[:, 1] << PACKED_BITS) | faces[:, 2]
@@ -156,8 +159,10 @@ def face_neighbours(tets: np.ndarray) -> np.ndarray:
     count = len(tets)
     # The corner opposite a face is the one left out of ``ordered``; map it back to ``tets``.
     row_a, row_b = first % count, second % count
-    col_a = _original_corner(tets, ordered, row_a, first // count)
-    col_b = _original_corner(tets, ordered, row_b, second // count)
+    col_a, col_b = first // count, second // count
+    if not presorted:
+        col_a = _original_corner(tets, ordered, row_a, col_a)
+        col_b = _original_corner(tets, ordered, row_b, col_b)
     out[row_a, col_a] = row_b
     out[row_b, col_b] = row_a
     return out
