@@ -478,3 +478,39 @@ def test_seeds_far_from_the_origin_give_the_same_mhat(name):
 
         gap, _ = cKDTree(base.surface.vertices).query(moved.surface.vertices - shift * direction)
         assert np.median(gap) <= 1e-6 * np.ptp(points, axis=0).max(), shift
+
+
+def test_balls_far_from_the_origin_keep_every_seed():
+    """Issue 34: ``reconstruct --balls`` on balls at 10⁸ skipped 17,045 seeds while ``check``
+    passed the same balls. Shifted by 10⁵ and 10⁸, a sphere's balls give the same seeds, all
+    triangulated, and M̂ a sphere."""
+    sample = sample_surface(SphereShape(1), 0.1, QUALITY.sigma, 0)
+    radii = QUALITY.delta_ratio * 0.1 * sample.lfs
+    base = reconstruct_balls(make_balls(sample.points, radii))
+    for shift in [1e5, 1e8]:
+        moved = reconstruct_balls(make_balls(sample.points + shift, radii))
+        assert len(moved.seeds) == len(base.seeds)
+        assert moved.facets.skipped_seeds == 0 and moved.topology_correct
+        assert moved.topology.euler_characteristic == 2
+        assert abs(moved.facets.surface.n_facets - base.facets.surface.n_facets) <= max(
+            3, 0.01 * base.facets.surface.n_facets
+        )
+
+
+def test_a_seed_left_out_makes_mhat_not_correct_and_an_exact_copy_does_not():
+    """With CGAL only exact copies are left out: a copy with its seed's label is counted apart
+    (one Voronoi cell), a copy with the other label is skipped, and a skipped seed makes the
+    reconstruction not correct."""
+    from dataclasses import replace
+
+    rng = np.random.default_rng(4)
+    points = rng.standard_normal((200, 3))
+    inside = np.linalg.norm(points, axis=1) < 1
+    same = inout_facets(np.vstack([points, points[:1]]), np.append(inside, inside[0]))
+    assert (same.duplicate_seeds, same.skipped_seeds) == (1, 0)
+    other = inout_facets(np.vstack([points, points[:1]]), np.append(inside, ~inside[0]))
+    assert other.duplicate_seeds + other.skipped_seeds == 1 and other.skipped_seeds == 1
+    report = reconstruct_surface(SphereShape(1), 0.2, QUALITY)
+    assert report.topology_correct
+    broken = replace(report, facets=replace(report.facets, skipped_seeds=1))
+    assert not broken.topology_correct and broken.summary()["skipped_seeds"] == 1
