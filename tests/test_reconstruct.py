@@ -514,3 +514,18 @@ def test_a_seed_left_out_makes_mhat_not_correct_and_an_exact_copy_does_not():
     assert report.topology_correct
     broken = replace(report, facets=replace(report.facets, skipped_seeds=1))
     assert not broken.topology_correct and broken.summary()["skipped_seeds"] == 1
+
+
+def test_the_seed_frame_is_exact():
+    """The shift of a far axis is exact (Sterbenz), a straddling axis is not shifted, and the
+    frame's coordinates are below 1 in size."""
+    from vorobound.sampling.reconstruct.facets import seed_frame
+
+    rng = np.random.default_rng(6)
+    for offset in [0.0, 3.0, 1e5, -1e9, 1e300]:
+        points = rng.standard_normal((500, 3)) + np.array([offset, 0.0, -offset])
+        shift, unit = seed_frame(points)
+        moved = points - shift
+        np.testing.assert_array_equal(moved + shift, points)
+        assert shift[1] == 0 and (abs(offset) > 100) == (shift[0] != 0)
+        assert np.abs(moved / unit).max() <= 1 and unit == 2.0 ** np.round(np.log2(unit))
