@@ -417,7 +417,13 @@ def _fixture_seeds(name):
     return report.seeds.points, report.seeds.inside, report
 
 
-FIXTURES = ["sphere-0.1", "torus-3-1-0.15", "torus-3-1-0.15-half", "torus-1.5-1-0.2"]
+FIXTURES = [
+    "sphere-0.1",
+    pytest.param("torus-3-1-0.15", marks=pytest.mark.slow),
+    pytest.param("torus-3-1-0.15-half", marks=pytest.mark.slow),
+    "torus-1.5-1-0.2",
+]
+"""The larger tori take 10–15 s each under load: in the slow set."""
 
 
 @pytest.mark.parametrize("name", FIXTURES)
