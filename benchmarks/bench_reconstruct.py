@@ -3,7 +3,7 @@
 Run: ``python benchmarks/bench_reconstruct.py [--cases torus-0.06,torus-0.03]``. Each case runs
 in its own process (so its peak resident memory is its own) and does what
 ``vorobound reconstruct --torus 3,1 --eps 0.03`` does without writing files: sample the surface,
-find the guide triangles and their seeds, label the seeds, build M̂ (qhull's Delaunay
+find the guide triangles and their seeds, label the seeds, build M̂ (CGAL's Delaunay
 tetrahedralization, the in/out facets, welding), its topology and quality, and its distances
 to the surface. Stage boundaries come from the library's progress callback. Printed per case:
 the wall and CPU seconds of each stage, the total against the target, the peak memory against

@@ -403,3 +403,135 @@ def test_mhat_and_seeds_round_trip_through_meshio(tmp_path):
     assert np.array_equal(seeds.point_data["region_id"] == 1, report.seeds.inside)
     again = read_seed_file(tmp_path / "seeds.csv")
     assert np.array_equal(again.points, report.seeds.points)
+
+
+def _fixture_seeds(name):
+    """Labelled seeds of the reconstruct fixtures (seeds of sampled spheres and tori)."""
+    shape, eps, half = {
+        "sphere-0.1": (SphereShape(1), 0.1, False),
+        "torus-3-1-0.15": (TorusShape(3, 1), 0.15, False),
+        "torus-3-1-0.15-half": (TorusShape(3, 1), 0.15, True),
+        "torus-1.5-1-0.2": (TorusShape(1.5, 1), 0.2, False),
+    }[name]
+    report = reconstruct_balls(_balls(shape, eps), SamplingParams(eps, QUALITY), shape, half)
+    return report.seeds.points, report.seeds.inside, report
+
+
+FIXTURES = [
+    "sphere-0.1",
+    pytest.param("torus-3-1-0.15", marks=pytest.mark.slow),
+    pytest.param("torus-3-1-0.15-half", marks=pytest.mark.slow),
+    "torus-1.5-1-0.2",
+]
+"""The larger tori take 10–15 s each under load: in the slow set."""
+
+
+@pytest.mark.parametrize("name", FIXTURES)
+def test_cgal_and_qhull_give_the_same_facets(name):
+    """qhull stays the cross-check of CGAL's tetrahedralization: the same in/out facets with
+    area, on the same welded vertices, and no seed left out by either."""
+    points, inside, _ = _fixture_seeds(name)
+    cgal = inout_facets(points, inside, triangulation="cgal")
+    qhull = inout_facets(points, inside, triangulation="qhull")
+    assert cgal.skipped_seeds == qhull.skipped_seeds == 0
+    mine = {tuple(p): f for f, p in enumerate(cgal.surface.seed_pairs)}
+    theirs = {tuple(p): f for f, p in enumerate(qhull.surface.seed_pairs)}
+    assert set(mine) == set(theirs) and len(mine) == cgal.surface.n_facets
+    scale = np.ptp(points, axis=0).max()
+    for pair, f in mine.items():
+        a = cgal.surface.vertices[cgal.surface.corners[cgal.surface.offsets[f] :][:3]]
+        g = theirs[pair]
+        b = qhull.surface.vertices[qhull.surface.corners[qhull.surface.offsets[g] :][:3]]
+        # The same polygon (first corners may differ): every corner of one is a corner of the
+        # other.
+        ca = cgal.surface.vertices[
+            cgal.surface.corners[cgal.surface.offsets[f] : cgal.surface.offsets[f + 1]]
+        ]
+        cb = qhull.surface.vertices[
+            qhull.surface.corners[qhull.surface.offsets[g] : qhull.surface.offsets[g + 1]]
+        ]
+        assert len(ca) == len(cb) and len(a) == len(b) == 3
+        gap = np.linalg.norm(ca[:, None, :] - cb[None, :, :], axis=2).min(axis=1)
+        assert gap.max() <= 1e-9 * scale
+
+
+@pytest.mark.parametrize("name", FIXTURES)
+def test_seeds_far_from_the_origin_give_the_same_mhat(name):
+    """Issue 34: a seed set shifted by 10⁵ lost 272 seeds in qhull and gained 507 facets with
+    ``ok: true``; at 10⁷ M̂ was empty. Shifted by 10³ … 10⁹ (each coordinate rounded to the
+    shifted position), every fixture keeps every seed and its topology, and its facet count
+    to within the tiny facets the rounding of the shifted coordinates makes or hides."""
+    points, inside, report = _fixture_seeds(name)
+    base = inout_facets(points, inside)
+    top = surface_topology(base.surface)
+    assert top.closed_manifold and base.skipped_seeds == 0
+    direction = np.array([1.0, -0.6, 0.3])
+    for shift in [1e3, 1e5, 1e7, 1e9]:
+        moved = inout_facets(points + shift * direction, inside)
+        assert moved.skipped_seeds == 0, shift
+        assert abs(moved.surface.n_facets - base.surface.n_facets) <= max(
+            3, 0.005 * base.surface.n_facets
+        ), (shift, moved.surface.n_facets, base.surface.n_facets)
+        assert moved.unbounded.shape == base.unbounded.shape
+        got = surface_topology(moved.surface)
+        assert got.closed_manifold, shift
+        assert (got.euler_characteristic, got.components) == (
+            top.euler_characteristic,
+            top.components,
+        ), shift
+        # M̂ moves with the seeds (to the rounding of the shifted coordinates).
+        from scipy.spatial import cKDTree
+
+        gap, _ = cKDTree(base.surface.vertices).query(moved.surface.vertices - shift * direction)
+        assert np.median(gap) <= 1e-6 * np.ptp(points, axis=0).max(), shift
+
+
+def test_balls_far_from_the_origin_keep_every_seed():
+    """Issue 34: ``reconstruct --balls`` on balls at 10⁸ skipped 17,045 seeds while ``check``
+    passed the same balls. Shifted by 10⁵ and 10⁸, a sphere's balls give the same seeds, all
+    triangulated, and M̂ a sphere."""
+    sample = sample_surface(SphereShape(1), 0.1, QUALITY.sigma, 0)
+    radii = QUALITY.delta_ratio * 0.1 * sample.lfs
+    base = reconstruct_balls(make_balls(sample.points, radii))
+    for shift in [1e5, 1e8]:
+        moved = reconstruct_balls(make_balls(sample.points + shift, radii))
+        assert len(moved.seeds) == len(base.seeds)
+        assert moved.facets.skipped_seeds == 0 and moved.topology_correct
+        assert moved.topology.euler_characteristic == 2
+        assert abs(moved.facets.surface.n_facets - base.facets.surface.n_facets) <= max(
+            3, 0.01 * base.facets.surface.n_facets
+        )
+
+
+def test_a_seed_left_out_makes_mhat_not_correct_and_an_exact_copy_does_not():
+    """With CGAL only exact copies are left out: a copy with its seed's label is counted apart
+    (one Voronoi cell), a copy with the other label is skipped, and a skipped seed makes the
+    reconstruction not correct."""
+    from dataclasses import replace
+
+    rng = np.random.default_rng(4)
+    points = rng.standard_normal((200, 3))
+    inside = np.linalg.norm(points, axis=1) < 1
+    same = inout_facets(np.vstack([points, points[:1]]), np.append(inside, inside[0]))
+    assert (same.duplicate_seeds, same.skipped_seeds) == (1, 0)
+    other = inout_facets(np.vstack([points, points[:1]]), np.append(inside, ~inside[0]))
+    assert other.duplicate_seeds + other.skipped_seeds == 1 and other.skipped_seeds == 1
+    report = reconstruct_surface(SphereShape(1), 0.2, QUALITY)
+    assert report.topology_correct
+    broken = replace(report, facets=replace(report.facets, skipped_seeds=1))
+    assert not broken.topology_correct and broken.summary()["skipped_seeds"] == 1
+
+
+def test_the_seed_frame_is_exact():
+    """The shift of a far axis is exact (Sterbenz), a straddling axis is not shifted, and the
+    frame's coordinates are below 1 in size."""
+    from vorobound.sampling.reconstruct.facets import seed_frame
+
+    rng = np.random.default_rng(6)
+    for offset in [0.0, 3.0, 1e5, -1e9, 1e300]:
+        points = rng.standard_normal((500, 3)) + np.array([offset, 0.0, -offset])
+        shift, unit = seed_frame(points)
+        moved = points - shift
+        np.testing.assert_array_equal(moved + shift, points)
+        assert shift[1] == 0 and (abs(offset) > 100) == (shift[0] != 0)
+        assert np.abs(moved / unit).max() <= 1 and unit == 2.0 ** np.round(np.log2(unit))

@@ -50,6 +50,9 @@ class ReconstructResult(Result):
 
     @property
     def verdict(self) -> str:
+        skipped = self.report.facets.skipped_seeds
+        if skipped:
+            return f"{skipped} seeds were left out of the triangulation: M̂ misses their facets"
         if not self.closed_manifold:
             return "M̂ is not a closed 2-manifold (see the boundary and non-manifold counts)"
         return f"M̂ has the wrong topology (Euler characteristic {self.euler_characteristic})"

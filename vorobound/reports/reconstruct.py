@@ -80,9 +80,12 @@ class ReconstructReport:
 
     @property
     def topology_correct(self) -> bool | None:
-        """M̂ is a closed 2-manifold with the surface's Euler characteristic and components;
-        None when there is no reference surface to compare with (no surface given, or a mesh
-        that is not closed)."""
+        """M̂ is a closed 2-manifold with the surface's Euler characteristic and components,
+        built from every seed (a seed left out of the triangulation, other than an exact copy,
+        misses its facets: False); None when there is no reference surface to compare with
+        (no surface given, or a mesh that is not closed)."""
+        if self.facets.skipped_seeds:
+            return False
         if self.expected is None:
             return None
         top = self.topology
@@ -144,6 +147,7 @@ class ReconstructReport:
             "unresolved_facets": self.facets.unresolved,
             "non_simple_facets": self.facets.non_simple,
             "skipped_seeds": self.facets.skipped_seeds,
+            "duplicate_seeds": self.facets.duplicate_seeds,
             "nonmanifold_facets": self._listed(top.bad_facets),
             "unbounded_seed_pairs": self.facets.unbounded[:LISTED_FACETS].tolist(),
             "edge_ratio_min": _min(q.edge_ratio),

@@ -7,7 +7,8 @@ to the triple: the triple is a triangle of the regular (weighted Delaunay) trian
 the smallest power on that dual edge, its weighted alpha filtration value, is ≤ 0.
 
 * ``gudhi``: the triangles of GUDHI's regular triangulation (``DelaunayComplex`` with weights,
-  CGAL's exact predicates; no filtration values are computed). Space is cut into slabs, each
+  CGAL's exact predicates; no filtration values are computed), read in bulk from its simplex
+  tree (:mod:`vorobound.sampling.simplices`). Space is cut into slabs, each
   triangulated with the balls within a margin around it (a seed lies within r_max of its three
   centers, and dropping far balls uncovers nothing near the slab), and the slabs run in
   threads (GUDHI releases the GIL). Filler points of weight 0, kept more than r_max away from
@@ -216,23 +217,17 @@ def _slabs(balls: Balls) -> list[np.ndarray]:
 
 def regular_triangles(centers: np.ndarray, weights: np.ndarray) -> np.ndarray:
     """Local indices (m, 3) of the triangles of the regular triangulation of the weighted
-    points, computed with filler points (module docstring) that the result leaves out."""
-    import gudhi
+    points, computed with filler points (module docstring) that the result leaves out. The
+    triangles are read from CGAL's result in bulk (:func:`vorobound.sampling.simplices
+    .delaunay_simplices`), with no Python loop over simplices."""
+    from ..simplices import delaunay_simplices
 
     filler = filler_points(centers, math.sqrt(float(weights.max())))
-    complex_ = gudhi.DelaunayComplex(
-        points=np.vstack([centers, filler]),
-        weights=np.concatenate([weights, np.zeros(len(filler))]),
-        precision="fast",
+    triangles, _, _ = delaunay_simplices(
+        np.vstack([centers, filler]),
+        np.concatenate([weights, np.zeros(len(filler))]),
+        tetrahedra=False,
     )
-    tree = complex_.create_simplex_tree()
-    del complex_
-    tree.prune_above_dimension(2)
-    flat: list[int] = []
-    for simplex, _ in tree.get_skeleton(2):
-        if len(simplex) == 3:
-            flat.extend(simplex)
-    triangles = np.array(flat, dtype=np.int64).reshape(-1, 3)
     return triangles[(triangles < len(centers)).all(axis=1)]
 
 

@@ -3,10 +3,31 @@
 The Voronoi facet of two seeds is dual to their Delaunay edge: its vertices are the
 circumcentres of the Delaunay tetrahedra around that edge, in the order the tetrahedra turn
 around it. Only edges whose two seeds carry different labels are kept, so only those facets are
-built. The Delaunay tetrahedralization comes from qhull (:class:`scipy.spatial.Delaunay`), whose
-``neighbors`` array gives the turn around each edge without any geometry; docs/reconstruct.md
-says why this is preferred to :class:`scipy.spatial.Voronoi` (which builds every facet of the
-diagram as Python lists).
+built. The Delaunay tetrahedralization comes from CGAL (GUDHI's ``DelaunayComplex``, exact
+predicates; its tetrahedra read in bulk by :mod:`vorobound.sampling.simplices`), and the face
+neighbours of the tetrahedra from matching their faces; they give the turn around each edge
+without any geometry. qhull (:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives
+the same facets and stays as the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
+time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
+never need to. docs/reconstruct.md says why the Delaunay route is preferred to
+:class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
+
+The frame: the seeds are moved to a frame near the origin and of unit size before anything is
+computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
+of their range at least the range's width from 0) the shift is that centre: every coordinate
+is then within a factor 2 of it, so the difference is exact (Sterbenz's lemma); then all is
+divided by a power of two. Both steps are exact, so the triangulation (exact predicates) is
+that of the seeds as given, and no seed is ever dropped for being nearly coincident with
+another (issue 34: qhull dropped 272 seeds of a sphere's seed set shifted by 10⁵ and gained 507
+facets, without a word; at 10⁷ M̂ was empty). Seeds far from the origin are known only to the
+rounding of their coordinates, u·|x|: that rounding splits a degenerate Voronoi vertex (a
+ball's centre, on which many seeds are cospherical) into vertices up to a few hundred units
+of the last place apart, so Voronoi edges of M̂ shorter than GIVEN_WELD·u·|shift| are welded
+too. The facet count of a shifted seed set then stays within a few tenths of a percent of the
+unshifted one's (tiny facets the rounding creates or hides), and the topology is the same
+(tests/test_reconstruct.py shifts every fixture by 10³ … 10⁹). A seed left out of the
+triangulation makes the reconstruction not correct (``skipped_seeds``), unless it is an exact
+copy of a seed with its label (``duplicate_seeds``: one Voronoi cell, nothing lost).
 
 VoroCrust's seeds are cospherical by construction: every seed of a ball lies on its sphere and
 no seed lies inside it, so the ball's centre is one Voronoi vertex shared by many seeds. qhull's
@@ -47,6 +68,10 @@ ROUNDING_FACTOR = 64.0
 """The rounding error of a circumcentre is taken as ROUNDING_FACTOR·u·(R + |a|)/flatness
 (u the unit roundoff, a the first vertex, flatness = |det(u, v, w)|/(|u||v||w|)): a generous
 multiple of the error of the formula, which grows as the tetrahedron flattens."""
+GIVEN_WELD = 256.0
+"""Seeds far from the origin are known only to u·|x| (u the unit roundoff, x the seed as
+given): neighbouring Voronoi vertices closer than GIVEN_WELD·u·|shift| are one too (module
+docstring, "The frame")."""
 FLAT_RTOL = 1e-10
 """A tetrahedron is flat when its volume is below FLAT_RTOL·|u||v||w|/6 (u, v, w its edges
 from one vertex): its circumcentre is then not computed but borrowed from a neighbour."""
@@ -54,6 +79,8 @@ FLAT_ROUNDS = 8
 """Rounds of borrowing through chains of flat tetrahedra."""
 CHUNK = 1 << 20
 """Tetrahedra, or corners of the cycles, handled at a time (bounds the memory)."""
+TRIANGULATIONS = ("cgal", "qhull")
+"""The Delaunay engines :func:`inout_facets` takes."""
 EDGE_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 """The six edges of a tetrahedron as pairs of local vertex indices."""
 
@@ -153,15 +180,24 @@ class InOutFacets:
     non_simple: int
     """Facets whose welded polygon visits a vertex twice (kept; counted for the record)."""
     skipped_seeds: int
-    """Seeds qhull left out of the triangulation (coincident or nearly so with another)."""
+    """Seeds left out of the triangulation other than the duplicates below: with CGAL (exact
+    predicates) only a seed at the very coordinates of a seed of the other label; with qhull
+    also seeds it finds nearly coincident with another. M̂ misses their facets, so a result
+    with skipped seeds is not correct (``ReconstructReport.topology_correct``)."""
     delaunay_edges: int
     """Delaunay edges between an inside and an outside seed."""
     tetrahedra: int
     """Tetrahedra of the Delaunay triangulation of the seeds."""
+    duplicate_seeds: int = 0
+    """Seeds at the very coordinates of another seed with the same label: one Voronoi cell,
+    triangulated once (the copies change nothing in M̂)."""
 
 
 def inout_facets(
-    points: np.ndarray, inside: np.ndarray, progress: Progress | None = None
+    points: np.ndarray,
+    inside: np.ndarray,
+    progress: Progress | None = None,
+    triangulation: str = "cgal",
 ) -> InOutFacets:
     """The Voronoi facets between seeds labelled inside and seeds labelled outside.
 
@@ -173,6 +209,9 @@ def inout_facets(
         True for a seed inside the surface.
     progress : Progress, optional
         Reports the stages.
+    triangulation : {"cgal", "qhull"}
+        The Delaunay tetrahedralization: CGAL's (through GUDHI, exact predicates; the
+        default) or qhull's (scipy; kept as the cross-check of the tests).
 
     Returns
     -------
@@ -183,35 +222,34 @@ def inout_facets(
     ----------
     The surface M̂ of VoroCrust (module docstring).
     """
-    from scipy.spatial import Delaunay, QhullError
-
     points = np.ascontiguousarray(points, dtype=float)
     inside = np.asarray(inside, dtype=bool)
+    if triangulation not in TRIANGULATIONS:
+        raise InputError(f"triangulation must be cgal or qhull, got {triangulation!r}")
     # Every product below (circumcentres, signed volumes) is of degree up to 6 in the
-    # coordinates: it overflows or underflows for seeds far from unit size. Scaling by a power
-    # of two is exact and leaves the combinatorics unchanged.
-    unit = _power_of_two_scale(points)
-    points = points / unit
-    Counter(progress, "Delaunay (qhull)", None)
-    try:
-        triangulation = Delaunay(points)
-    except (QhullError, ValueError) as exc:
-        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise InputError(f"seeds: qhull cannot triangulate them ({reason})") from None
-    simplices = triangulation.simplices.astype(np.int64)
-    neighbors = triangulation.neighbors.astype(np.int64)
-    skipped = len(points) - len(np.unique(simplices))
-    del triangulation
+    # coordinates: the seeds are first moved to a frame near the origin and near unit size,
+    # exactly (module docstring), and the results moved back.
+    shift, unit = seed_frame(points)
+    points = (points - shift) / unit
+    # The seeds are known to the rounding of their given coordinates, which the shift hides.
+    given = float(np.linalg.norm(shift)) / unit
+    if triangulation == "cgal":
+        Counter(progress, "Delaunay (CGAL)", None)
+        simplices, neighbors, present = _cgal_tetrahedra(points)
+    else:
+        Counter(progress, "Delaunay (qhull)", None)
+        simplices, neighbors, present = _qhull_tetrahedra(points)
+    duplicates, skipped = _absent_seeds(points, inside, present)
     counter = Counter(progress, "in/out facets", 3)
     centres, radius, error = circumcentres(points, simplices, neighbors)
     counter.step()
     cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
     counter.step()
     surface, collapsed, unresolved, non_simple = _weld(
-        points, inside, centres, radius, error, cycles
+        points, inside, centres, radius, error, cycles, given
     )
     counter.step()
-    surface = replace(surface, vertices=surface.vertices * unit)
+    surface = replace(surface, vertices=surface.vertices * unit + shift)
     return InOutFacets(
         surface=surface,
         unbounded=cycles.unbounded,
@@ -219,9 +257,28 @@ def inout_facets(
         unresolved=unresolved,
         non_simple=non_simple,
         skipped_seeds=skipped,
+        duplicate_seeds=duplicates,
         delaunay_edges=cycles.edge_count,
         tetrahedra=len(simplices),
     )
+
+
+def seed_frame(points: np.ndarray) -> tuple[np.ndarray, float]:
+    """Shift (3,) and power-of-two unit such that ``(points - shift) / unit`` is exact and
+    has coordinates below 1 in size (module docstring, "The frame").
+
+    Along an axis whose centre c lies at least the axis's extent from 0, the shift is c (then
+    every coordinate x has c/2 ≤ x ≤ 2c, so x − c is exact by Sterbenz's lemma); elsewhere it
+    is 0 (the seeds already straddle the origin, or nearly so).
+    """
+    if not len(points):
+        return np.zeros(3), 1.0
+    low, high = points.min(axis=0), points.max(axis=0)
+    with np.errstate(all="ignore"):
+        centre = low + 0.5 * (high - low)
+        far = np.isfinite(centre) & (np.abs(centre) >= high - low) & (low * high > 0)
+    shift = np.where(far, centre, 0.0)
+    return shift, _power_of_two_scale(points - shift)
 
 
 def _power_of_two_scale(points: np.ndarray) -> float:
@@ -288,6 +345,55 @@ def _circumcentres(corner: np.ndarray):
             / np.abs(det)
         )
     return centres, error, flat
+
+
+def _cgal_tetrahedra(points: np.ndarray):
+    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL."""
+    from ..simplices import delaunay_simplices, face_neighbours
+
+    _, simplices, _ = delaunay_simplices(points, triangles=False)
+    if not len(simplices):
+        raise InputError(
+            "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
+            "in a plane)"
+        )
+    neighbors = face_neighbours(simplices)
+    if neighbors is None:
+        raise InputError("seeds: CGAL's triangulation has a face of more than two tetrahedra")
+    present = np.zeros(len(points), dtype=bool)
+    present[simplices.reshape(-1)] = True
+    return simplices, neighbors, present
+
+
+def _qhull_tetrahedra(points: np.ndarray):
+    """Tetrahedra, their face neighbours and which seeds are vertices, from qhull."""
+    from scipy.spatial import Delaunay, QhullError
+
+    try:
+        triangulation = Delaunay(points)
+    except (QhullError, ValueError) as exc:
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"seeds: qhull cannot triangulate them ({reason})") from None
+    simplices = triangulation.simplices.astype(np.int64)
+    neighbors = triangulation.neighbors.astype(np.int64)
+    present = np.zeros(len(points), dtype=bool)
+    present[simplices.reshape(-1)] = True
+    return simplices, neighbors, present
+
+
+def _absent_seeds(points: np.ndarray, inside: np.ndarray, present: np.ndarray) -> tuple[int, int]:
+    """(duplicates, skipped) among the seeds that are no vertex of the triangulation: a
+    duplicate has the very coordinates of a vertex with its label, anything else is skipped."""
+    absent = np.flatnonzero(~present)
+    if not len(absent):
+        return 0, 0
+    rows = np.column_stack([points, inside.astype(float)])
+    _, group = np.unique(rows, axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    covered = np.zeros(int(group.max()) + 1, dtype=bool)
+    covered[group[present]] = True
+    duplicates = int(covered[group[absent]].sum())
+    return duplicates, len(absent) - duplicates
 
 
 @dataclass(frozen=True)
@@ -363,7 +469,7 @@ def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
         current[alive] = np.where(one != prev, one, two)
         previous[alive] = cur
     if not np.array_equal(current, first):  # a walk that did not close: a broken triangulation
-        raise InputError("seeds: qhull's triangulation is inconsistent around an edge")
+        raise InputError("seeds: the triangulation is inconsistent around an edge")
     return _Cycles(
         pairs=pairs[bounded],
         tets=walked,
@@ -420,7 +526,7 @@ def _oriented(points, simplices, inside, cycles: _Cycles) -> _Cycles:
     return replace(cycles, pairs=pairs, tets=tets)
 
 
-def _weld(points, inside, centres, radius, error, cycles: _Cycles):
+def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float = 0.0):
     """Polygons on welded vertices: (surface, collapsed, unresolved, non-simple)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
@@ -437,6 +543,9 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles):
     gap = np.linalg.norm(position[corner_vertex] - position[previous], axis=1)
     with np.errstate(invalid="ignore"):
         short = gap <= np.maximum(slack[corner_vertex], slack[previous])
+    if given > 0:
+        # Seeds far from the origin: their coordinates as given are rounded to u·|x|.
+        short |= gap <= GIVEN_WELD * np.finfo(float).eps * given
     count = len(used)
     graph = coo_matrix(
         (np.ones(int(short.sum())), (corner_vertex[short], previous[short])), shape=(count, count)

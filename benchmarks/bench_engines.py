@@ -1,0 +1,209 @@
+"""Each stage against the engine underneath, side by side in the same run (issue 35).
+
+Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6`` and
+``python benchmarks/bench_engines.py reconstruct --eps 0.03``. Every measurement runs in its own
+fresh process; printed are CPU and wall seconds and the load average before and after (the
+machine is shared: CPU seconds are the steadier measure).
+
+* ``check``: on the torus row sample of about N balls (benchmarks/bench_scale.py makes it, in
+  ``--data``), CGAL's bare regular triangulation of the balls with the filler points check
+  uses (GUDHI ``DelaunayComplex`` built, no simplex tree; then with its simplex tree), against
+  ``vorobound check --balls F --eps E --workers 1`` end to end. Target: check ≤ 2.5× the bare
+  triangulation at 10⁶ balls.
+* ``reconstruct``: the seeds of the torus (3, 1) at ε (0.03: about 5.4·10⁵ seeds), CGAL's
+  Delaunay tetrahedralization of them (``DelaunayComplex`` built; then with its simplex tree)
+  against M̂ from the seeds (:func:`vorobound.sampling.reconstruct.facets.inout_facets`, CGAL
+  and qhull) and the whole ``reconstruct`` of the surface. Target: M̂ ≤ 1.5× CGAL's
+  tetrahedralization.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+
+def _cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _child(task: str, *args: str) -> dict:
+    """One measurement in a fresh process (this script with ``--child``)."""
+    load = os.getloadavg()[0]
+    done = subprocess.run(
+        [sys.executable, __file__, "--child", task, *args],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if done.returncode:
+        raise SystemExit(f"{task} failed: {done.stderr}")
+    out = json.loads(done.stdout.strip().splitlines()[-1])
+    out["load"] = (load, os.getloadavg()[0])
+    return out
+
+
+def _read_balls(path: str):
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(path)
+    centers = np.column_stack([table[c].to_numpy() for c in ("x", "y", "z")])
+    return centers, table["r"].to_numpy()
+
+
+def child_cgal_balls(path: str) -> dict:
+    """CGAL's regular triangulation of the balls with check's filler points."""
+    import gudhi
+    import numpy as np
+
+    from vorobound.sampling.guides.triangles import filler_points
+
+    centers, radii = _read_balls(path)
+    filler = filler_points(centers, float(radii.max()))
+    points = np.vstack([centers, filler])
+    weights = np.concatenate([radii**2, np.zeros(len(filler))])
+    cpu, wall = _cpu(), time.perf_counter()
+    complex_ = gudhi.DelaunayComplex(points=points, weights=weights, precision="fast")
+    built = (_cpu() - cpu, time.perf_counter() - wall)
+    tree = complex_.create_simplex_tree()
+    with_tree = (_cpu() - cpu, time.perf_counter() - wall)
+    return {"balls": len(centers), "filler": len(filler), "built": built, "tree": with_tree,
+            "simplices": int(tree.num_simplices())}  # fmt: skip
+
+
+def child_check(path: str, eps: str) -> dict:
+    """``vorobound check`` on one worker, in this process."""
+    wall = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-m", "vorobound", "check", "--balls", path, "--eps", eps,
+         "--workers", "1", "--json"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    wall = time.perf_counter() - wall
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode not in (0, 1):
+        raise SystemExit(done.stderr)
+    summary = json.loads(done.stdout)
+    return {"cpu": usage.ru_utime + usage.ru_stime, "wall": wall,
+            "guide": summary.get("n_guide_triangles")}  # fmt: skip
+
+
+def child_seeds(eps: str, out: str) -> dict:
+    """The whole reconstruct of the torus (3, 1) at ε, per stage; saves the labelled seeds."""
+    import numpy as np
+
+    from vorobound.bounds.params import QualityParams
+    from vorobound.reports.reconstruct import reconstruct_surface
+    from vorobound.sampling.surfaces.analytic import TorusShape
+
+    marks = {}
+
+    def progress(task, done, total):
+        marks.setdefault(task, (_cpu(), time.perf_counter()))
+
+    cpu, wall = _cpu(), time.perf_counter()
+    report = reconstruct_surface(TorusShape(3, 1), float(eps), QualityParams(), progress=progress)
+    total = (_cpu() - cpu, time.perf_counter() - wall)
+    np.save(out, np.column_stack([report.seeds.points, report.seeds.inside]))
+    mhat = [marks[k] for k in marks if k.startswith("Delaunay")]
+    after = [m for k, m in marks.items() if k == "topology" or k.startswith("topology")]
+    return {"seeds": len(report.seeds), "total": total, "correct": report.topology_correct,
+            "stages": list(marks), "mhat_start": mhat[0] if mhat else None,
+            "topology_start": after[0] if after else None}  # fmt: skip
+
+
+def child_cgal_seeds(path: str) -> dict:
+    import gudhi
+    import numpy as np
+
+    seeds = np.load(path)[:, :3]
+    cpu, wall = _cpu(), time.perf_counter()
+    complex_ = gudhi.DelaunayComplex(points=seeds, precision="fast")
+    built = (_cpu() - cpu, time.perf_counter() - wall)
+    tree = complex_.create_simplex_tree()
+    return {"built": built, "tree": (_cpu() - cpu, time.perf_counter() - wall),
+            "tetrahedra": int(tree.num_simplices_by_dimension()[3])}  # fmt: skip
+
+
+def child_mhat(path: str, triangulation: str) -> dict:
+    import numpy as np
+
+    from vorobound.sampling.reconstruct.facets import inout_facets
+
+    data = np.load(path)
+    from vorobound.sampling.simplices import kernel_available
+
+    kernel_available()  # numba's load is a one-off cost of the process, like importing scipy
+    cpu, wall = _cpu(), time.perf_counter()
+    found = inout_facets(data[:, :3], data[:, 3] > 0.5, triangulation=triangulation)
+    return {"mhat": (_cpu() - cpu, time.perf_counter() - wall),
+            "facets": found.surface.n_facets, "skipped": found.skipped_seeds}  # fmt: skip
+
+
+def _pair(label: str, cpu_wall, base, load=None) -> str:
+    ratio = cpu_wall[0] / base[0]
+    text = f"  {label:44s} {cpu_wall[0]:7.2f} CPU-s {cpu_wall[1]:7.2f} s wall  {ratio:5.2f}×"
+    return text + (f"  load {load[0]:.1f} → {load[1]:.1f}" if load else "")
+
+
+def bench_check(data: str, sizes: list[int]) -> None:
+    sys.path.insert(0, os.path.dirname(__file__))
+    from bench_scale import sample_file
+
+    for count in sizes:
+        path, eps = sample_file(data, count)
+        cgal = _child("cgal_balls", str(path))
+        check = _child("check", str(path), str(eps))
+        base = cgal["built"]
+        print(f"{cgal['balls']:,} balls (+{cgal['filler']:,} filler points), ε = {eps}")
+        print(_pair("CGAL regular triangulation (built)", base, base, cgal["load"]))
+        print(_pair("CGAL + simplex tree", cgal["tree"], base))
+        print(_pair("vorobound check --workers 1", (check["cpu"], check["wall"]), base,
+                    check["load"]))  # fmt: skip
+
+
+def bench_reconstruct(eps: str) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        seeds = os.path.join(folder, "seeds.npy")
+        whole = _child("seeds", eps, seeds)
+        cgal = _child("cgal_seeds", seeds)
+        mhat = _child("mhat", seeds, "cgal")
+        qhull = _child("mhat", seeds, "qhull")
+    base = cgal["built"]
+    print(f"torus (3, 1), ε = {eps}: {whole['seeds']:,} seeds, {cgal['tetrahedra']:,} tetrahedra")
+    print(_pair("CGAL Delaunay (built)", base, base, cgal["load"]))
+    print(_pair("CGAL + simplex tree", cgal["tree"], base))
+    print(_pair(f"M̂ on CGAL ({mhat['facets']:,} facets)", mhat["mhat"], base, mhat["load"]))
+    print(_pair(f"M̂ on qhull ({qhull['facets']:,} facets)", qhull["mhat"], base, qhull["load"]))
+    print(_pair("reconstruct --torus 3,1 (whole, no files)", whole["total"], base, whole["load"]))
+    print(f"  M̂ correct: {whole['correct']}; skipped seeds {mhat['skipped']}, {qhull['skipped']}")
+
+
+def main() -> None:
+    if len(sys.argv) > 2 and sys.argv[1] == "--child":
+        print(json.dumps(globals()[f"child_{sys.argv[2]}"](*sys.argv[3:])))
+        return
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("what", choices=["check", "reconstruct"])
+    parser.add_argument("--sizes", default="1e5,1e6")
+    parser.add_argument("--eps", default="0.03")
+    parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
+    args = parser.parse_args()
+    if args.what == "check":
+        bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
+    else:
+        bench_reconstruct(args.eps)
+
+
+if __name__ == "__main__":
+    main()
