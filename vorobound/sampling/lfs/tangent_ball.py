@@ -130,7 +130,7 @@ class TangentBalls:
     def __init__(self, triangles: np.ndarray, triangle_group: np.ndarray, allowed: np.ndarray):
         self.triangles, self.triangle_group, self.allowed = triangles, triangle_group, allowed
         self._groups: dict[int, list[_PieceBin]] = {}
-        self._length: float | None = None
+        self._length: np.ndarray | None = None
         self._boxes: dict[int, np.ndarray] = {}
 
     def __call__(self, points, directions, point_group, limit) -> np.ndarray:
@@ -160,7 +160,8 @@ class TangentBalls:
         if self._length is None:
             self._length = piece_length(self.triangles)
         if group not in self._groups:
-            pieces, _ = split_long(self.triangles[self.triangle_group == group], self._length)
+            mine = self.triangle_group == group
+            pieces, _ = split_long(self.triangles[mine], self._length[mine])
             size = _circle_radius(pieces)
             edges = [float(size.max()) / SIZE_RATIO**k for k in range(1, SIZE_CLASSES)]
             which = np.zeros(len(size), dtype=np.int64)
@@ -181,19 +182,25 @@ PIECES_PER_FACE = 16
 triangle on average (the memory bound, about 2 kB per triangle)."""
 
 
-def piece_length(triangles: np.ndarray) -> float:
-    """The length to which long triangles are cut: the shortest that makes about
-    PIECES_PER_FACE pieces per triangle on average (bisection makes up to 4·longest/h pieces
-    of a sliver whose longest edge is ``longest``, and up to 12·area/h² of a fat one)."""
+SLIVER_ASPECT = 4.0
+"""Only triangles whose longest edge exceeds this many times their width (the height onto
+it) are cut, and never into pieces of a smaller aspect: a fine mesh keeps its triangles."""
+
+
+def piece_length(triangles: np.ndarray) -> np.ndarray:
+    """Per triangle, the length to which it is cut: max(h, SLIVER_ASPECT·width), h the
+    shortest that makes about PIECES_PER_FACE pieces per triangle on average (bisection makes
+    up to 4·longest/length pieces of a sliver)."""
     if not len(triangles):
-        return np.inf
+        return np.zeros(0)
     longest = np.linalg.norm(triangles - np.roll(triangles, -1, axis=1), axis=2).max(axis=1)
-    area = 0.5 * np.linalg.norm(
+    doubled = np.linalg.norm(
         np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]), axis=1
     )
+    floor = SLIVER_ASPECT * doubled / np.where(longest > 0, longest, 1.0)
 
     def count(h):
-        return np.maximum(1, np.maximum(4 * longest / h, 12 * area / h**2)).sum()
+        return np.maximum(1, 4 * longest / np.maximum(h, floor)).sum()
 
     # Smallest h with count(h) ≤ PIECES_PER_FACE·t, by bisection on h.
     low, high = 0.0, float(longest.max())
@@ -204,19 +211,27 @@ def piece_length(triangles: np.ndarray) -> float:
             high = middle
         else:
             low = middle
-    return high
+    return np.maximum(high, floor)
 
 
-def split_long(triangles: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray]:
-    """Cut every triangle with an edge longer than ``length`` by longest-edge bisection until
-    no edge is; returns the pieces (their union is the triangle) and each one's triangle."""
+def split_long(triangles: np.ndarray, length) -> tuple[np.ndarray, np.ndarray]:
+    """Cut every sliver with an edge longer than ``length`` (one for all, or one per
+    triangle) by longest-edge bisection until no piece is both (a piece whose longest edge is
+    at most SLIVER_ASPECT times its width is kept); returns the pieces (their union is the
+    triangle) and each one's triangle."""
     pieces = np.asarray(triangles, dtype=float)
     owner = np.arange(len(pieces))
+    length = np.broadcast_to(np.asarray(length, dtype=float), len(pieces))
     done_pieces, done_owner = [], []
     while len(pieces):
         edge = np.linalg.norm(pieces - np.roll(pieces, -1, axis=1), axis=2)  # edge k: k → k+1
         longest = edge.argmax(axis=1)
-        long = edge[np.arange(len(pieces)), longest] > length
+        top = edge[np.arange(len(pieces)), longest]
+        doubled = np.linalg.norm(
+            np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0]), axis=1
+        )
+        # Cut further only a piece that is too long and still a sliver.
+        long = (top > length[owner]) & (top * top > SLIVER_ASPECT * doubled)
         done_pieces.append(pieces[~long])
         done_owner.append(owner[~long])
         pieces, owner, longest = pieces[long], owner[long], longest[long]
