@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from vorobound.bounds.params import QualityParams
-from vorobound.errors import VoroboundWarning
+from vorobound.errors import InputError, VoroboundWarning
 from vorobound.reports.advisor import advise
 from vorobound.sampling.lfs.estimate import estimate_lfs
 from vorobound.sampling.sampler import conditions
@@ -180,3 +180,25 @@ def test_a_lattice_too_large_is_refused_in_one_line_naming_eps(tmp_path, run_cli
     errors = [line for line in err.strip().splitlines() if not line.startswith("warning:")]
     assert len(errors) == 1 and errors[0].startswith("error: eps=0.0095 needs")
     assert "Traceback" not in err
+
+
+def test_gear_is_a_closed_oriented_cad_export_of_long_thin_triangles():
+    """The benchmark gear: about the faces asked for, every edge used once in each direction
+    (closed, consistently oriented), positive volume near the annulus's, slivers throughout."""
+    from vorobound.sampling.surfaces.cad_meshes import gear, triangle_aspect
+
+    mesh = gear(teeth=200, faces=20_000)
+    faces = mesh.triangles
+    assert abs(len(faces) - 20_000) < 0.05 * 20_000
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    keys = edges[:, 0] * len(mesh.points) + edges[:, 1]
+    reverse = edges[:, 1] * len(mesh.points) + edges[:, 0]
+    assert len(np.unique(keys)) == len(keys)
+    assert np.array_equal(np.sort(keys), np.sort(reverse))
+    p = mesh.points[faces]
+    volume = np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6
+    root, tip = 100 - 1.25, 100 + 1.0
+    assert np.pi * (root**2 - 30**2) * 20 < volume < np.pi * (tip**2 - 30**2) * 20
+    assert np.median(triangle_aspect(mesh)) > 100
+    with pytest.raises(InputError):
+        gear(teeth=200, bore=120.0)

@@ -58,8 +58,66 @@ def test_largest_empty_radius_is_the_brute_force_minimum(seed):
     limit = rng.choice([0.05, 0.5, 3.0, np.inf], count)
     args = (points, directions, point_group, triangles, group, allowed, limit)
     got = largest_empty_radius(*args)
-    assert np.array_equal(got, _brute(*args))
+    # The search cuts the long triangles into pieces (their union is the triangle), so it
+    # agrees with the loop over whole triangles up to rounding.
+    expected = _brute(*args)
+    assert np.array_equal(np.isfinite(got), np.isfinite(expected))
+    finite = np.isfinite(expected)
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=SPLIT_RTOL, atol=0)
     assert (got <= limit).all() and (got < limit).any()
+
+
+SPLIT_RTOL = 1e-11
+"""Rounding of the tangent radius when a triangle is cut into pieces."""
+
+
+@pytest.mark.parametrize("length", [0.05, 0.3, 2.0])
+def test_long_triangles_are_cut_into_pieces_that_tile_them(length):
+    """Longest-edge bisection: no sliver edge above the length, each triangle's pieces have
+    its area and lie in it, and the piece length keeps the count within the budget per face
+    (and leaves a fine mesh of fat triangles alone)."""
+    from vorobound.sampling.lfs.tangent_ball import (
+        PIECES_PER_FACE,
+        SLIVER_ASPECT,
+        piece_length,
+        split_long,
+    )
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+
+    triangles, _ = _patches(np.random.default_rng(0))
+    pieces, owner = split_long(triangles, length)
+    edges = np.linalg.norm(pieces - np.roll(pieces, -1, axis=1), axis=2).max(axis=1)
+    doubled = np.linalg.norm(
+        np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0]), axis=1
+    )
+    assert ((edges <= length) | (edges**2 <= SLIVER_ASPECT * doubled)).all()
+
+    def area(t):
+        return 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+
+    summed = np.bincount(owner, area(pieces), minlength=len(triangles))
+    np.testing.assert_allclose(summed, area(triangles), rtol=1e-12)
+    assert set(owner.tolist()) == set(range(len(triangles)))
+    # Every piece corner is a convex combination of its triangle's corners.
+    base = triangles[owner]
+    for corner in range(3):
+        for row in range(0, len(pieces), max(1, len(pieces) // 20)):
+            system = np.vstack([base[row].T, np.ones(3)])
+            weights = np.linalg.lstsq(system, np.r_[pieces[row, corner], 1.0], rcond=None)[0]
+            assert weights.min() > -1e-9
+    # The budget is met on a CAD export's slivers; wedges (a fan's slivers) make up to a few
+    # times more pieces than the estimate behind the length.
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    count = len(split_long(triangles, piece_length(triangles))[0])
+    assert count <= 4 * PIECES_PER_FACE * len(triangles)
+    part = gear(faces=20_000)
+    slivers = part.points[part.triangles]
+    count = len(split_long(slivers, piece_length(slivers))[0])
+    assert count <= PIECES_PER_FACE * len(slivers)
+    torus = torus_mesh(3.0, 1.0, 64, 16, jitter=0.2)
+    fine = torus.points[torus.triangles]
+    assert len(split_long(fine, piece_length(fine))[0]) == len(fine)
 
 
 def test_a_ball_tangent_to_a_flat_patch_stops_at_the_plane():
@@ -194,3 +252,34 @@ def test_nearest_site_among_coinciding_sites_is_exact():
     gaps = np.linalg.norm(queries[:, None] - sites[None], axis=2)
     assert np.array_equal(distance, gaps.min(axis=1))
     assert np.array_equal(gaps[np.arange(len(queries)), index], distance)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_faces_nearer_than_a_bound_are_the_nearest_faces_of_the_mesh(seed):
+    """The bounded search of the pole check finds a face exactly where the mesh comes closer
+    than the bound, at the distance libigl's AABB tree gives (long thin triangles of a CAD
+    export; the face may differ only where several are equally near)."""
+    from vorobound.sampling.lfs.thickness import RayCaster
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    mesh = gear(teeth=20, faces=2000, bore=3.0)
+    caster = RayCaster(mesh.points, mesh.triangles)
+    rng = np.random.default_rng(seed)
+    queries = rng.uniform(mesh.points.min(axis=0), mesh.points.max(axis=0), (1500, 3))
+    distance, face, _ = caster.closest(queries)
+    bound = distance * rng.uniform(0.5, 1.5, len(queries))
+    got, got_face = caster.nearer_than(queries, bound)
+    inside = distance < bound
+    assert inside.any() and (~inside).any()
+    assert np.array_equal(got_face >= 0, inside)
+    np.testing.assert_allclose(got[inside], distance[inside], rtol=1e-12, atol=1e-12)
+    assert np.isinf(got[~inside]).all()
+    same = got_face[inside] == face[inside]
+    tied = ~same
+    assert same.mean() > 0.5
+    # A different face is an equally near one.
+    other = caster.points[caster.faces[got_face[inside][tied]]]
+    from vorobound.sampling.lfs.thickness import point_triangle_distance
+
+    again = point_triangle_distance(queries[inside][tied], other[:, 0], other[:, 1], other[:, 2])
+    np.testing.assert_allclose(again, distance[inside][tied], rtol=1e-12, atol=1e-12)

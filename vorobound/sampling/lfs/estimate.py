@@ -769,14 +769,15 @@ def _checked_poles(centres, owners, sample, caster, patches):
     from scipy.spatial import cKDTree
 
     radius = cKDTree(sample).query(centres, workers=thread_count())[0]
-    # Query each distinct centre once: the poles of a sphere are all its centre, which is
-    # equally close to every face (no pruning in the AABB tree: quadratic time).
-    # (to 1e-9 of the unit-sized prepared mesh, far inside POLE_EMPTY_RTOL).
-    distinct, back = np.unique(np.round(centres, 9), axis=0, return_inverse=True)
-    distance, face, _ = caster.closest(distinct)
-    distance, face = distance[back.reshape(-1)], face[back.reshape(-1)]
-    across = patches.adjacent[owners, patches.face_patch[face]]
-    keep = (distance >= (1 - POLE_EMPTY_RTOL) * radius) | across
+    # Only faces nearer than the bound matter (the nearest of them is the mesh's nearest), so
+    # the search stays inside each pole's ball: a pole equally far from many faces (the centre
+    # of a sphere, the core circle of a torus) costs nothing.
+    bound = (1 - POLE_EMPTY_RTOL) * radius
+    distance, face = caster.nearer_than(centres, bound)
+    inside = face >= 0
+    across = np.zeros(len(centres), dtype=bool)
+    across[inside] = patches.adjacent[owners[inside], patches.face_patch[face[inside]]]
+    keep = (distance >= bound) | across
     if not keep.any():
         return None
     return centres[keep], owners[keep]

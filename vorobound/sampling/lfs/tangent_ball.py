@@ -102,19 +102,21 @@ def largest_empty_radius(
     an allowed triangle (``allowed[point_group, triangle_group]``), capped at ``limit``.
 
     Balls tangent at one point in one direction are nested, so only triangles that meet the
-    ball of radius ``limit`` can matter. Per group of triangles, a k-d tree of their centroids
-    finds the candidates nearest first, NEAREST at a time and then four times as many, while
-    more may lie in reach: around the ball's centre, within its radius plus the largest
-    triangle's; or, for a group that lies within a thin slab (a flat patch), around the foot of
-    the centre on the slab's plane, within the radius of the disk the ball cuts from the slab.
-    Candidates that cannot meet the ball (:func:`_may_meet`) are not evaluated.
+    ball of radius ``limit`` can matter. The triangles are cut into local pieces (longest-edge
+    bisection, :func:`split_long`) whose union is the triangle, so the answer is unchanged;
+    the pieces of all groups are binned by size (:data:`SIZE_CLASSES`), and per bin a k-d tree
+    of their centroids finds the candidates nearest the ball's centre first, NEAREST at a time
+    and then four times as many, while more may lie in reach (within the ball's radius plus
+    the bin's largest piece). A query therefore reaches only as far as the pieces around it,
+    not as far as the largest triangle of the mesh. Candidates of groups that are not allowed,
+    or that cannot meet the ball (:func:`_may_meet`), are not evaluated.
 
     Parameters
     ----------
     points, directions : ndarray (n, 3)
         Tangent points and unit directions into the ball.
     triangles : ndarray (t, 3, 3)
-        Corner coordinates of the candidate triangles (small pieces).
+        Corner coordinates of the candidate triangles.
     limit : ndarray (n,)
         Radii already known to bound the answer (e.g. half the thickness).
     """
@@ -123,106 +125,202 @@ def largest_empty_radius(
 
 class TangentBalls:
     """:func:`largest_empty_radius` against one set of triangles, asked many times (the
-    search structures of each group are built once, when first needed)."""
+    pieces and their trees are built once, when first needed)."""
 
     def __init__(self, triangles: np.ndarray, triangle_group: np.ndarray, allowed: np.ndarray):
         self.triangles, self.triangle_group, self.allowed = triangles, triangle_group, allowed
-        self._groups: dict[int, _TriangleGroup] = {}
+        self._groups: dict[int, list[_PieceBin]] = {}
+        self._length: np.ndarray | None = None
+        self._boxes: dict[int, np.ndarray] = {}
 
     def __call__(self, points, directions, point_group, limit) -> np.ndarray:
         best = np.asarray(limit, dtype=float).copy()
+        point_group = np.asarray(point_group)
         for group in np.unique(self.triangle_group):
             users = np.flatnonzero(self.allowed[point_group, group] & np.isfinite(best))
-            if len(users):
-                self._group(int(group)).shrink(points, directions, users, best)
+            if not len(users):
+                continue
+            # Only balls that reach the box around the group's triangles can meet them.
+            low, high = self._box(int(group))
+            centre = points[users] + best[users][:, None] * directions[users]
+            gap = np.maximum(np.maximum(low - centre, centre - high), 0)
+            reach = best[users] * (1 + MEET_SLACK)
+            users = users[(gap * gap).sum(axis=1) <= reach * reach]
+            for piece_bin in self._group(int(group)) if len(users) else ():
+                piece_bin.shrink(points, directions, users, best)
         return best
 
-    def _group(self, group: int) -> _TriangleGroup:
+    def _box(self, group: int) -> np.ndarray:
+        if group not in self._boxes:
+            corners = self.triangles[self.triangle_group == group].reshape(-1, 3)
+            self._boxes[group] = np.stack([corners.min(axis=0), corners.max(axis=0)])
+        return self._boxes[group]
+
+    def _group(self, group: int) -> list[_PieceBin]:
+        if self._length is None:
+            self._length = piece_length(self.triangles)
         if group not in self._groups:
-            pieces = self.triangles[self.triangle_group == group]
-            self._groups[group] = _TriangleGroup(pieces)
+            mine = self.triangle_group == group
+            pieces, _ = split_long(self.triangles[mine], self._length[mine])
+            size = _circle_radius(pieces)
+            edges = [float(size.max()) / SIZE_RATIO**k for k in range(1, SIZE_CLASSES)]
+            which = np.zeros(len(size), dtype=np.int64)
+            for edge in edges:
+                which += size <= edge
+            self._groups[group] = [
+                _PieceBin(pieces[which == k]) for k in range(SIZE_CLASSES) if (which == k).any()
+            ]
         return self._groups[group]
 
 
-class _TriangleGroup:
-    """The triangles of one group, with what the search needs: centroids in a k-d tree, the
-    radius of each one's circle about its centroid, unit normals, and the group's plane."""
+SIZE_CLASSES = 4
+"""Bins of pieces by size (each bin's search reaches as far as its largest piece)."""
+SIZE_RATIO = 4.0
+"""Ratio of the size limits of neighbouring bins (the last bin holds all smaller pieces)."""
+PIECES_PER_FACE = 16
+"""Long triangles are cut to the shortest length that makes at most this many pieces per
+triangle on average (the memory bound, about 2 kB per triangle)."""
+
+
+SLIVER_ASPECT = 4.0
+"""Only triangles whose longest edge exceeds this many times their width (the height onto
+it) are cut, and never into pieces of a smaller aspect: a fine mesh keeps its triangles."""
+
+
+def piece_length(triangles: np.ndarray) -> np.ndarray:
+    """Per triangle, the length to which it is cut: max(h, SLIVER_ASPECT·width), h the
+    shortest that makes about PIECES_PER_FACE pieces per triangle on average (bisection makes
+    up to 4·longest/length pieces of a sliver)."""
+    if not len(triangles):
+        return np.zeros(0)
+    longest = np.linalg.norm(triangles - np.roll(triangles, -1, axis=1), axis=2).max(axis=1)
+    doubled = np.linalg.norm(
+        np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]), axis=1
+    )
+    floor = SLIVER_ASPECT * doubled / np.where(longest > 0, longest, 1.0)
+
+    def count(h):
+        return np.maximum(1, 4 * longest / np.maximum(h, floor)).sum()
+
+    # Smallest h with count(h) ≤ PIECES_PER_FACE·t, by bisection on h.
+    low, high = 0.0, float(longest.max())
+    budget = PIECES_PER_FACE * len(triangles)
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        if count(middle) <= budget:
+            high = middle
+        else:
+            low = middle
+    return np.maximum(high, floor)
+
+
+def split_long(triangles: np.ndarray, length) -> tuple[np.ndarray, np.ndarray]:
+    """Cut every sliver with an edge longer than ``length`` (one for all, or one per
+    triangle) by longest-edge bisection until no piece is both (a piece whose longest edge is
+    at most SLIVER_ASPECT times its width is kept); returns the pieces (their union is the
+    triangle) and each one's triangle."""
+    pieces = np.asarray(triangles, dtype=float)
+    owner = np.arange(len(pieces))
+    length = np.broadcast_to(np.asarray(length, dtype=float), len(pieces))
+    done_pieces, done_owner = [], []
+    while len(pieces):
+        edge = np.linalg.norm(pieces - np.roll(pieces, -1, axis=1), axis=2)  # edge k: k → k+1
+        longest = edge.argmax(axis=1)
+        top = edge[np.arange(len(pieces)), longest]
+        doubled = np.linalg.norm(
+            np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0]), axis=1
+        )
+        # Cut further only a piece that is too long and still a sliver.
+        long = (top > length[owner]) & (top * top > SLIVER_ASPECT * doubled)
+        done_pieces.append(pieces[~long])
+        done_owner.append(owner[~long])
+        pieces, owner, longest = pieces[long], owner[long], longest[long]
+        if not len(pieces):
+            break
+        # Rotate the corners so that the longest edge is 0 → 1, then halve it.
+        rows = np.arange(len(pieces))[:, None]
+        turn = pieces[rows, (longest[:, None] + np.arange(3)) % 3]
+        middle = 0.5 * (turn[:, 0] + turn[:, 1])
+        first = np.stack([turn[:, 0], middle, turn[:, 2]], axis=1)
+        second = np.stack([middle, turn[:, 1], turn[:, 2]], axis=1)
+        pieces = np.concatenate([first, second])
+        owner = np.concatenate([owner, owner])
+    if not done_pieces:
+        return np.zeros((0, 3, 3)), np.zeros(0, dtype=np.int64)
+    return np.concatenate(done_pieces), np.concatenate(done_owner)
+
+
+def _circle_radius(pieces: np.ndarray) -> np.ndarray:
+    """Radius of each piece's circle about its centroid (it contains the piece)."""
+    centroid = pieces.mean(axis=1)
+    return np.linalg.norm(pieces - centroid[:, None], axis=2).max(axis=1)
+
+
+class _PieceBin:
+    """Pieces of one group and of similar size, with what the search needs: centroids in a
+    k-d tree, the radius of each one's circle about its centroid, and unit normals."""
 
     def __init__(self, pieces: np.ndarray):
         from scipy.spatial import cKDTree
 
         self.pieces = pieces
         self.centroid = pieces.mean(axis=1)
-        self.size = np.linalg.norm(pieces - self.centroid[:, None], axis=2).max(axis=1)
+        self.size = _circle_radius(pieces)
         normal = np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
         length = np.linalg.norm(normal, axis=1)
-        widest = int(np.argmax(length))
         # A sliver's plane is not known well enough to rule it out by its plane.
         normal = np.where((length > PLANE_RTOL * self.size**2)[:, None], normal, 0.0)
         self.normal = normal / np.where(length > 0, length, 1.0)[:, None]
         self.pad = float(self.size.max())
         self.tree = cKDTree(self.centroid)
-        # The slab around the plane of the largest triangle that holds every corner.
-        self.plane_normal, self.plane_point = self.normal[widest], pieces[widest, 0]
-        self.slab = float(np.abs((pieces - self.plane_point) @ self.plane_normal).max())
-        self.flat = bool(self.normal[widest].any()) and self.slab < self.pad
 
     def shrink(self, points, directions, users, best) -> None:
-        """Lower ``best[users]`` to the largest ball tangent at each point that no triangle of
-        the group enters (in place)."""
+        """Lower ``best[users]`` to the largest ball tangent at each point that no piece of
+        the bin enters (in place)."""
         k = NEAREST
+        count = len(self.pieces)
         while len(users):
-            centre = points[users] + best[users][:, None] * directions[users]
-            around, reach = self._search_ball(centre, best[users])
-            users, around, reach, centre = (
-                users[reach > 0],
-                around[reach > 0],
-                reach[reach > 0],
-                centre[reach > 0],
-            )
-            if not len(users):
+            k_eff = min(k, count)
+            step = max(1, PAIR_CHUNK // k_eff)
+            more = [
+                self._search(points, directions, users[lo : lo + step], k_eff, best)
+                for lo in range(0, len(users), step)
+            ]
+            if k_eff == count:
                 return
-            k_eff = min(k, len(self.pieces))
-            dist, index = self.tree.query(
-                around, k=k_eff, distance_upper_bound=float(reach.max()), workers=thread_count()
-            )
-            dist, index = dist.reshape(len(users), -1), index.reshape(len(users), -1)
-            valid = (index < len(self.pieces)) & (dist <= reach[:, None])
-            row = np.repeat(np.arange(len(users)), valid.sum(axis=1))
-            found = index[valid]
-            meets = _may_meet(
-                centre[row],
-                best[users[row]],
-                self.centroid[found],
-                self.normal[found],
-                self.size[found],
-            )
-            owner, found = users[row[meets]], found[meets]
-            for lo in range(0, len(owner), PAIR_CHUNK):
-                o, f = owner[lo : lo + PAIR_CHUNK], found[lo : lo + PAIR_CHUNK]
-                tri = self.pieces[f]
-                value = tangent_radius(points[o], directions[o], tri[:, 0], tri[:, 1], tri[:, 2])
-                np.minimum.at(best, o, value)
-            # More triangles may meet the ball only where all k were in reach; they are
-            # searched again around the shrunk ball (every triangle that meets it met the
-            # larger one), the first k again too (evaluating one twice changes nothing).
-            more = (dist[:, -1] <= reach) & (index[:, -1] < len(self.pieces))
-            if k_eff == len(self.pieces):
-                return
-            users, k = users[more], 4 * k
+            users, k = np.concatenate(more), 4 * k
 
-    def _search_ball(self, centre, radius):
-        """Where to look for the centroids of triangles that may meet each ball, and how far
-        (0: nowhere)."""
-        radius = radius * (1 + MEET_SLACK)
-        if not self.flat:
-            return centre, radius + self.pad
-        height = (centre - self.plane_point) @ self.plane_normal
-        foot = centre - height[:, None] * self.plane_normal
-        # Points of the slab in the ball project into this disk around the foot.
-        gap = np.maximum(np.abs(height) - self.slab, 0)
-        disk = np.sqrt(np.maximum(radius * radius - gap * gap, 0))
-        return foot, np.where(gap < radius, disk + self.pad + self.slab, 0.0)
+    def _search(self, points, directions, users, k_eff, best) -> np.ndarray:
+        """One pass over the k nearest pieces of each user; returns the users for whom more
+        pieces may lie in reach."""
+        count = len(self.pieces)
+        radius = best[users] * (1 + MEET_SLACK)
+        centre = points[users] + best[users][:, None] * directions[users]
+        reach = radius + self.pad
+        dist, index = self.tree.query(
+            centre, k=k_eff, distance_upper_bound=float(reach.max()), workers=thread_count()
+        )
+        dist, index = dist.reshape(len(users), -1), index.reshape(len(users), -1)
+        valid = (index < count) & (dist <= reach[:, None])
+        row = np.repeat(np.arange(len(users)), valid.sum(axis=1))
+        found = index[valid]
+        meets = _may_meet(
+            centre[row],
+            best[users[row]],
+            self.centroid[found],
+            self.normal[found],
+            self.size[found],
+        )
+        owner, found = users[row[meets]], found[meets]
+        for lo in range(0, len(owner), PAIR_CHUNK):
+            o, f = owner[lo : lo + PAIR_CHUNK], found[lo : lo + PAIR_CHUNK]
+            tri = self.pieces[f]
+            value = tangent_radius(points[o], directions[o], tri[:, 0], tri[:, 1], tri[:, 2])
+            np.minimum.at(best, o, value)
+        # More pieces may meet the ball only where all k were in reach; they are searched
+        # again around the shrunk ball (every piece that meets it met the larger one), the
+        # first k again too (evaluating one twice changes nothing).
+        return users[(dist[:, -1] <= reach) & (index[:, -1] < count)]
 
 
 def _may_meet(centre, radius, centroid, normal, size) -> np.ndarray:

@@ -22,10 +22,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...geometry.threads import thread_count
+
 RAY_START_RTOL = 1e-9
 """Hits closer than this times the part's diagonal are the ray's own face (or its edge)."""
 RAY_CHUNK = 100_000
 """Rays cast together."""
+PIECE_PAIRS = 1_000_000
+"""(query, piece) distances measured together by :meth:`RayCaster.nearer_than`."""
 RAY_TILT = 1e-5
 """Each ray is tilted by about this angle (radians, pseudo-random but fixed by the ray's
 origin, so that a point gets the same rays in every round): the AABB test misses a hit exactly
@@ -74,6 +78,7 @@ class RayCaster:
         self.tree.init(self.points, self.faces)
         diagonal = float(np.linalg.norm(self.points.max(axis=0) - self.points.min(axis=0)))
         self.start = RAY_START_RTOL * diagonal
+        self._bins = None
 
     def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
         """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
@@ -98,12 +103,97 @@ class RayCaster:
         values = values[order]
         return Hits(ray[order], values[:, 0].astype(np.int64), values[:, 1], values[:, 2:])
 
+    def nearer_than(self, queries: np.ndarray, bound: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(distance, face) of each query to the nearest face closer than ``bound`` (inf and
+        −1 where none is).
+
+        Unlike :meth:`closest`, the search is bounded by the query's own ball: the faces, cut
+        into local pieces (:func:`.tangent_ball.split_long`) and binned by size, are found
+        through k-d trees of their centroids within ``bound`` plus the bin's largest piece. A
+        point equally far from many faces (the centre of a sphere, a point on a torus's core
+        circle) costs nothing when that distance is above ``bound``."""
+        queries = np.asarray(queries, dtype=float)
+        bound = np.broadcast_to(np.asarray(bound, dtype=float), len(queries))
+        distance = np.full(len(queries), np.inf)
+        face = np.full(len(queries), -1, dtype=np.int64)
+        for tree, pieces, owner, pad in self._piece_bins():
+            count = tree.query_ball_point(
+                queries, bound + pad, return_length=True, workers=thread_count()
+            )
+            rows = np.flatnonzero(count > 0)
+            if not len(rows):
+                continue
+            found = tree.query_ball_point(queries[rows], bound[rows] + pad, workers=thread_count())
+            sizes = np.fromiter(map(len, found), dtype=np.int64, count=len(found))
+            row = np.repeat(rows, sizes)
+            piece = np.fromiter(itertools.chain.from_iterable(found), np.int64, int(sizes.sum()))
+            for lo in range(0, len(row), PIECE_PAIRS):
+                r, q = row[lo : lo + PIECE_PAIRS], piece[lo : lo + PIECE_PAIRS]
+                tri = pieces[q]
+                d = point_triangle_distance(queries[r], tri[:, 0], tri[:, 1], tri[:, 2])
+                near = d < np.minimum(bound[r], distance[r])
+                r, d, q = r[near], d[near], q[near]
+                order = np.lexsort((d, r))
+                r, d, q = r[order], d[order], q[order]
+                first = np.r_[True, r[1:] != r[:-1]] if len(r) else np.zeros(0, bool)
+                better = d[first] < distance[r[first]]
+                distance[r[first][better]] = d[first][better]
+                face[r[first][better]] = owner[q[first][better]]
+        return distance, face
+
+    def _piece_bins(self):
+        """(k-d tree of centroids, pieces, their faces, largest circle radius) per size bin."""
+        if self._bins is None:
+            from scipy.spatial import cKDTree
+
+            from .tangent_ball import SIZE_CLASSES, SIZE_RATIO, piece_length, split_long
+
+            triangles = self.points[self.faces]
+            pieces, owner = split_long(triangles, piece_length(triangles))
+            centroid = pieces.mean(axis=1)
+            size = np.linalg.norm(pieces - centroid[:, None], axis=2).max(axis=1)
+            which = np.zeros(len(size), dtype=np.int64)
+            for k in range(1, SIZE_CLASSES):
+                which += size <= float(size.max()) / SIZE_RATIO**k
+            self._bins = [
+                (
+                    cKDTree(centroid[which == k]),
+                    pieces[which == k],
+                    owner[which == k],
+                    float(size[which == k].max()),
+                )
+                for k in range(SIZE_CLASSES)
+                if (which == k).any()
+            ]
+        return self._bins
+
     def closest(self, queries: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(distance, face, closest point) of each query point to the mesh."""
         squared, face, point = self.tree.squared_distance(
             self.points, self.faces, np.ascontiguousarray(queries, dtype=float)
         )
         return np.sqrt(squared), face, point
+
+
+def point_triangle_distance(x, a, b, c) -> np.ndarray:
+    """Distance from points x to triangles (a, b, c), all (p, 3): to the plane where the foot
+    lies inside, else to the nearest edge."""
+    normal = np.cross(b - a, c - a)
+    length = np.linalg.norm(normal, axis=1)
+    unit = normal / np.where(length > 0, length, 1.0)[:, None]
+    height = ((x - a) * unit).sum(axis=1)
+    foot = x - height[:, None] * unit
+    inside = length > 0
+    for p, q in ((a, b), (b, c), (c, a)):
+        inside &= (np.cross(q - p, foot - p) * normal).sum(axis=1) >= 0
+    best = np.where(inside, np.abs(height), np.inf)
+    for p, q in ((a, b), (b, c), (c, a)):
+        e = q - p
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.clip(((x - p) * e).sum(axis=1) / (e * e).sum(axis=1), 0, 1)
+        t = np.where(np.isfinite(t), t, 0.0)
+        best = np.minimum(best, np.linalg.norm(x - p - t[:, None] * e, axis=1))
+    return best
 
 
 def _tilt(origins: np.ndarray) -> np.ndarray:

@@ -3,7 +3,8 @@
 Each part comes as a coarse and a fine triangulation of the same geometry, so that an estimate
 of the local feature size can be tested for independence of the triangulation: a capped
 cylinder, a bar, a plate, a cube and an L-bracket with a bore. Every mesh is closed and
-consistently oriented (outward).
+consistently oriented (outward). :func:`gear` is a large part for the speed benchmarks: a spur
+gear of many teeth as a CAD export writes it, every triangle long and thin.
 
 The coarse copies are what exporters write: a cylinder with one ring of vertices at each end
 and caps fanned from one rim vertex, boxes of 12 triangles. The fine copies split the same
@@ -220,6 +221,96 @@ def l_bracket(
     mesh = TriangleMesh(points, np.concatenate(faces).astype(np.int64), "")
     name = f"L-bracket arm={arm:g} t={thickness:g} w={width:g} bore={bore:g} {segments} seg"
     return TriangleMesh(mesh.points, _outward(mesh), name + f" step {step:.3g} rings {rings}")
+
+
+def gear(
+    teeth: int = 200,
+    faces: int = 100_000,
+    module: float = 1.0,
+    width: float = 20.0,
+    bore: float = 30.0,
+) -> TriangleMesh:
+    """A spur gear as a CAD export writes it: the tooth profile extruded along z, one strip of
+    wall triangles across the whole face width, and caps fanned between the profile and the
+    bore (long thin triangles everywhere: the median aspect is in the hundreds).
+
+    The profile in polar coordinates: per tooth a root land, a rising flank (an involute-like
+    curve), a tip land and a falling flank, with sharp corners between them; root radius
+    m(z/2 − 1.25), tip radius m(z/2 + 1), m the module and z the number of teeth. The bore (a
+    regular polygon of radius ``bore``) has a sixteenth of the profile's points.
+
+    Parameters
+    ----------
+    teeth : int
+        Number of teeth z.
+    faces : int
+        About how many triangles (8 per point of the profile and bore together: each loop gives
+        two wall triangles per segment, and each cap one triangle per point of either loop).
+    module, width, bore : float
+        Tooth size m, face width (the extrusion length) and bore radius.
+    """
+    teeth = _checked_count(teeth, "teeth", 6, 100_000)
+    faces = _checked_count(faces, "faces", 100, 100_000_000)
+    module, width, bore = (
+        _positive(v, n) for v, n in ((module, "module"), (width, "width"), (bore, "bore"))
+    )
+    root, tip = module * (teeth / 2 - 1.25), module * (teeth / 2 + 1)
+    if not bore < root:
+        raise InputError(f"the bore ({bore:g}) must lie inside the root circle ({root:g})")
+    # faces ≈ 4·(profile + bore points), with a sixteenth of them on the bore.
+    per_tooth = max(8, round(faces / 4 * 16 / 17 / teeth))
+    u = np.arange(per_tooth) / per_tooth  # position within one tooth's angular pitch
+    # Root land [0, .2), rising flank [.2, .4), tip land [.4, .6), falling flank [.6, .8),
+    # root land [.8, 1); the flanks bulge like an involute.
+    rise = np.clip((u - 0.2) / 0.2, 0, 1)
+    fall = np.clip((0.8 - u) / 0.2, 0, 1)
+    height = np.minimum(1 - (1 - rise) ** 1.5, 1 - (1 - fall) ** 1.5)
+    radius = np.tile(root + (tip - root) * height, teeth)
+    theta = 2 * math.pi * (np.arange(teeth)[:, None] + u).reshape(-1) / teeth
+    outer = np.c_[radius * np.cos(theta), radius * np.sin(theta)]
+    holes = max(6, round(len(outer) / 16))
+    phi = 2 * math.pi * np.arange(holes) / holes
+    inner = bore * np.c_[np.cos(phi), np.sin(phi)]
+    profile = np.vstack([outer, inner])
+    n_out = len(outer)
+    # The cap: a zipper between the two loops in the order of their angles (both loops are
+    # star-shaped about the axis, so the triangles do not overlap).
+    angles = np.concatenate([theta, phi])
+    order = np.argsort(angles, kind="stable")
+    cells = []
+    i = j = 0
+    steps = np.r_[np.ones(n_out, dtype=bool), np.zeros(holes, dtype=bool)][order]
+    for outer_step in steps.tolist():
+        if outer_step:
+            cells.append((i % n_out, (i + 1) % n_out, n_out + j % holes))
+            i += 1
+        else:
+            cells.append((i % n_out, n_out + (j + 1) % holes, n_out + j % holes))
+            j += 1
+    cells = np.array(cells, dtype=np.int64)
+    p = profile[cells]
+    signed = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 2, 0] - p[:, 0, 0]) * (
+        p[:, 1, 1] - p[:, 0, 1]
+    )
+    cells = np.where((signed < 0)[:, None], cells[:, ::-1], cells)  # counter-clockwise
+    count = len(profile)
+    points = np.vstack([np.c_[profile, np.zeros(count)], np.c_[profile, np.full(count, width)]])
+    tris = [cells[:, ::-1], cells + count]  # z = 0 faces down, z = width up
+    for loop, forward in ((np.arange(n_out), True), (n_out + np.arange(holes), False)):
+        a = loop if forward else loop[::-1]
+        b = np.roll(a, -1)
+        tris += [np.c_[a, b, b + count], np.c_[a, b + count, a + count]]
+    name = f"gear z={teeth} m={module:g} width={width:g} bore={bore:g} {per_tooth} points per tooth"
+    return TriangleMesh(points, np.concatenate(tris).astype(np.int64), name)
+
+
+def triangle_aspect(mesh: TriangleMesh) -> np.ndarray:
+    """Per triangle, its longest edge over the height onto it (1.15 for an equilateral one)."""
+    p = mesh.points[mesh.triangles]
+    edges = np.linalg.norm(p - np.roll(p, -1, axis=1), axis=2).max(axis=1)
+    doubled = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    with np.errstate(divide="ignore"):
+        return edges**2 / doubled
 
 
 def _require_conforming(cells: np.ndarray, loops: list[np.ndarray], what: str) -> None:
