@@ -11,10 +11,8 @@ import typer
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from .options import (
     LAMBDA_HELP,
-    DeltaRatio,
     EngineChoice,
     EngineOpt,
-    Eps,
     FigureFormat,
     FigureFormatOpt,
     Json,
@@ -22,7 +20,6 @@ from .options import (
     MeshOpt,
     RhoF,
     Seed,
-    Sigma,
     SizingOpt,
     SphereOpt,
     TorusOpt,
@@ -40,7 +37,16 @@ class TableChoice(str, Enum):
 
 
 def check(
-    eps: Eps,
+    eps: Annotated[
+        float | None,
+        typer.Option(
+            "--eps",
+            metavar="EPS",
+            help="Sampling density ε, 0 < ε < 1. Optional with --balls or --vorocrust: then "
+            "the ε, σ, δ/ε and λ the balls realize are inferred from the balls and the surface, "
+            "with the guarantee they give (docs/vorocrust.md).",
+        ),
+    ] = None,
     sphere: SphereOpt = None,
     torus: TorusOpt = None,
     mesh: MeshOpt = None,
@@ -56,8 +62,33 @@ def check(
             "surface option too, coverage is measured on that surface.",
         ),
     ] = None,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
+    vorocrust: Annotated[
+        Path | None,
+        typer.Option(
+            "--vorocrust",
+            metavar="DIR",
+            help="A VoroCrust run folder (vc_mesh's vc.in, the mesh it names, "
+            "surface/edges/corner_spheres.csv, seeds.csv): the surface balls are checked "
+            "against that mesh (or the surface given); corner and edge balls are reported "
+            "apart, never in the smooth verdict (docs/vorocrust.md).",
+        ),
+    ] = None,
+    sigma: Annotated[
+        float | None,
+        typer.Option(
+            "--sigma",
+            metavar="SIGMA",
+            help=f"Sparsity σ (paper: {PAPER_SIGMA:g}; inferred without --eps).",
+        ),
+    ] = None,
+    delta_ratio: Annotated[
+        float | None,
+        typer.Option(
+            "--delta-ratio",
+            metavar="RATIO",
+            help=f"Ball radius over ε, δ/ε (paper: {PAPER_DELTA_RATIO:g}; inferred without --eps).",
+        ),
+    ] = None,
     rho_f: RhoF = PAPER_RHO_F,
     seed: Seed = 0,
     lipschitz: Annotated[
@@ -130,6 +161,7 @@ def check(
             eps=eps,
             **surface_args(sphere, torus, mesh, lfs, sizing),
             balls=balls,
+            vorocrust=vorocrust,
             sigma=sigma,
             delta_ratio=delta_ratio,
             rho_f=rho_f,

@@ -2,7 +2,8 @@
 
 Accepted inputs, each giving centers x, y, z and radii r:
 
-* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
+* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r;
+  vc_mesh's x1coord, x2coord, x3coord, x4coord header is read as x, y, z, r),
   separated by commas, semicolons or tabs (:mod:`.tables`);
 * NPZ: arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with ``radii``;
 * Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
@@ -32,6 +33,8 @@ from .tables import DELIMITER_NAMES, read_number_table
 RADIUS_NAMES = ("r", "radius", "radii")
 """Names under which a radius column or array is recognised."""
 PARQUET_SUFFIXES = (".parquet", ".pq")
+VOROCRUST_HEADER = ("x1coord", "x2coord", "x3coord", "x4coord")
+"""The first four columns of vc_mesh's sphere files (surface_spheres.csv, ...): x, y, z, r."""
 
 
 def read_balls(path: str | Path) -> Balls:
@@ -114,7 +117,9 @@ def _read_csv(path: Path):
     """Centers, radii and the file line of each ball (for messages about a row)."""
     table = read_number_table(path, "balls")
     columns = [0, 1, 2, 3]
-    if table.header is not None:
+    if table.header is not None and table.header[:4] == VOROCRUST_HEADER:
+        pass  # vc_mesh's sphere files: x1coord..x4coord are x, y, z, r
+    elif table.header is not None:
         header = table.header
         radius = next((name for name in RADIUS_NAMES if name in header), None)
         if radius is None or not {"x", "y", "z"} <= set(header):

@@ -1,0 +1,186 @@
+"""Reading VoroCrust runs, inferring what their balls realize, and the deck vorobound writes.
+
+The fixtures under tests/data/vorocrust/ are runs of Sandia's vc_mesh (docs/vorocrust.md: the
+commit and build) on meshes made by vorobound's own code: a torus R = 1, r = 0.4 about z
+(demo_meshes.torus_mesh(1, 0.4, 48, 16)) and the cube of side 2 (cad_meshes.cube()).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vorobound.cli import main
+from vorobound.errors import ReadError
+from vorobound.sampling.io.vorocrust import read_deck, read_run
+
+DATA = Path(__file__).parent / "data" / "vorocrust"
+TORUS = DATA / "torus"
+CUBE = DATA / "cube"
+
+
+def run_cli(capsys, *args):
+    code = main(list(args))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def _radius_lipschitz(balls):
+    """max |r_p − r_q|/|p − q| over overlapping pairs and over all pairs (brute force)."""
+    gap = np.linalg.norm(balls.centers[:, None] - balls.centers[None], axis=2)
+    np.fill_diagonal(gap, np.inf)
+    r = balls.radii
+    ratio = np.abs(r[:, None] - r[None]) / gap
+    return ratio[gap < r[:, None] + r[None]].max(), ratio.max()
+
+
+def test_deck_is_read_as_vc_mesh_reads_it(tmp_path):
+    deck = read_deck(TORUS / "vc.in")
+    assert deck.input_meshes == ("torus.obj",)
+    assert deck.values["LIP_CONST"] == 0.25 and deck.values["VC_ANGLE"] == 60
+    assert deck.values["R_MIN"] == 0 and math.isinf(deck.values["R_MAX"]) is False
+    assert deck.ignored == ("NUM_LOOP_REF",)  # declared in vc_mesh, never read
+    path = tmp_path / "vc.in"
+    path.write_text("INPUT_MESH_FILE = a.obj\nLIP_CONST=0.5\n# note\nGENERATE_VCG_FILE = 0\n")
+    deck = read_deck(path)
+    assert deck.values["LIP_CONST"] == 0.1  # 'LIP_CONST=0.5' is one token: ignored, default
+    assert deck.ignored == ("LIP_CONST=0.5", "#")
+    assert deck.flags == ("GENERATE_VCG_FILE",)  # a flag is set by its presence
+    path.write_text("INPUT_MESH_FILE = a.obj\nR_MAX 3\n")
+    with pytest.raises(ReadError, match="line 2: R_MAX needs 'KEY = VALUE'"):
+        read_deck(path)
+    path.write_text("INPUT_MESH_FILE = a.obj\nR_MAX = big\n")
+    with pytest.raises(ReadError, match="not a number"):
+        read_deck(path)
+    path.write_text("R_MAX = 1\n")
+    with pytest.raises(ReadError, match="no INPUT_MESH_FILE"):
+        read_deck(path)
+
+
+def test_run_strata_are_read():
+    run = read_run(CUBE)
+    counts = run.counts()
+    assert counts == {"corner": 8, "edge": 17, "surface": 243, "interior": 0}
+    assert run.mesh == CUBE / "cube.obj" and run.seeds == CUBE / "seeds.csv"
+    # corner balls sit on the cube's corners
+    corners = run.strata["corner"].centers
+    assert np.all(np.isin(corners, [0.0, 2.0]))
+    torus = read_run(TORUS)
+    assert torus.strata["corner"] is None and torus.counts()["surface"] == 285
+
+
+def test_each_file_also_reads_alone():
+    from vorobound.sampling.io.balls import read_balls
+    from vorobound.sampling.reconstruct.seeds import read_seed_file
+
+    balls = read_balls(TORUS / "surface_spheres.csv")
+    assert len(balls) == 285
+    seeds = read_seed_file(TORUS / "seeds.csv")  # its header names 4 of the 5 columns
+    assert len(seeds) == 1165 and 0 < seeds.inside.sum() < len(seeds)
+
+
+def test_check_vorocrust_infers_and_the_values_fed_back_pass(capsys):
+    code, out, err = run_cli(
+        capsys, "check", "--vorocrust", str(TORUS), "--torus", "1,0.4", "--json"
+    )
+    assert code == 0, err
+    data = json.loads(out)
+    realized, guarantee = data["realized"], data["guarantee"]
+    m = realized["measured"]
+    # VoroCrust's own parameters come back out of its balls: its coverage radius ratio 0.4 (a
+    # new centre stays sqrt(1 - 0.4^2) radii from the old ones) and LIP_CONST 0.25, which it
+    # enforces between overlapping balls only; farther neighbours exceed it.
+    overlapping, every = _radius_lipschitz(read_run(TORUS).strata["surface"])
+    assert overlapping == pytest.approx(0.25, rel=1e-9) and every > 0.26
+    assert overlapping <= m["radius_lipschitz"] <= every
+    assert m["spacing_over_radius_min"] >= math.sqrt(1 - 0.4**2) - 1e-6
+    # rounded toward safety
+    assert realized["eps"] >= m["coverage_over_lfs_max"]
+    assert realized["eps"] * realized["delta_ratio"] >= m["radius_over_lfs_max"]
+    assert realized["sigma"] <= realized["delta_ratio"] * m["spacing_over_radius_min"]
+    assert guarantee["target"] == "ratio" and guarantee["failed_condition"] is None
+    assert 1 < guarantee["rho_f"] < 10
+    assert data["ratio_max"] <= guarantee["rho_f"]  # measured R/R^ within the proven bound
+    assert data["strata"]["surface"] == 285 and data["strata"]["seeds"] == 1165
+    code, out, err = run_cli(
+        capsys,
+        "check",
+        "--balls",
+        str(TORUS / "surface_spheres.csv"),
+        "--torus",
+        "1,0.4",
+        "--eps",
+        repr(realized["eps"]),
+        "--sigma",
+        repr(realized["sigma"]),
+        "--delta-ratio",
+        repr(realized["delta_ratio"]),
+        "--lipschitz",
+        repr(realized["lipschitz"]),
+        "--json",
+    )
+    fed = json.loads(out)
+    assert fed["failures"]["coverage"] == 0
+    assert fed["failures"]["sparsity"] == 0
+    assert fed["failures"]["lipschitz"] == 0
+
+
+def test_check_balls_without_eps_on_a_cad_run(capsys):
+    code, out, err = run_cli(
+        capsys, "check", "--vorocrust", str(CUBE), "--lfs", "1", "--json"
+    )
+    assert code == 0, err
+    data = json.loads(out)
+    features = data["feature_strata"]
+    assert features["corner"]["count"] == 8 and features["edge"]["count"] == 17
+    assert data["n_samples"] == 243  # the smooth verdict counts the surface balls only
+    realized = data["realized"]
+    code, out, err = run_cli(
+        capsys,
+        "check",
+        "--balls",
+        str(CUBE / "surface_spheres.csv"),
+        "--mesh",
+        str(CUBE / "cube.obj"),
+        "--lfs",
+        "1",
+        "--json",
+    )
+    alone = json.loads(out)
+    assert alone["strata"] == {"balls": 243}
+    # alone, the probes near the edges count too: coverage can only need a larger eps
+    assert alone["realized"]["eps_coverage"] >= realized["eps_coverage"]
+    for key in ("coverage", "sparsity", "lipschitz"):
+        assert alone["failures"][key] == 0
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--balls", str(TORUS / "surface_spheres.csv")], "need the surface"),
+        (
+            ["--balls", str(TORUS / "surface_spheres.csv"), "--torus", "1,0.4", "--sigma", "1"],
+            "inferred from the balls",
+        ),
+        (["--vorocrust", str(DATA / "missing")], "no such folder"),
+        (
+            ["--vorocrust", str(TORUS), "--balls", str(TORUS / "surface_spheres.csv")],
+            "not both",
+        ),
+    ],
+)
+def test_bad_input_is_one_line(capsys, args, message):
+    code, out, err = run_cli(capsys, "check", *args)
+    assert code == 2
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_run_without_ball_files_is_refused(tmp_path, capsys):
+    shutil.copy(TORUS / "vc.in", tmp_path / "vc.in")
+    code, out, err = run_cli(capsys, "check", "--vorocrust", str(tmp_path))
+    assert code == 2 and "no ball file" in err
