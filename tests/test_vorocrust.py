@@ -184,3 +184,27 @@ def test_run_without_ball_files_is_refused(tmp_path, capsys):
     shutil.copy(TORUS / "vc.in", tmp_path / "vc.in")
     code, out, err = run_cli(capsys, "check", "--vorocrust", str(tmp_path))
     assert code == 2 and "no ball file" in err
+
+
+def test_reconstruct_vorocrust_measures_the_runs_own_seeds(capsys):
+    code, out, err = run_cli(
+        capsys, "reconstruct", "--vorocrust", str(TORUS), "--torus", "1,0.4", "--json"
+    )
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["topology_correct"] and data["euler_characteristic"] == 0
+    assert data["n_seeds"] == 1165
+    assert "local ball radius" in data["distance_unit"]
+    # M̂ of a VoroCrust run lies within its balls: well under one ball radius from the torus
+    assert 0 < data["hausdorff_over_eps_lfs"] < 1
+    assert data["normal_deviation_max_deg"] < 45
+    code, out, err = run_cli(capsys, "reconstruct", "--vorocrust", str(TORUS), "--eps", "0.1")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+
+
+def test_reconstruct_vorocrust_python_keyword_matches_cli():
+    import vorobound
+
+    result = vorobound.reconstruct(vorocrust=CUBE, lfs=1.0)
+    assert result.topology_correct and result.euler_characteristic == 2
+    assert result.to_dict()["params"]["vorocrust"] == str(CUBE)

@@ -3,6 +3,7 @@ ball set realizes and the guarantee they give (vorobound.reports.vorocrust, docs
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 
@@ -182,3 +183,34 @@ def _smooth_part(run, shape):
 
     centers = np.concatenate([b.centers for b in feature])
     return SmoothPart(shape, run.strata[SMOOTH].centers, centers), summaries
+
+
+DISTANCE_UNIT = (
+    "the local ball radius: distances over the radius of the run's nearest corner, edge or "
+    "surface ball (the keys keep reconstruct's *_over_eps_lfs names)"
+)
+UNIT_EPS = 0.5
+"""M̂'s distances are measured over ε·L with ε = UNIT_EPS and L = r/UNIT_EPS, i.e. over r."""
+
+
+def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
+    """The report of M̂ of a VoroCrust run: its seeds.csv against its input mesh (or the
+    surface given), distances in units of the local ball radius."""
+    from ..bounds.params import QualityParams
+    from ..reports import reconstruct as workflow
+    from ..reports.vorocrust import BallRadiusUnits
+    from ..sampling.reconstruct.seeds import read_seed_file
+
+    run = read(vorocrust)
+    if run.seeds is None:
+        raise InputError(f"VoroCrust run {vorocrust}: no seeds.csv (M̂ is built from the seeds)")
+    shape = run_shape(run, surface, progress)
+    import numpy as np
+
+    on_surface = [run.strata[n] for n in ("corner", "edge", SMOOTH) if run.strata[n] is not None]
+    centers = np.concatenate([b.centers for b in on_surface])
+    radii = np.concatenate([b.radii for b in on_surface])
+    units = BallRadiusUnits(shape, centers, radii, UNIT_EPS)
+    params = QualityParams().at(UNIT_EPS)
+    report = workflow.reconstruct_seeds(read_seed_file(run.seeds), units, params, seed, progress)
+    return dataclasses.replace(report, eps=None, params=None)

@@ -179,7 +179,10 @@ def check(
 
 
 def _show(result) -> None:
-    _print_summary(result.to_dict())
+    data = result.to_dict()
+    _print_summary(data)
+    if "realized" in data:
+        _print_realized(data)
     for path in result.written:
         print(f"wrote {path}")
 
@@ -287,3 +290,30 @@ def _print_summary(s: dict) -> None:
                     for r in rows
                 ],
             )
+
+
+def _print_realized(s: dict) -> None:
+    """What the balls realize and the guarantee (check without --eps, or --vorocrust)."""
+    from ..rounding import format_down, format_up
+
+    r, g, m = s["realized"], s["guarantee"], s["realized"]["measured"]
+    print_table(
+        "Parameters the balls realize (docs/vorocrust.md)",
+        ("parameter", "value", "from"),
+        [
+            ("ε", format_up(r["eps"]), f"coverage {fmt(m['coverage_over_lfs_max'], 6)} (measured)"),
+            ("δ/ε", format_up(r["delta_ratio"]), f"max r/L {fmt(m['radius_over_lfs_max'], 6)}"),
+            ("σ", format_down(r["sigma"]), f"min |p−q|/r {fmt(m['spacing_over_radius_min'], 6)}"),
+            ("λ", format_up(r["lipschitz"]), f"max |Δr|/|p−q| {fmt(m['radius_lipschitz'], 6)}"),
+        ],
+    )
+    rho = g["rho_f"]
+    print(
+        f"Guarantee ({g['target']} target): "
+        + (
+            f"R ≤ {format_up(rho)}·R̂ for every guide triangle, {g['claim']}"
+            if rho is not None
+            else f"none proven: {g['failed_condition']} fails"
+        )
+    )
+    print(f"strata: {', '.join(f'{k} {v}' for k, v in s['strata'].items() if v is not None)}")

@@ -25,6 +25,7 @@ Eq. (33)–(37), (54)–(55), H3 and the sampling conditions of Section 4.1; doc
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -395,3 +396,31 @@ def feature_summary(balls: Balls, shape) -> dict:
         out["radius_over_lfs_max"] = float(np.max(radii / closest.lfs))
         out["off_surface_over_radius_max"] = float(np.max(closest.distance / radii))
     return out
+
+
+class BallRadiusUnits:
+    """A surface whose L is replaced by r/``eps``, r the radius of the ball nearest to the
+    point: measured over ε·L, distances come out over the local ball radius."""
+
+    def __init__(self, shape, centers: np.ndarray, radii: np.ndarray, eps: float):
+        from scipy.spatial import cKDTree
+
+        self._shape, self._tree, self._radii, self._eps = shape, cKDTree(centers), radii, eps
+
+    def __getattr__(self, name):
+        return getattr(self._shape, name)
+
+    def _scale(self, points: np.ndarray) -> np.ndarray:
+        return self._radii[self._tree.query(points)[1]] / self._eps
+
+    def closest(self, points: np.ndarray):
+        found = self._shape.closest(points)
+        return dataclasses.replace(found, lfs=self._scale(found.points))
+
+    def random_points(self, count: int, rng):
+        points, _ = self._shape.random_points(count, rng)
+        return points, self._scale(points)
+
+    def project(self, points: np.ndarray):
+        found = self._shape.project(points)
+        return None if found is None else (found[0], self._scale(found[0]))
