@@ -131,9 +131,7 @@ def test_check_vorocrust_infers_and_the_values_fed_back_pass(capsys):
 
 
 def test_check_balls_without_eps_on_a_cad_run(capsys):
-    code, out, err = run_cli(
-        capsys, "check", "--vorocrust", str(CUBE), "--lfs", "1", "--json"
-    )
+    code, out, err = run_cli(capsys, "check", "--vorocrust", str(CUBE), "--lfs", "1", "--json")
     assert code == 0, err
     data = json.loads(out)
     features = data["feature_strata"]
@@ -208,3 +206,47 @@ def test_reconstruct_vorocrust_python_keyword_matches_cli():
     result = vorobound.reconstruct(vorocrust=CUBE, lfs=1.0)
     assert result.topology_correct and result.euler_characteristic == 2
     assert result.to_dict()["params"]["vorocrust"] == str(CUBE)
+
+
+def _turned_balls(tmp_path) -> Path:
+    """The torus fixture's surface balls with the torus's axis along y: (x, y, z) -> (y, z, x)
+    as columns, i.e. the world's y is the fixture's z."""
+    from vorobound.sampling.io.balls import read_balls
+
+    balls = read_balls(TORUS / "surface_spheres.csv")
+    turned = balls.centers[:, [1, 2, 0]]
+    path = tmp_path / "turned.csv"
+    np.savetxt(path, np.column_stack([turned, balls.radii]), delimiter=",", fmt="%.17g")
+    return path
+
+
+def test_torus_axis_gives_the_same_inference(tmp_path, capsys):
+    code, out, err = run_cli(
+        capsys, "check", "--balls", str(TORUS / "surface_spheres.csv"), "--torus", "1,0.4", "--json"
+    )
+    assert code == 0, err
+    about_z = json.loads(out)
+    code, out, err = run_cli(
+        capsys, "check", "--balls", str(_turned_balls(tmp_path)), "--torus", "1,0.4,y", "--json"
+    )
+    assert code == 0, err
+    about_y = json.loads(out)
+    assert "off the given surface" not in err
+    for key in ("eps", "sigma", "delta_ratio", "lipschitz"):
+        assert about_y["realized"][key] == pytest.approx(about_z["realized"][key], rel=1e-3)
+    assert about_y["guarantee"]["rho_f"] == pytest.approx(about_z["guarantee"]["rho_f"], rel=1e-3)
+
+
+def test_balls_off_the_given_surface_are_warned_about(tmp_path, capsys):
+    turned = str(_turned_balls(tmp_path))
+    code, out, err = run_cli(capsys, "check", "--balls", turned, "--torus", "1,0.4", "--eps", "0.5")
+    assert "ball centres lie off the given surface" in err and "axis" in err
+    code, out, err = run_cli(
+        capsys, "reconstruct", "--balls", turned, "--torus", "1,0.4", "--eps", "0.5", "--json"
+    )
+    assert "ball centres lie off the given surface" in err
+    code, out, err = run_cli(capsys, "check", "--torus", "1,0.4,y", "--eps", "0.3")
+    assert code == 2 and "samples are made about z" in err
+    assert len(err.strip().splitlines()) == 1
+    code, out, err = run_cli(capsys, "check", "--balls", turned, "--torus", "1,0.4,w")
+    assert code == 2 and len(err.strip().splitlines()) == 1

@@ -212,13 +212,15 @@ def check(
         progress=progress,
     )
     if balls is not None:
+        from ..reports.vorocrust import off_surface, warn_off_surface
         from ..sampling.io.balls import read_balls
 
         lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
         name = os.path.basename(os.fspath(balls))
-        report = check_balls(
-            read_balls(balls), params.but(lipschitz=lam), engine, shape, name, progress
-        )
+        given = read_balls(balls)
+        if shape is not None:
+            warn_off_surface(off_surface(given, shape), given, name)
+        report = check_balls(given, params.but(lipschitz=lam), engine, shape, name, progress)
         asked = {"seed": None, "engine": engine, "balls": os.fspath(balls)}
     else:
         if lipschitz is not None:

@@ -267,10 +267,14 @@ def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compa
             raise InputError("half_covered and compare_sheets need balls, not seeds")
         return workflow.reconstruct_seeds(read_seed_file(seeds), shape, params, seed, progress)
     if balls is not None:
+        from ..reports.vorocrust import off_surface, warn_off_surface
         from ..sampling.io.balls import read_balls
 
+        given = read_balls(balls)
+        if shape is not None:
+            warn_off_surface(off_surface(given, shape), given, os.path.basename(os.fspath(balls)))
         return workflow.reconstruct_balls(
-            read_balls(balls),
+            given,
             params,
             shape,
             half_covered,

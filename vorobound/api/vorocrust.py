@@ -18,7 +18,7 @@ def run_shape(run, surface: dict, progress):
     from .surfaces import sample_shape
 
     if any(surface.get(k) is not None for k in ("sphere", "torus", "mesh")):
-        return sample_shape(**surface, required=True, progress=progress)
+        return sample_shape(**surface, required=False, progress=progress)
     if surface.get("lfs") is not None or surface.get("sizing") is not None:
         return sample_shape(mesh=run.mesh, **_mesh_l(surface), progress=progress)
     return sample_shape(mesh=run.mesh, progress=progress)

@@ -45,10 +45,11 @@ SAFETY_RTOL = 1e-9
 """Relative margin added before directed rounding, so a realized value that is exactly a
 5-digit number still clears the condition it bounds after the check's own float arithmetic."""
 BISECTION_STEPS = 60
-OFF_SURFACE_RTOL = 0.05
+OFF_SURFACE_RTOL = 0.2
 """A ball centre lying farther from the given surface than this fraction of its radius is not
-a sample of that surface (a VoroCrust centre lies on the input mesh; a faceted mesh of a curved
-surface puts it off the analytic surface by a sagitta, far below this)."""
+a sample of that surface. A VoroCrust centre lies on the input mesh; a faceted mesh of a curved
+surface puts it off the analytic surface by a sagitta (0.08 of the radius at most on the
+coarse torus fixture, 16 vertices around the tube)."""
 LISTED = 5
 """Worst balls or triangles listed with a failed condition."""
 
