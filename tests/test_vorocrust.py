@@ -250,3 +250,67 @@ def test_balls_off_the_given_surface_are_warned_about(tmp_path, capsys):
     assert len(err.strip().splitlines()) == 1
     code, out, err = run_cli(capsys, "check", "--balls", turned, "--torus", "1,0.4,w")
     assert code == 2 and len(err.strip().splitlines()) == 1
+
+
+def test_advise_writes_a_deck_vc_mesh_reads(tmp_path, capsys):
+    folder = tmp_path / "run"
+    code, out, err = run_cli(
+        capsys,
+        "advise",
+        "--mesh",
+        str(CUBE / "cube.obj"),
+        "--lfs",
+        "1",
+        "--lipschitz",
+        "1",
+        "--vorocrust",
+        str(folder),
+        "--json",
+    )
+    assert code == 0, err
+    data = json.loads(out)
+    chosen, eps = data["vorocrust"], data["recommendation"]["eps"]
+    beta = math.sqrt(1 - 0.4**2)
+    deck = read_deck(folder / "vc.in")
+    assert deck.input_meshes == ("cube.obj",) and deck.sizing_file == "sizing.csv"
+    assert deck.ignored == ("#",)  # the comment lines, which vc_mesh skips as unknown keys
+    assert deck.values["LIP_CONST"] == pytest.approx(eps / beta, rel=1e-12)
+    assert deck.values["VC_ANGLE"] == 30
+    table = np.loadtxt(folder / "sizing.csv", delimiter=",", skiprows=1)
+    assert table.shape[1] == 4 and len(table) == chosen["sizing_rows"]
+    # L = 1 everywhere: every row's radius is at most eps*L/beta, R_MAX the largest
+    assert table[:, 3].max() <= eps / beta * (1 + 1e-12)
+    assert deck.values["R_MAX"] == pytest.approx(table[:, 3].max(), rel=1e-12)
+    from vorobound.sampling.io.meshes import read_triangle_mesh
+
+    assert len(read_triangle_mesh(folder / "cube.obj").triangles) == 12
+    code, out, err = run_cli(capsys, "advise", "--sphere", "1", "--vorocrust", str(folder))
+    assert code == 2 and "give mesh too" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.skipif(shutil.which("vc_mesh") is None, reason="vc_mesh is not on PATH")
+def test_round_trip_through_vc_mesh(tmp_path, capsys):
+    """advise --vorocrust, then vc_mesh live, then check --vorocrust (skipped without it)."""
+    import subprocess
+
+    folder = tmp_path / "run"
+    code, out, err = run_cli(
+        capsys,
+        "advise",
+        "--mesh",
+        str(CUBE / "cube.obj"),
+        "--lfs",
+        "1",
+        "--rho-f",
+        "3",
+        "--lipschitz",
+        "1",
+        "--vorocrust",
+        str(folder),
+    )
+    assert code == 0, err
+    subprocess.run(["vc_mesh", "-vc", "vc.in"], cwd=folder, check=True, capture_output=True)
+    code, out, err = run_cli(capsys, "check", "--vorocrust", str(folder), "--lfs", "1", "--json")
+    data = json.loads(out)
+    assert data["strata"]["corner"] == 8
+    assert data["realized"]["eps"] is not None

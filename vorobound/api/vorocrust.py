@@ -214,3 +214,94 @@ def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
     params = QualityParams().at(UNIT_EPS)
     report = workflow.reconstruct_seeds(read_seed_file(run.seeds), units, params, seed, progress)
     return dataclasses.replace(report, eps=None, params=None)
+
+
+VC_COVERAGE_RATIO = 0.4
+"""vc_mesh's coverage radius ratio α for surface balls (hard-coded in its sampler, commit
+b5e0859): a surface point counts as covered within β·r of a ball centre, β = sqrt(1 − α²),
+and a new centre stays at least β·r from the others."""
+SIZING_NAME = "sizing.csv"
+DECK_NAME = "vc.in"
+
+
+SIZING_ROWS = 20_000
+"""Random surface points in the sizing file (besides the mesh's vertices)."""
+SIZING_PROBES = 4
+"""Probes per row that find how far each row's nearest-row region reaches."""
+
+
+def sizing_rows(shape, lam: float, seed: int = 0):
+    """Rows (points) and a safe L at each: vc_mesh caps a radius by the size of the *nearest*
+    row, so each row carries min over its nearest-row region of L, bounded below by L(row) −
+    λ·h, h the farthest probe that has the row as its nearest (λ the Lipschitz constant of L)."""
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng([seed, 31])
+    extra, _ = shape.random_points(SIZING_ROWS, rng)
+    points = np.unique(np.concatenate([shape.vertices, extra]), axis=0)
+    values = shape.closest(points).lfs
+    probes, _ = shape.random_points(SIZING_PROBES * len(points), rng)
+    reach = np.zeros(len(points))
+    dist, nearest = cKDTree(points).query(probes)
+    np.maximum.at(reach, nearest, dist)
+    return points, np.maximum(values - lam * reach, 0.5 * values)
+
+
+def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> dict:
+    """The files of a VoroCrust run directory that samples the part at the advised ε: the
+    part as OBJ, ``sizing.csv`` (r = ε·L/β at the mesh's vertices and face centroids) and
+    ``vc.in``; returns the writers by path and what was chosen (docs/vorocrust.md)."""
+    import math
+
+    from ..files import ensure_folder
+    from ..sampling.io.vorocrust import deck_text, obj_writer, sizing_writer
+    from ..sampling.lfs.estimate import SHARP_ANGLE
+    from .surfaces import sample_shape
+
+    if mesh is None:
+        raise InputError("vorocrust writes a deck for a part: give mesh too")
+    if advice.eps is None:
+        raise InputError("no proven or certified eps to hand to vc_mesh (see the table)")
+    folder = ensure_folder(vorocrust)
+    shape = sample_shape(mesh=mesh, lfs=lfs, sizing=sizing, required=False, progress=progress)
+    beta = math.sqrt(1 - VC_COVERAGE_RATIO**2)
+    eps = advice.eps
+    lam = 1.0 if lipschitz is None else float(lipschitz)
+    lam = min(lam, float(getattr(shape, "lipschitz", lam) or lam))
+    points, lfs_values = sizing_rows(shape, lam)
+    sizes = eps * lfs_values / beta
+    lip_const = lam * eps / beta
+    r_max = float(sizes.max())
+    stem = Path(os.fspath(mesh)).stem.replace(" ", "_") or "part"
+    obj = f"{stem}.obj"
+    text = deck_text(
+        input_mesh=obj,
+        sizing_file=SIZING_NAME,
+        r_max=r_max,
+        lip_const=lip_const,
+        vc_angle=SHARP_ANGLE,
+        comments=(
+            f"written by vorobound advise: eps = {eps!r} ({advice.claim}), "
+            f"radius = eps*L/{beta:.6f} (vc_mesh covers within {beta:.6f} r)",
+            f"LIP_CONST = lambda*eps/beta with lambda = {lam:g} (the Lipschitz constant of L)",
+            "run: vc_mesh -vc vc.in (in this folder); then vorobound check --vorocrust .",
+        ),
+    )
+    writers = {
+        folder / obj: obj_writer(shape.vertices, shape.triangles),
+        folder / SIZING_NAME: sizing_writer(points, sizes),
+        folder / DECK_NAME: lambda path: path.write_text(text, encoding="utf-8"),
+    }
+    chosen = {
+        "folder": os.fspath(folder),
+        "eps": eps,
+        "delta_ratio_vc": 1 / beta,
+        "sigma_vc": 1.0,
+        "R_MAX": r_max,
+        "LIP_CONST": lip_const,
+        "VC_ANGLE": SHARP_ANGLE,
+        "sizing_rows": len(sizes),
+        "radius_min": float(sizes.min()),
+    }
+    return writers, chosen

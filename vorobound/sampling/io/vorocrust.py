@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import ReadError
+from ...errors import InputError, ReadError
 from ..balls import Balls, checked_rows
 
 DECK = "vc.in"
@@ -154,8 +154,7 @@ def read_deck(path: str | os.PathLike) -> Deck:
     return Deck(path, values, tuple(given), tuple(meshes), sizing, tuple(flags), tuple(ignored))
 
 
-def write_deck(
-    path: str | os.PathLike,
+def deck_text(
     *,
     input_mesh: str,
     sizing_file: str | None,
@@ -164,11 +163,12 @@ def write_deck(
     vc_angle: float,
     num_threads: int = 1,
     comments: tuple[str, ...] = (),
-) -> Path:
-    """Write a deck vc_mesh reads (``KEY = VALUE`` lines; ``comments`` as ``#`` lines, which
-    vc_mesh ignores), by temporary file and rename."""
-    from ...files import write_text
-
+) -> str:
+    """A deck vc_mesh reads: ``KEY = VALUE`` lines (``comments`` as ``#`` lines, which it
+    ignores). File names must be one word each (vc_mesh reads one token)."""
+    for name in (sizing_file, input_mesh):
+        if name is not None and len(name.split()) != 1:
+            raise InputError(f"vc_mesh reads one word per value: {name!r} has spaces")
     lines = [f"# {c}" for c in comments]
     lines.append(f"INPUT_MESH_FILE = {input_mesh}")
     if sizing_file is not None:
@@ -179,10 +179,18 @@ def write_deck(
         f"VC_ANGLE = {vc_angle!r}",
         f"NUM_THREADS = {int(num_threads)}",
     ]
-    for name in (sizing_file, input_mesh):
-        if name is not None and len(name.split()) != 1:
-            raise ReadError(f"vc_mesh reads one word per value: {name!r} has spaces")
-    return write_text(path, "\n".join(lines) + "\n")
+    return "\n".join(lines) + "\n"
+
+
+def obj_writer(points: np.ndarray, triangles: np.ndarray):
+    """A writer of a triangle mesh as OBJ (the only input vc_mesh reads)."""
+
+    def write(temp: Path) -> None:
+        with open(temp, "w", encoding="utf-8") as handle:
+            np.savetxt(handle, points, fmt="v %.17g %.17g %.17g")
+            np.savetxt(handle, np.asarray(triangles) + 1, fmt="f %d %d %d")
+
+    return write
 
 
 def sizing_writer(points: np.ndarray, sizes: np.ndarray):
