@@ -314,3 +314,19 @@ def test_round_trip_through_vc_mesh(tmp_path, capsys):
     data = json.loads(out)
     assert data["strata"]["corner"] == 8
     assert data["realized"]["eps"] is not None
+
+
+def test_json_matches_the_schema(capsys):
+    import jsonschema
+
+    schema = json.loads(
+        (Path(__file__).parents[1] / "docs/schema/vorobound-output.schema.json").read_text()
+    )
+    code, out, err = run_cli(
+        capsys, "check", "--vorocrust", str(TORUS), "--torus", "1,0.4", "--json"
+    )
+    jsonschema.validate(json.loads(out), schema)
+    broken = json.loads(out)
+    broken["realized"].pop("eps")
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(broken, schema)
