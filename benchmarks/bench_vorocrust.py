@@ -21,9 +21,6 @@ import time
 import warnings
 from pathlib import Path
 
-DECK = "INPUT_MESH_FILE = {obj}\nR_MAX = 1000.0\nLIP_CONST = 0.25\nVC_ANGLE = {angle}\nNUM_THREADS = 1\n"
-"""vc_mesh's own test-deck settings (its Torus and OneBox decks)."""
-
 
 def _children_cpu() -> float:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -37,26 +34,20 @@ def _write_obj(mesh, path: Path) -> None:
 
 
 def our_parts(runs: Path) -> dict[str, dict]:
-    """Input meshes and decks of our parts (the fixtures' recipe, at the same sizes)."""
-    from vorobound.sampling.surfaces import cad_meshes
-    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
-
+    """Our torus and cube with vc_mesh's test-deck settings: the inputs of the recorded runs
+    in tests/data/vorocrust (made by vorobound's code, see its README)."""
+    data = Path(__file__).parents[1] / "tests" / "data" / "vorocrust"
     parts = {
-        "torus R=1, r=0.4 (ours)": (
-            "torus",
-            torus_mesh(1.0, 0.4, 48, 16),
-            60.0,
-            {"torus": (1, 0.4)},
-        ),
-        "cube side 2 (ours)": ("cube", cad_meshes.cube(), 60.0, {"lfs": 1.0}),
+        "torus R=1, r=0.4 (ours)": ("torus", {"torus": (1.0, 0.4)}),
+        "cube side 2 (ours)": ("cube", {"lfs": 1.0}),
     }
     out = {}
-    for label, (name, mesh, angle, surface) in parts.items():
+    for label, (name, surface) in parts.items():
         folder = runs / name
         folder.mkdir(parents=True, exist_ok=True)
-        if not (folder / "vc.in").exists():
-            _write_obj(mesh, folder / f"{name}.obj")
-            (folder / "vc.in").write_text(DECK.format(obj=f"{name}.obj", angle=angle))
+        for file in ("vc.in", f"{name}.obj"):
+            if not (folder / file).exists():
+                shutil.copy(data / name / file, folder / file)
         out[label] = {"folder": folder, "surface": surface}
     return out
 
@@ -70,11 +61,13 @@ def advised_part(runs: Path) -> dict[str, dict]:
     folder = runs / "cube-advised"
     source = runs / "cube-source.obj"
     _write_obj(cad_meshes.cube(), source)
-    start = time.perf_counter()
-    cpu = time.process_time()
+    stamp = folder / "advise_seconds.txt"
     if not (folder / "vc.in").exists():
+        start, cpu = time.perf_counter(), time.process_time()
         vorobound.advise(mesh=source, lfs=1.0, rho_f=3.0, lipschitz=1.0, vorocrust=folder)
-    seconds = (time.perf_counter() - start, time.process_time() - cpu)
+        seconds = (time.perf_counter() - start, time.process_time() - cpu)
+        stamp.write_text(f"{seconds[0]:.2f} {seconds[1]:.2f}\n")
+    seconds = tuple(map(float, stamp.read_text().split())) if stamp.exists() else None
     return {
         "cube, advise --rho-f 3 --lipschitz 1": {
             "folder": folder,
@@ -156,12 +149,15 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", type=Path)
     parser.add_argument("--upstream", type=Path, help="vorocrust-meshing's tests/datasets")
+    parser.add_argument("--no-advised", action="store_true", help="leave out the advised cube")
     args = parser.parse_args(argv)
     args.runs.mkdir(parents=True, exist_ok=True)
     parts = {}
     if args.upstream is not None:
         parts |= upstream_parts(args.runs, args.upstream)
-    parts |= our_parts(args.runs) | advised_part(args.runs)
+    parts |= our_parts(args.runs)
+    if not args.no_advised:
+        parts |= advised_part(args.runs)
     rows = [measure(label, part) for label, part in parts.items()]
     header = list(rows[0])
     print("| " + " | ".join(header) + " |")
