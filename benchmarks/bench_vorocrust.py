@@ -109,7 +109,7 @@ def timed(call):
 
 def measure(label: str, part: dict) -> dict:
     import vorobound
-    from vorobound.rounding import format_down, format_up
+    from vorobound.rounding import format_up
 
     folder, surface = part["folder"], part["surface"]
     vc = run_vc_mesh(folder)
@@ -120,13 +120,14 @@ def measure(label: str, part: dict) -> dict:
     c, r = check.to_dict(), rec.to_dict()
     realized, guarantee, strata = c["realized"], c["guarantee"], c["strata"]
     balls = f"{strata['corner']}/{strata['edge']}/{strata['surface']}"
+    # already rounded toward safety by the inference: printed as they are
     params = (
-        f"{format_up(realized['eps'])}, {format_down(realized['sigma'])}, "
-        f"{format_up(realized['delta_ratio'])}, {format_up(realized['lipschitz'])}"
+        f"{realized['eps']:.5g}, {realized['sigma']:.5g}, "
+        f"{realized['delta_ratio']:.5g}, {realized['lipschitz']:.5g}"
         if realized["eps"] is not None
         else f"none ({guarantee['failed_condition']})"
     )
-    rho = "none" if guarantee["rho_f"] is None else format_up(guarantee["rho_f"])
+    rho = "none" if guarantee["rho_f"] is None else f"{guarantee['rho_f']:.5g}"
     topo = f"χ = {r['euler_characteristic']}, " + ("correct" if r["topology_correct"] else "WRONG")
     fmt = lambda s: "—" if s is None else f"{s[0]:.1f} / {s[1]:.1f}"  # noqa: E731
     return {
@@ -164,7 +165,25 @@ def main(argv=None) -> int:
     print("|" + "---|" * len(header))
     for row in rows:
         print("| " + " | ".join(row[h] for h in header) + " |")
+    print()
+    print(lipschitz_for(1.38))
     return 0
+
+
+def lipschitz_for(rho_f: float) -> str:
+    """The radius Lipschitz constant Λ at which the realized μ* = X(2 + X)/S², X = ΛS, meets
+    1 − 1/ρ_f, with vc_mesh's spacing S = β = sqrt(1 − 0.4²) (docs/vorocrust.md)."""
+    import math
+
+    from vorobound.rounding import format_down
+
+    spacing = math.sqrt(1 - 0.4**2)
+    share = 1 - 1 / rho_f
+    excess = share * spacing**2 / (1 + math.sqrt(1 + share * spacing**2))  # X(2+X) = s, stably
+    return (
+        f"With S = {spacing:.5f}, LIP_CONST <= {format_down(excess / spacing)} keeps mu* <= "
+        f"1 - 1/{rho_f:g} at every eps (X = Lambda*S caps 2eps/(1-eps))"
+    )
 
 
 if __name__ == "__main__":

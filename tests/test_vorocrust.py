@@ -330,3 +330,26 @@ def test_json_matches_the_schema(capsys):
     broken["realized"].pop("eps")
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(broken, schema)
+
+
+def test_inference_on_vorobounds_own_sample_is_at_least_as_good(tmp_path):
+    """Balls sampled by vorobound at eps = 0.1 (sigma 3/4, delta = 2 eps, L exact on the unit
+    sphere): the realized eps is at most 0.1 and the proven rho_f at most the bound at the
+    sampling parameters (realized sigma/(delta/eps) = S is at least 0.75/2)."""
+    import vorobound
+    from vorobound.bounds.tight.ratio_form import ratio_supremum_closed_form
+    from vorobound.reports.vorocrust import realize
+    from vorobound.sampling.io.balls import read_balls
+    from vorobound.sampling.surfaces.analytic import SphereShape
+
+    path = tmp_path / "sample.csv"
+    vorobound.sample(eps=0.1, sphere=1.0, output=path)
+    found = realize(read_balls(path), SphereShape(1.0), "auto", 1.38)
+    assert found.failed_condition is None
+    assert found.eps <= 0.1
+    assert found.measured.spacing >= 0.75 / 2 * (1 - 1e-9)
+    assert found.delta_ratio * found.eps >= 0.2 * (1 - 1e-9)  # delta = max r/L = 2 eps
+    at_sampling = ratio_supremum_closed_form(0.1, 0.75, 2.0, 1.0).value
+    assert found.rho_f_ratio <= at_sampling * (1 + 1e-4)
+    # equal radii on the sphere: lambda = 0, so mu* = 0 and R = R^ (orthocentre = circumcentre)
+    assert found.lipschitz == 0 and found.rho_f_ratio == 1
