@@ -353,3 +353,28 @@ def test_inference_on_vorobounds_own_sample_is_at_least_as_good(tmp_path):
     assert found.rho_f_ratio <= at_sampling * (1 + 1e-4)
     # equal radii on the sphere: lambda = 0, so mu* = 0 and R = R^ (orthocentre = circumcentre)
     assert found.lipschitz == 0 and found.rho_f_ratio == 1
+
+
+def test_check_vorocrust_at_given_eps_and_with_out(tmp_path, capsys):
+    code, out, err = run_cli(
+        capsys,
+        "check",
+        "--vorocrust",
+        str(TORUS),
+        "--torus",
+        "1,0.4",
+        "--eps",
+        "0.1",
+        "--json",
+    )
+    data = json.loads(out)
+    assert code == 1  # at eps = 0.1 the coarse run is no eps-sample
+    assert data["failures"]["coverage"] == 1 and "realized" not in data
+    assert data["strata"]["surface"] == 285
+    folder = tmp_path / "out"
+    code, out, err = run_cli(
+        capsys, "check", "--vorocrust", str(TORUS), "--torus", "1,0.4", "--out", str(folder)
+    )
+    assert code == 0, err
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["realized"]["eps"] is not None and summary["guarantee"]["rho_f"] > 1
