@@ -133,6 +133,7 @@ def measure(label: str, part: dict) -> dict:
     return {
         "part": label,
         "balls c/e/s": balls,
+        "ε from coverage": f"{realized['eps_coverage']:.5g}",
         "ε, σ, δ/ε, λ realized": params,
         "proven ρ_f (R ≤ ρ_f·R̂)": rho,
         "max R/R̂ measured": format_up(c["ratio_max"]),
