@@ -288,9 +288,35 @@ def test_advise_writes_a_deck_vc_mesh_reads(tmp_path, capsys):
     assert code == 2 and "give mesh too" in err and len(err.strip().splitlines()) == 1
 
 
-@pytest.mark.skipif(shutil.which("vc_mesh") is None, reason="vc_mesh is not on PATH")
+LIVE = pytest.mark.skipif(shutil.which("vc_mesh") is None, reason="vc_mesh is not on PATH")
+
+
+@pytest.mark.slow
+@LIVE
+def test_live_run_realizes_what_the_fixture_does(tmp_path, capsys):
+    """vc_mesh run live on the torus fixture's deck and mesh (about 10 CPU seconds) realizes
+    the fixture's parameters (identical with a FIXED_RNG_SEED build)."""
+    import subprocess
+
+    for name in ("vc.in", "torus.obj"):
+        shutil.copy(TORUS / name, tmp_path / name)
+    subprocess.run(["vc_mesh", "-vc", "vc.in"], cwd=tmp_path, check=True, capture_output=True)
+    found = []
+    for folder in (TORUS, tmp_path):
+        code, out, err = run_cli(
+            capsys, "check", "--vorocrust", str(folder), "--torus", "1,0.4", "--json"
+        )
+        assert code == 0, err
+        found.append(json.loads(out)["realized"])
+    for key in ("eps", "sigma", "delta_ratio", "lipschitz"):
+        assert found[1][key] == pytest.approx(found[0][key], rel=0.2)
+
+
+@pytest.mark.slow
+@LIVE
 def test_round_trip_through_vc_mesh(tmp_path, capsys):
-    """advise --vorocrust, then vc_mesh live, then check --vorocrust (skipped without it)."""
+    """advise --vorocrust, then vc_mesh live, then check --vorocrust (skipped without it; the
+    run makes about 21,000 balls, 400 CPU seconds: docs/vorocrust.md)."""
     import subprocess
 
     folder = tmp_path / "run"
@@ -313,7 +339,8 @@ def test_round_trip_through_vc_mesh(tmp_path, capsys):
     code, out, err = run_cli(capsys, "check", "--vorocrust", str(folder), "--lfs", "1", "--json")
     data = json.loads(out)
     assert data["strata"]["corner"] == 8
-    assert data["realized"]["eps"] is not None
+    assert data["realized"]["eps_coverage"] <= 0.0611 * 1.05  # about the advised eps
+    assert data["guarantee"]["rho_f"] <= 3
 
 
 def test_json_matches_the_schema(capsys):
