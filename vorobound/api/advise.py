@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -34,6 +35,8 @@ class AdviseResult(Result):
     quality: QualityParams = field(repr=False)
     modes: tuple[str, ...] = field(repr=False)
     targets: tuple[str, ...] = field(repr=False)
+    extra: dict = field(repr=False, default_factory=dict)
+    """More of the JSON (``vorocrust``: the deck written and what it sets)."""
 
     def payload(self) -> dict:
         from ..reports.advisor import GUARANTEE
@@ -94,7 +97,7 @@ class AdviseResult(Result):
             }
         params = params_json(self.quality, mode=list(self.modes))
         params["target"] = list(self.targets)
-        return {
+        return self.extra | {
             "params": params,
             "surface": surface_info,
             "recommendation": recommendation,
@@ -124,6 +127,7 @@ def advise(
     torus: Sequence[float] | None = None,
     mesh: str | os.PathLike | None = None,
     sizing: str | os.PathLike | None = None,
+    vorocrust: str | os.PathLike | None = None,
     progress: Progress | None = None,
 ) -> AdviseResult:
     """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
@@ -133,7 +137,9 @@ def advise(
     for, and says which target binds. Sample counts are a covering lower and a packing upper
     estimate (exact bounds on a sphere; docs/advisor.md). Without a surface, lengths are per
     unit L and there are no counts. A mesh without ``lfs`` or ``sizing`` has its L estimated
-    (as by :func:`vorobound.lfs`), and the result says so.
+    (as by :func:`vorobound.lfs`), and the result says so. ``vorocrust`` (a folder, with
+    ``mesh``) receives a VoroCrust run directory that samples the part at the recommended ε:
+    the part as OBJ, vc.in and sizing.csv (docs/vorocrust.md), written as one set.
     """
     from ..reports.advisor import advise as run
     from ..sampling.surfaces.base import planar_area
@@ -155,7 +161,7 @@ def advise(
     advice = run(quality, basis, list(modes), progress=progress, targets=list(targets))
     rec = advice.recommendation
     counted = surface is not None and rec is not None
-    return AdviseResult(
+    result = AdviseResult(
         eps=None if rec is None else rec.eps,
         claim=None if rec is None else rec.claim,
         ball_radius=None if rec is None else rec.ball_radius,
@@ -169,3 +175,20 @@ def advise(
         modes=modes,
         targets=targets,
     )
+    if vorocrust is None:
+        return result
+    from ..files import write_set
+    from .vorocrust import deck_files
+
+    writers, chosen = deck_files(
+        result,
+        mesh=mesh,
+        lfs=lfs,
+        sizing=sizing,
+        lipschitz=lipschitz,
+        vorocrust=vorocrust,
+        progress=progress,
+    )
+    write_set(writers)
+    chosen["written"] = [os.fspath(p) for p in writers]
+    return dataclasses.replace(result, extra={"vorocrust": chosen})

@@ -115,15 +115,16 @@ class CheckResult(Result):
 @checked_arguments
 def check(
     *,
-    eps: float,
+    eps: float | None = None,
     sphere: float | None = None,
     torus: Sequence[float] | None = None,
     mesh: str | os.PathLike | None = None,
     lfs: float | None = None,
     sizing: str | os.PathLike | None = None,
     balls: str | os.PathLike | None = None,
-    sigma: float = PAPER_SIGMA,
-    delta_ratio: float = PAPER_DELTA_RATIO,
+    vorocrust: str | os.PathLike | None = None,
+    sigma: float | None = None,
+    delta_ratio: float | None = None,
     rho_f: float = PAPER_RHO_F,
     seed: int = 0,
     lipschitz: float | None = None,
@@ -159,6 +160,31 @@ def check(
     from ..reports.check import check_balls, check_surface
     from .surfaces import sample_shape
 
+    if vorocrust is not None or (eps is None and balls is not None):
+        if workers is not None or scheduler is not None or table is not None:
+            raise InputError("workers, scheduler and table go with balls and eps")
+        from .vorocrust import check_run
+
+        return check_run(
+            eps=eps,
+            vorocrust=vorocrust,
+            balls=balls,
+            surface={"sphere": sphere, "torus": torus, "mesh": mesh, "lfs": lfs, "sizing": sizing},
+            sigma=sigma,
+            delta_ratio=delta_ratio,
+            rho_f=rho_f,
+            lipschitz=lipschitz,
+            engine=engine,
+            out=out,
+            figure_format=figure_format,
+            seed=seed,
+            progress=progress,
+            finish=_finish_with,
+        )
+    if eps is None:
+        raise InputError("give eps (or balls or vorocrust, whose parameters are then inferred)")
+    sigma = PAPER_SIGMA if sigma is None else sigma
+    delta_ratio = PAPER_DELTA_RATIO if delta_ratio is None else delta_ratio
     checked_outputs(out, figure_format)
     seed = checked_seed(seed)
     quality = QualityParams(sigma, delta_ratio, rho_f)
@@ -197,13 +223,15 @@ def check(
         progress=progress,
     )
     if balls is not None:
+        from ..reports.vorocrust import off_surface, warn_off_surface
         from ..sampling.io.balls import read_balls
 
         lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
         name = os.path.basename(os.fspath(balls))
-        report = check_balls(
-            read_balls(balls), params.but(lipschitz=lam), engine, shape, name, progress
-        )
+        given = read_balls(balls)
+        if shape is not None:
+            warn_off_surface(off_surface(given, shape), given, name)
+        report = check_balls(given, params.but(lipschitz=lam), engine, shape, name, progress)
         asked = {"seed": None, "engine": engine, "balls": os.fspath(balls)}
     else:
         if lipschitz is not None:
@@ -233,6 +261,18 @@ def _result(report, asked: dict) -> CheckResult:
         report=report,
         asked=asked,
     )
+
+
+def _finish_with(report, asked: dict, extra: dict, out, figure_format: str) -> CheckResult:
+    """The result of a check report with more JSON (``extra``), written to ``out`` if given."""
+    import dataclasses
+
+    table = _checked_table(None, TABLES, out)
+    asked["table"] = table if out is not None else None
+    result = dataclasses.replace(_result(report, asked), extra=extra)
+    if out is not None:
+        result = write_outputs(result, out, figure_format, table)
+    return result
 
 
 def _checked_table(table: str | None, allowed: tuple[str, ...], out) -> str:

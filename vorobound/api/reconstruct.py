@@ -43,6 +43,8 @@ class ReconstructResult(Result):
     written: tuple[str, ...] = field(repr=False, default=())
     quality: QualityParams | None = field(repr=False, default=None)
     asked: dict = field(repr=False, default_factory=dict)
+    extra: dict = field(repr=False, default_factory=dict)
+    """More of the JSON (a VoroCrust run: the unit of the distances)."""
 
     @property
     def ok(self) -> bool:
@@ -64,7 +66,7 @@ class ReconstructResult(Result):
         summary["params"] = params_json(self.quality, eps, **self.asked)
         for key in ("rho_f", "lipschitz", "target"):
             summary["params"].pop(key, None)
-        return summary | {"ok": self.ok, "written": list(self.written)}
+        return summary | self.extra | {"ok": self.ok, "written": list(self.written)}
 
 
 @dataclass(frozen=True, repr=False)
@@ -187,6 +189,7 @@ def reconstruct(
     sizing: str | os.PathLike | None = None,
     balls: str | os.PathLike | None = None,
     seeds: str | os.PathLike | None = None,
+    vorocrust: str | os.PathLike | None = None,
     half_covered: bool = False,
     compare_sheets: bool = False,
     sigma: float = PAPER_SIGMA,
@@ -230,6 +233,17 @@ def reconstruct(
     from .surfaces import sample_shape
 
     checked_outputs(out, figure_format)
+    if vorocrust is not None:
+        return _vorocrust(
+            vorocrust,
+            dict(sphere=sphere, torus=torus, mesh=mesh, lfs=lfs, sizing=sizing),
+            eps is None and balls is None and seeds is None and not half_covered,
+            compare_sheets,
+            seed,
+            out,
+            figure_format,
+            progress,
+        )
     if balls is not None and seeds is not None:
         raise InputError("give balls or seeds, not both")
     seed = checked_seed(seed)
@@ -309,6 +323,38 @@ def reconstruct(
     return result
 
 
+def _vorocrust(vorocrust, surface, alone, compare, seed, out, figure_format, progress):
+    """M̂ of a VoroCrust run's seeds against its mesh, distances over the local ball radius."""
+    from ..checks import checked_seed
+    from .vorocrust import DISTANCE_UNIT, reconstruct_run
+
+    if not alone or compare:
+        raise InputError(
+            "vorocrust reads the run's seeds.csv: eps, balls, seeds, half_covered and "
+            "compare_sheets do not go with it"
+        )
+    report = reconstruct_run(
+        vorocrust=vorocrust, surface=surface, seed=checked_seed(seed), progress=progress
+    )
+    top, measures = report.topology, report.summary()
+    result = ReconstructResult(
+        source=report.source,
+        closed_manifold=top.closed_manifold,
+        euler_characteristic=top.euler_characteristic,
+        n_facets=report.facets.surface.n_facets,
+        topology_correct=report.topology_correct,
+        hausdorff_over_eps_lfs=measures.get("hausdorff_over_eps_lfs"),
+        normal_deviation_max_deg=measures.get("normal_deviation_max_deg"),
+        report=report,
+        quality=None,
+        asked={"seed": None, "engine": None, "vorocrust": os.fspath(vorocrust)},
+        extra={"distance_unit": DISTANCE_UNIT},
+    )
+    if out is not None:
+        result = _write_outputs(result, out, figure_format)
+    return result
+
+
 def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compare, progress):
     """The report of one reconstruction, from a sample, balls or seeds."""
     from ..reports import reconstruct as workflow
@@ -320,10 +366,14 @@ def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compa
             raise InputError("half_covered and compare_sheets need balls, not seeds")
         return workflow.reconstruct_seeds(read_seed_file(seeds), shape, params, seed, progress)
     if balls is not None:
+        from ..reports.vorocrust import off_surface, warn_off_surface
         from ..sampling.io.balls import read_balls
 
+        given = read_balls(balls)
+        if shape is not None:
+            warn_off_surface(off_surface(given, shape), given, os.path.basename(os.fspath(balls)))
         return workflow.reconstruct_balls(
-            read_balls(balls),
+            given,
             params,
             shape,
             half_covered,

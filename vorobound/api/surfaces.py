@@ -16,18 +16,29 @@ AREA_RANGE = (LFS_RANGE[0] ** 2, LFS_RANGE[1] ** 2)
 
 
 def torus_radii(torus) -> tuple[float, float]:
-    """``(R, r)`` as two checked lengths."""
+    """``(R, r)`` as two checked lengths (a third entry, the axis, is :func:`torus_axis`'s)."""
     if isinstance(torus, str):
         torus = torus.split(",")
+        torus = torus[:2] if len(torus) == 3 and torus[2].strip().lower() in "xyz" else torus
         try:
             torus = [float(x) for x in torus]
         except ValueError:
             raise InputError(f"torus needs two radii R,r, got {torus!r}") from None
     values = list(torus)
+    if len(values) == 3 and isinstance(values[2], str):
+        values = values[:2]
     if len(values) != 2:
         raise InputError(f"torus needs two radii (R, r), got {torus!r}")
     major, minor = (checked_length(v, "torus") for v in values)
     return major, minor
+
+
+def torus_axis(torus) -> str:
+    """The axis of ``torus`` = (R, r) or (R, r, axis): z unless a third entry names x or y."""
+    from ..sampling.surfaces.axis import checked_axis
+
+    values = torus.split(",") if isinstance(torus, str) else list(torus)
+    return checked_axis(values[2]) if len(values) == 3 else "z"
 
 
 def _one_surface(**given) -> None:
@@ -51,7 +62,8 @@ def sample_shape(
     required): a sphere, a torus, or a mesh with L constant (``lfs``), per vertex
     (``sizing``) or estimated from the mesh as by ``vorobound lfs``. A shape of the protocol
     in :mod:`vorobound.sampling.surfaces.base`. ``instead`` names the inputs that may replace a
-    surface, for the message when none is given."""
+    surface, for the message when none is given. ``torus`` may name its axis, (R, r, "y"),
+    where the surface only measures (not ``required``, the sampling commands' case)."""
     from ..sampling.surfaces.analytic import SphereShape, TorusShape
 
     _one_surface(sphere=sphere, torus=torus, mesh=mesh)
@@ -60,7 +72,18 @@ def sample_shape(
     if sphere is not None:
         return SphereShape(checked_length(sphere, "sphere"))
     if torus is not None:
-        return TorusShape(*torus_radii(torus))
+        shape = TorusShape(*torus_radii(torus))
+        axis = torus_axis(torus)
+        if axis == "z":
+            return shape
+        if required:
+            raise InputError(
+                f"a torus about the {axis} axis is for measuring balls or seeds; samples are "
+                "made about z (permute the columns), or give the part as --mesh"
+            )
+        from ..sampling.surfaces.axis import AxisShape
+
+        return AxisShape(shape, axis)
     if mesh is not None:
         if lfs is not None and sizing is not None:
             raise InputError("give lfs or sizing for the mesh, not both")

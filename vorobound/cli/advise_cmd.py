@@ -63,6 +63,17 @@ def advise(
             "--sizing", metavar="FILE", help="CSV with the local feature size per vertex."
         ),
     ] = None,
+    vorocrust: Annotated[
+        Path | None,
+        typer.Option(
+            "--vorocrust",
+            metavar="DIR",
+            help="With --mesh: write DIR/vc.in, DIR/sizing.csv and the part as OBJ, so that "
+            "`vc_mesh -vc vc.in` run in DIR samples at the recommended ε (radii ε·L/β, β = "
+            "VoroCrust's coverage factor; LIP_CONST, R_MAX, VC_ANGLE from L; docs/vorocrust.md "
+            "says what vc_mesh promises and what to check after).",
+        ),
+    ] = None,
     as_json: Json = False,
 ) -> int:
     """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
@@ -85,12 +96,26 @@ def advise(
             target=parse_targets(target),
             area=area,
             **surface_args(sphere, torus, mesh, lfs, sizing),
+            vorocrust=vorocrust,
             progress=progress,
         )
     return emit(result, as_json, _show)
 
 
 def _show(result) -> None:
+    _show_advice(result)
+    deck = result.to_dict().get("vorocrust")
+    if deck:
+        print(
+            f"VoroCrust deck for eps = {deck['eps']:g}: R_MAX = {deck['R_MAX']:.6g}, LIP_CONST = "
+            f"{deck['LIP_CONST']:.6g}, VC_ANGLE = {deck['VC_ANGLE']:g}, "
+            f"{deck['sizing_rows']:,} sizing rows"
+        )
+        for path in deck["written"]:
+            print(f"wrote {path}")
+
+
+def _show_advice(result) -> None:
     from ..reports.advisor import GUARANTEE, versus_baseline
 
     data = result.to_dict()

@@ -12,10 +12,8 @@ from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
 from .options import (
     LAMBDA_HELP,
-    DeltaRatio,
     EngineChoice,
     EngineOpt,
-    Eps,
     FigureFormat,
     FigureFormatOpt,
     Json,
@@ -23,7 +21,6 @@ from .options import (
     MeshOpt,
     RhoF,
     Seed,
-    Sigma,
     SizingOpt,
     SphereOpt,
     TorusOpt,
@@ -41,7 +38,16 @@ class TableChoice(str, Enum):
 
 
 def check(
-    eps: Eps,
+    eps: Annotated[
+        float | None,
+        typer.Option(
+            "--eps",
+            metavar="EPS",
+            help="Sampling density ε, 0 < ε < 1. Optional with --balls or --vorocrust: then "
+            "the ε, σ, δ/ε and λ the balls realize are inferred from the balls and the surface, "
+            "with the guarantee they give (docs/vorocrust.md).",
+        ),
+    ] = None,
     sphere: SphereOpt = None,
     torus: TorusOpt = None,
     mesh: MeshOpt = None,
@@ -57,8 +63,33 @@ def check(
             "surface option too, coverage is measured on that surface.",
         ),
     ] = None,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
+    vorocrust: Annotated[
+        Path | None,
+        typer.Option(
+            "--vorocrust",
+            metavar="DIR",
+            help="A VoroCrust run folder (vc_mesh's vc.in, the mesh it names, "
+            "surface/edges/corner_spheres.csv, seeds.csv): the surface balls are checked "
+            "against that mesh (or the surface given); corner and edge balls are reported "
+            "apart, never in the smooth verdict (docs/vorocrust.md).",
+        ),
+    ] = None,
+    sigma: Annotated[
+        float | None,
+        typer.Option(
+            "--sigma",
+            metavar="SIGMA",
+            help=f"Sparsity σ (paper: {PAPER_SIGMA:g}; inferred without --eps).",
+        ),
+    ] = None,
+    delta_ratio: Annotated[
+        float | None,
+        typer.Option(
+            "--delta-ratio",
+            metavar="RATIO",
+            help=f"Ball radius over ε, δ/ε (paper: {PAPER_DELTA_RATIO:g}; inferred without --eps).",
+        ),
+    ] = None,
     rho_f: RhoF = PAPER_RHO_F,
     seed: Seed = 0,
     lipschitz: Annotated[
@@ -131,6 +162,7 @@ def check(
             eps=eps,
             **surface_args(sphere, torus, mesh, lfs, sizing, instead={"--balls FILE": balls}),
             balls=balls,
+            vorocrust=vorocrust,
             sigma=sigma,
             delta_ratio=delta_ratio,
             rho_f=rho_f,
@@ -148,7 +180,10 @@ def check(
 
 
 def _show(result) -> None:
-    _print_summary(result.to_dict())
+    data = result.to_dict()
+    _print_summary(data)
+    if "realized" in data:
+        _print_realized(data)
     for path in result.written:
         print(f"wrote {path}")
 
@@ -256,3 +291,30 @@ def _print_summary(s: dict) -> None:
                     for r in rows
                 ],
             )
+
+
+def _print_realized(s: dict) -> None:
+    """What the balls realize and the guarantee (check without --eps, or --vorocrust)."""
+    from ..rounding import format_down, format_up
+
+    r, g, m = s["realized"], s["guarantee"], s["realized"]["measured"]
+    print_table(
+        "Parameters the balls realize (docs/vorocrust.md)",
+        ("parameter", "value", "from"),
+        [
+            ("ε", format_up(r["eps"]), f"coverage {fmt(m['coverage_over_lfs_max'], 6)} (measured)"),
+            ("δ/ε", format_up(r["delta_ratio"]), f"max r/L {fmt(m['radius_over_lfs_max'], 6)}"),
+            ("σ", format_down(r["sigma"]), f"min |p−q|/r {fmt(m['spacing_over_radius_min'], 6)}"),
+            ("λ", format_up(r["lipschitz"]), f"max |Δr|/|p−q| {fmt(m['radius_lipschitz'], 6)}"),
+        ],
+    )
+    rho = g["rho_f"]
+    print(
+        f"Guarantee ({g['target']} target): "
+        + (
+            f"R ≤ {format_up(rho)}·R̂ for every guide triangle, {g['claim']}"
+            if rho is not None
+            else f"none proven: {g['failed_condition']} fails"
+        )
+    )
+    print(f"strata: {', '.join(f'{k} {v}' for k, v in s['strata'].items() if v is not None)}")

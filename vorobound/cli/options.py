@@ -112,7 +112,12 @@ SphereOpt = Annotated[
 ]
 TorusOpt = Annotated[
     str | None,
-    typer.Option("--torus", metavar="R,r", help="Ring torus, radii R > r (L = min(r, ρ))."),
+    typer.Option(
+        "--torus",
+        metavar="R,r[,AXIS]",
+        help="Ring torus, radii R > r (L = min(r, ρ)), about the z axis or AXIS (x, y or z; "
+        "measuring only: sampling is about z). Any other placement: --mesh.",
+    ),
 ]
 MeshOpt = Annotated[
     Path | None,
@@ -168,7 +173,7 @@ def surface_args(
         raise InputError(f"give a surface ({SURFACE_OPTIONS}) or " + " or ".join(instead))
     return {
         "sphere": sphere,
-        "torus": None if torus is None else parse_numbers(torus, "--torus", 2),
+        "torus": None if torus is None else parse_torus(torus),
         "mesh": mesh,
         "lfs": lfs,
         "sizing": sizing,
@@ -244,6 +249,14 @@ def parse_modes(text: str) -> list[str]:
         return [m.value for m in checked_modes(text)]
     except InputError:
         raise InputError(f"--mode: expected paper, rigorous or tight, got {text!r}") from None
+
+
+def parse_torus(text: str) -> list:
+    """``R,r`` or ``R,r,AXIS`` (AXIS x, y or z: the torus's axis; default z)."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) == 3 and parts[2].lower() in ("x", "y", "z"):
+        return [*parse_numbers(",".join(parts[:2]), "--torus", 2), parts[2].lower()]
+    return parse_numbers(text, "--torus", 2)
 
 
 def parse_numbers(text: str, what: str, count: int | Sequence[int]) -> list[float]:

@@ -64,6 +64,16 @@ def reconstruct(
             "1 inside; a header naming x, y, z and region_id or region is optional).",
         ),
     ] = None,
+    vorocrust: Annotated[
+        Path | None,
+        typer.Option(
+            "--vorocrust",
+            metavar="DIR",
+            help="A VoroCrust run folder: M̂ of its seeds.csv against the mesh its vc.in names "
+            "(or the surface given), distances in units of the local ball radius (the nearest "
+            "corner, edge or surface ball's; docs/vorocrust.md).",
+        ),
+    ] = None,
     half_covered: Annotated[
         bool,
         typer.Option(
@@ -139,6 +149,7 @@ def reconstruct(
             ),
             balls=balls,
             seeds=seeds,
+            vorocrust=vorocrust,
             half_covered=half_covered,
             compare_sheets=compare_sheets,
             sigma=sigma,

@@ -2,9 +2,10 @@
 
 Accepted inputs, each giving centers x, y, z and radii r:
 
-* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r),
-  separated by commas, semicolons, tabs or spaces (:mod:`.tables`); a file with another
-  suffix (``.txt``, ``.dat``) is read as one when its content is such a table;
+* CSV: columns x, y, z, r (a header naming them is optional; ``radius`` is accepted for r;
+  vc_mesh's x1coord, x2coord, x3coord, x4coord header is read as x, y, z, r), separated by
+  commas, semicolons, tabs or spaces (:mod:`.tables`); a file with another suffix (``.txt``,
+  ``.dat``) is read as one when its content is such a table;
 * NPZ: 1-D arrays ``x``, ``y``, ``z`` and ``r`` (or ``radius``), or ``points`` (n, 3) with
   ``radii``, each header checked against its data (:mod:`.npz`);
 * Parquet (``.parquet``, ``.pq``; needs pyarrow): columns ``x``, ``y``, ``z`` and ``r`` (or
@@ -33,6 +34,8 @@ from .npz import RADIUS_NAMES, npz_chunks
 from .tables import DELIMITER_NAMES, read_number_table
 
 PARQUET_SUFFIXES = (".parquet", ".pq")
+VOROCRUST_HEADER = ("x1coord", "x2coord", "x3coord", "x4coord")
+"""The first four columns of vc_mesh's sphere files (surface_spheres.csv, ...): x, y, z, r."""
 
 
 def read_balls(path: str | Path) -> Balls:
@@ -172,7 +175,9 @@ def csv_columns(path: Path, header, width: int, delimiter: str | None) -> list[i
     """The columns of x, y, z and r in a ball CSV of ``width`` columns with ``header`` (None:
     the first four): the one rule of the whole and the streamed reader."""
     columns = [0, 1, 2, 3]
-    if header is not None:
+    if header is not None and tuple(header[:4]) == VOROCRUST_HEADER:
+        pass  # vc_mesh's sphere files: x1coord..x4coord are x, y, z, r
+    elif header is not None:
         radius = next((name for name in RADIUS_NAMES if name in header), None)
         if radius is None or not {"x", "y", "z"} <= set(header):
             raise ReadError(

@@ -119,7 +119,11 @@ def read_seed_file(path: str | Path) -> Seeds:
         raise ReadError(f"seeds {path} is empty")
     header = [cell.strip().lower() for cell in lines[0].split(",")]
     columns = [0, 1, 2, 3, 4]
-    if not _is_number(header[0]):
+    if header[:3] == ["x1coord", "x2coord", "x3coord"]:
+        lines = lines[1:]  # vc_mesh's own header names 4 of the 5 columns: x, y, z, sizing, region
+        if not lines:
+            raise ReadError(f"seeds {path}: a header and no rows")
+    elif not _is_number(header[0]):
         region = next((name for name in REGION_NAMES if name in header), None)
         if not {"x", "y", "z"} <= set(header):
             raise ReadError(f"seeds {path}: the header must name x, y and z, got {lines[0]!r}")
