@@ -3,8 +3,9 @@
 The mesh lattice has about :func:`.mesh_lattice.expected_candidates` candidates (∝ ∫dA/L²/ε²);
 memory and CPU time grow linearly in that count. The constants are measured by
 ``python benchmarks/bench_sample_cost.py`` (peak RSS and CPU seconds of ``vorobound sample``
-on the CAD cube at three ε, fitted as base + slope × candidates) and are estimates, not
-bounds.
+on the CAD cube at ε = 0.05, 0.025, 0.0125: 0.4, 1.4 and 5.3 million candidates, 2.3, 5.5 and
+20.9 CPU s, 198, 389 and 1175 MB on the 2-core machine shared with other jobs; fitted as
+base + slope × candidates) and are estimates, not bounds.
 """
 
 from __future__ import annotations
@@ -16,13 +17,13 @@ from ...errors import InputError
 from .lattice import MAX_CANDIDATES
 from .mesh_lattice import expected_candidates
 
-BYTES_PER_CANDIDATE = 190.0
+BYTES_PER_CANDIDATE = 201.0
 """Peak memory per lattice candidate (measured slope, benchmarks/bench_sample_cost.py)."""
-BASE_BYTES = 120e6
+BASE_BYTES = 112e6
 """Peak memory of a small ``vorobound sample --mesh`` run (interpreter, numpy, scipy, mesh)."""
-CPU_SECONDS_PER_CANDIDATE = 1.8e-6
+CPU_SECONDS_PER_CANDIDATE = 3.9e-6
 """CPU seconds per lattice candidate (lattice, maximal subset, checks; measured slope)."""
-BASE_CPU_SECONDS = 2.0
+BASE_CPU_SECONDS = 0.5
 """CPU seconds of a small run (imports, the local feature size of a small mesh)."""
 
 
