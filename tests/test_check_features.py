@@ -85,6 +85,9 @@ def test_cube_edges_are_reported_apart_and_do_not_fail_the_check(cube, run_cli):
     rows = _rows(folder / "whole")
     assert rows["at_feature"].sum() == features["n_guide_triangles"]
     assert (rows["at_feature"] == (rows["feature_reach"] <= FEATURE_REACH)).all()
+    # Every triangle outside the constraint set has a ball containing an edge point.
+    outside = np.asarray(rows["inside"]) == 0
+    assert outside.any() and (np.asarray(rows["feature_reach"])[outside] < 1).all()
     vtu = meshio.read(folder / "whole" / "sample.vtu")
     assert "at_feature" in vtu.cell_data
 

@@ -167,11 +167,17 @@ def check(
     sample.vtu and the gap histogram, written as one set. ``lipschitz`` is the λ that L =
     r/δ of ``balls`` should satisfy (default 1); a sampled surface uses its own λ.
 
+    On a mesh with sharp features (as ``vorobound lfs`` finds them), guide triangles with a
+    ball center within 2 ball radii of a feature are reported apart
+    (``violations_at_features``, docs/samples.md "Sharp features"); only the smooth-patch
+    ones (``violations_smooth``, also ``failures``) make ``ok`` False.
+
     With ``workers`` (local processes; 1 runs the tiles one after another here) or
     ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
     halos (docs/scale.md): the same guide triangles and summary, memory bounded by the tile.
     ``table`` then says how ``out`` holds the per-triangle rows: a Parquet dataset
-    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``.
+    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``. ``mesh``
+    (with ``lfs`` or ``sizing`` if given) is then read for its sharp features only.
     """
     from ..checks import checked_lipschitz, checked_seed
     from ..errors import InputError
