@@ -120,7 +120,7 @@ def test_the_tiled_check_splits_the_triangles_the_same_way(cube, run_cli):
 @pytest.mark.parametrize("name", ["cube", "cylinder"])
 def test_coarse_and_fine_exports_give_the_same_smooth_verdict(name, tmp_path):
     """The issue's export dependence: the same part, two exports, the same smooth verdict at
-    the ratio target's ε (ρ_f = 1.38); the cylinder is 10 long here to keep it fast."""
+    ε = 0.025; the cylinder is 10 long here to keep it fast (ε = 0.0094977 takes minutes)."""
     pairs = {
         "cube": (cad_meshes.cube(), cad_meshes.cube(4.0)),
         "cylinder": (
@@ -131,7 +131,7 @@ def test_coarse_and_fine_exports_give_the_same_smooth_verdict(name, tmp_path):
     verdicts = []
     for tag, part in zip(("coarse", "fine"), pairs[name], strict=True):
         mesh = _write(part, tmp_path / f"{tag}.stl")
-        result = vorobound.check(mesh=mesh, eps=0.0094977)
+        result = vorobound.check(mesh=mesh, eps=0.025)
         verdicts.append((result.ok, result.to_dict()["violations_smooth"]))
     assert verdicts[0] == verdicts[1] == (True, dict.fromkeys(verdicts[0][1], 0))
 
