@@ -90,9 +90,19 @@ def _compare(path, eps, tmp_path, quality=None, lipschitz=1.0, **tiled):
         assert np.array_equal(got[name].astype(want[name].dtype), want[name], equal_nan=True), name
     a, b = untiled.summary(), report.summary()
     assert set(b) == set(a) | TILED_ONLY
-    for key in set(a) - DECOMPOSITION_DEPENDENT:
+    for key in set(a) - DECOMPOSITION_DEPENDENT - {"by_class"}:
         assert b[key] == a[key], key
+    # Where a maximum sits depends on the order of ties (a whole sphere has many): compare
+    # everything of the split by class but that.
+    assert _without_worst(b["by_class"]) == _without_worst(a["by_class"])
     return report
+
+
+def _without_worst(classes: dict) -> dict:
+    return {
+        name: {k: v for k, v in entry.items() if k != "worst"} if isinstance(entry, dict) else entry
+        for name, entry in classes.items()
+    }
 
 
 @pytest.mark.parametrize("case", list(CASES))

@@ -310,6 +310,7 @@ def test_a_sizing_steeper_than_one_lipschitz_is_warned_about(run_cli, tmp_path):
         sizing = tmp_path / f"{name}.csv"
         sizing.write_text("lfs\n" + "\n".join(f"{v!r}" for v in values.tolist()) + "\n")
         code, out, err = run_cli("advise", "--mesh", str(mesh), "--sizing", str(sizing), "--json")
-        assert code == 0, err
+        samplable = json.loads(out)["recommendation"]["samplable"]
+        assert code == (0 if samplable else 1), err  # 1: sample cannot build the advised ε
         messages[name] = err
     assert "1-Lipschitz" in messages["jumpy"] and "1-Lipschitz" not in messages["smooth"]

@@ -59,7 +59,9 @@ def test_exit_code_one_when_a_check_or_certificate_fails(run_cli, tmp_path):
     code, out, _ = run_cli("check", "--torus", "1.5,1", "--eps", "0.1")
     assert code == 1
     last = out.strip().splitlines()[-1]
-    assert re.match(r"[\d,]+ violations: [\d,]+ guide triangles with R > rho_f\*R\^", last)
+    assert re.match(
+        r"[\d,]+ violations on smooth patches: [\d,]+ guide triangles with R > rho_f\*R\^", last
+    )
     code, out, _ = run_cli("check", "--torus", "1.5,1", "--eps", "0.1", "--json")
     data = json.loads(out)
     assert code == 1 and data["ok"] is False and data["failures"]["ratio"] > 0

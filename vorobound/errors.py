@@ -40,6 +40,10 @@ class EmptyConstraintSet(NoAdmissibleEps):
     σ(1 − ε) > √3. Every bound holds there vacuously, so nothing can be bounded or measured."""
 
 
+class LatticeTooLarge(InputError):
+    """The sampler's candidate lattice at this ε would not fit in memory."""
+
+
 class ReadError(VoroboundError):
     """A file cannot be read or is not what the command expects (mesh, sizing, balls, ...)."""
 

@@ -28,6 +28,10 @@ def run(folder: str) -> list[str]:
         sample = vorobound.sample(mesh=part, eps=advice.eps, output=balls)
         check = vorobound.check(balls=balls, mesh=part, eps=advice.eps)
     failed = ", ".join(f"{k}: {n}" for k, n in check.failures.items() if n) or "none"
+    edges = check.to_dict()["violations_at_features"]
+    at_edges = ", ".join(
+        f"{k}: {n}" for k, n in edges.items() if k not in ("worst", "n_guide_triangles") and n
+    )
     return [
         "```python",
         "import vorobound",
@@ -38,7 +42,9 @@ def run(folder: str) -> list[str]:
         f"sample.n_samples, sample.coverage_max  # {sample.n_samples:,}, {sample.coverage_max:.3f}",
         'check = vorobound.check(balls="cube.npz", mesh="cube.stl", eps=advice.eps)',
         f"check.n_guide_triangles, check.ok  # {check.n_guide_triangles:,}, {check.ok}",
-        f"check.failures  # nonzero: {failed}",
+        f"check.failures  # on smooth patches, nonzero: {failed}",
+        'check.to_dict()["violations_at_features"]  # '
+        f"{at_edges or 'none'} of {edges['n_guide_triangles']:,} at the sharp edges",
         "check.to_dict()  # what `vorobound check ... --json` prints",
         "```",
         "",

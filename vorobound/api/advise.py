@@ -8,11 +8,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ..bounds.params import QualityParams, checked_modes, checked_targets
+from ..checks import checked_number
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from ..errors import InputError
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, params_json
 
+MAX_SAMPLES_LIMIT = 1e15
+"""Largest sample budget accepted (far beyond any sample that fits in memory)."""
 H3_ROUTE_STATEMENT = "H3 alone gives R <= rho_f*delta*L_i (eq. (55)); not eq. (54)"
 
 
@@ -37,6 +41,21 @@ class AdviseResult(Result):
     targets: tuple[str, ...] = field(repr=False)
     extra: dict = field(repr=False, default_factory=dict)
     """More of the JSON (``vorocrust``: the deck written and what it sets)."""
+    max_samples: float | None = field(default=None, repr=False)
+
+    @property
+    def ok(self) -> bool:
+        """False when ``vorobound sample`` cannot build the recommended ε (exit code 1)."""
+        rec = self.advice.recommendation
+        return rec is None or rec.samplable is not False
+
+    @property
+    def verdict(self) -> str:
+        if self.ok:
+            return ""
+        from ..reports.advisor import samplable_verdict
+
+        return samplable_verdict(self.advice.recommendation)
 
     def payload(self) -> dict:
         from ..reports.advisor import GUARANTEE
@@ -60,6 +79,8 @@ class AdviseResult(Result):
                     "reduction_vs_1_500": a.reduction_vs_1_500,
                     "constraint_set": a.constraint_set,
                     "note": a.note,
+                    "guarantee": guarantee_json(a.guarantee),
+                    "sampler_cost": cost_json(a.cost),
                 }
             )
         rec = self.advice.recommendation
@@ -82,6 +103,11 @@ class AdviseResult(Result):
                 "feature_samples_high": None if features is None else features[1],
                 "lattice_candidates": rec.lattice_candidates,
                 "samplable": rec.samplable,
+                "rho_f_proven": rec.rho_f_proven,
+                "guarantee": guarantee_json(rec.guarantee),
+                "sampler_cost": cost_json(rec.cost),
+                "max_samples": rec.max_samples,
+                "smallest_samplable": fallback_json(rec.fallback, counted),
             }
         h3 = self.advice.h3_route
         surface_info = None
@@ -97,6 +123,7 @@ class AdviseResult(Result):
             }
         params = params_json(self.quality, mode=list(self.modes))
         params["target"] = list(self.targets)
+        params["max_samples"] = self.max_samples
         return self.extra | {
             "params": params,
             "surface": surface_info,
@@ -109,6 +136,7 @@ class AdviseResult(Result):
                 "statement": H3_ROUTE_STATEMENT,
             },
             "guarantee": GUARANTEE,
+            "ok": self.ok,
         }
 
 
@@ -128,6 +156,7 @@ def advise(
     mesh: str | os.PathLike | None = None,
     sizing: str | os.PathLike | None = None,
     vorocrust: str | os.PathLike | None = None,
+    max_samples: float | None = None,
     progress: Progress | None = None,
 ) -> AdviseResult:
     """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
@@ -140,11 +169,19 @@ def advise(
     (as by :func:`vorobound.lfs`), and the result says so. ``vorocrust`` (a folder, with
     ``mesh``) receives a VoroCrust run directory that samples the part at the recommended ε:
     the part as OBJ, vc.in and sizing.csv (docs/vorocrust.md), written as one set.
+
+    Each ε comes with what it guarantees (the smallest proven ρ_f per target) and, on a mesh,
+    the estimated cost of ``vorobound sample``. ``max_samples`` (needs a surface) makes the
+    recommendation the best proven guarantee whose packing count is at most that many samples.
+    When ``vorobound sample`` cannot build the recommended ε, the result names the smallest ε
+    it can and what that guarantees, and ``ok`` is False.
     """
     from ..reports.advisor import advise as run
     from ..sampling.surfaces.base import planar_area
     from .surfaces import count_surface
 
+    if max_samples is not None:
+        max_samples = checked_number(max_samples, "max_samples", 1.0, MAX_SAMPLES_LIMIT)
     modes = tuple(m.value for m in checked_modes(mode))
     targets = tuple(t.value for t in checked_targets(target))
     quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz)
@@ -157,8 +194,17 @@ def advise(
         sizing=sizing,
         progress=progress,
     )
+    if max_samples is not None and surface is None:
+        raise InputError("--max-samples needs a surface (--sphere, --torus, --mesh or --area)")
     basis = surface or planar_area(1.0, 1.0)
-    advice = run(quality, basis, list(modes), progress=progress, targets=list(targets))
+    advice = run(
+        quality,
+        basis,
+        list(modes),
+        progress=progress,
+        targets=list(targets),
+        max_samples=max_samples,
+    )
     rec = advice.recommendation
     counted = surface is not None and rec is not None
     result = AdviseResult(
@@ -174,6 +220,7 @@ def advise(
         quality=quality,
         modes=modes,
         targets=targets,
+        max_samples=max_samples,
     )
     if vorocrust is None:
         return result
@@ -192,3 +239,46 @@ def advise(
     write_set(writers)
     chosen["written"] = [os.fspath(p) for p in writers]
     return dataclasses.replace(result, extra={"vorocrust": chosen})
+
+
+def guarantee_json(guarantee) -> dict | None:
+    """What an ε guarantees (:class:`vorobound.bounds.guarantee_at.GuaranteeAt`) as JSON."""
+    if guarantee is None:
+        return None
+    return {
+        "eps": guarantee.eps,
+        "rho_f_ratio": guarantee.rho_f_ratio,
+        "rho_f_additive": guarantee.rho_f_additive,
+        "additive_fraction": guarantee.additive_fraction,
+        "rho_f_55": guarantee.rho_f_55,
+        "rho_f_h3": guarantee.rho_f_h3,
+        "claim": "proven",
+        "status": guarantee.status,
+    }
+
+
+def cost_json(cost) -> dict | None:
+    """The sampler's estimated cost (:class:`vorobound.sampling.sampler.cost.SamplerCost`)."""
+    if cost is None:
+        return None
+    return {
+        "lattice_candidates": cost.candidates,
+        "memory_bytes": cost.memory_bytes,
+        "cpu_seconds": cost.cpu_seconds,
+        "samplable": cost.samplable,
+        "claim": "numerical",
+    }
+
+
+def fallback_json(fallback, counted: bool) -> dict | None:
+    """The smallest samplable ε and its guarantee (None when the recommendation is samplable)."""
+    if fallback is None:
+        return None
+    return {
+        "eps": fallback.eps,
+        "rho_f_proven": None if fallback.guarantee is None else fallback.guarantee.rho_f_ratio,
+        "guarantee": guarantee_json(fallback.guarantee),
+        "samples_low": fallback.samples_low if counted else None,
+        "samples_high": fallback.samples_high if counted else None,
+        "sampler_cost": cost_json(fallback.cost),
+    }

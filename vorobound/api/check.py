@@ -21,17 +21,44 @@ so exceeding it is a finding about the paper, not about the sample)."""
 
 
 def failures(summary: dict) -> dict[str, int]:
-    """What the check found broken, by kind, from its summary (zero everywhere: ok)."""
+    """What the check found broken, by kind, from its summary (zero everywhere: ok): the
+    sample's conditions and the guide triangles on smooth patches (``violations_smooth``;
+    triangles at sharp features are reported apart, :func:`feature_failures`)."""
     coverage = summary.get("coverage_max")
+    smooth = summary.get("by_class", {}).get("smooth") or summary
     return {
         "coverage": int(coverage is not None and coverage >= 1),
         "sparsity": summary["sparsity_violations"],
         "lipschitz": summary["lipschitz_violations"],
-        "outside_constraint_set": summary["outside_constraint_set"],
-        "quality": summary["quality_violations"],
-        "ratio": summary["ratio_violations"],
-        "proven_bound": sum(summary["violations"].get(m) or 0 for m in PROVEN_MODES)
-        + sum(summary["ratio_bound_violations"].get(m) or 0 for m in PROVEN_MODES),
+        **_triangle_failures(smooth),
+    }
+
+
+def feature_failures(summary: dict) -> dict:
+    """``violations_at_features``: the same counts for the guide triangles within reach of a
+    sharp feature (they do not change the exit code), how many there are, and where the worst
+    of each measure sits (ball indices and centroid)."""
+    found = summary.get("by_class", {}).get("at_features")
+    if found is None:
+        return {"n_guide_triangles": 0, **dict.fromkeys(TRIANGLE_KINDS, 0), "worst": {}}
+    return {
+        "n_guide_triangles": found["n_guide_triangles"],
+        **_triangle_failures(found),
+        "worst": found["worst"],
+    }
+
+
+TRIANGLE_KINDS = ("outside_constraint_set", "quality", "ratio", "proven_bound")
+"""The failures counted per guide triangle (the rest are conditions of the sample)."""
+
+
+def _triangle_failures(counts: dict) -> dict[str, int]:
+    return {
+        "outside_constraint_set": counts["outside_constraint_set"],
+        "quality": counts["quality_violations"],
+        "ratio": counts["ratio_violations"],
+        "proven_bound": sum(counts["violations"].get(m) or 0 for m in PROVEN_MODES)
+        + sum(counts["ratio_bound_violations"].get(m) or 0 for m in PROVEN_MODES),
     }
 
 
@@ -80,7 +107,7 @@ class CheckResult(Result):
     @property
     def verdict(self) -> str:
         found = [f"{n:,} {FAILURE_WORDS[k]}" for k, n in self.failures.items() if n]
-        return f"{self.n_failures:,} violations: " + "; ".join(found)
+        return f"{self.n_failures:,} violations on smooth patches: " + "; ".join(found)
 
     def payload(self) -> dict:
         summary = self.report.summary() | self.extra
@@ -93,6 +120,8 @@ class CheckResult(Result):
         return summary | {
             "ok": not any(found.values()),
             "failures": found,
+            "violations_smooth": found,
+            "violations_at_features": feature_failures(summary),
             "written": list(self.written),
         }
 
@@ -149,11 +178,17 @@ def check(
     sample.vtu and the gap histogram, written as one set. ``lipschitz`` is the λ that L =
     r/δ of ``balls`` should satisfy (default 1); a sampled surface uses its own λ.
 
+    On a mesh with sharp features (as ``vorobound lfs`` finds them), guide triangles with a
+    ball center within 2 ball radii of a feature are reported apart
+    (``violations_at_features``, docs/samples.md "Sharp features"); only the smooth-patch
+    ones (``violations_smooth``, also ``failures``) make ``ok`` False.
+
     With ``workers`` (local processes; 1 runs the tiles one after another here) or
     ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
     halos (docs/scale.md): the same guide triangles and summary, memory bounded by the tile.
     ``table`` then says how ``out`` holds the per-triangle rows: a Parquet dataset
-    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``.
+    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``. ``mesh``
+    (with ``lfs`` or ``sizing`` if given) is then read for its sharp features only.
     """
     from ..checks import checked_lipschitz, checked_seed
     from ..errors import InputError
@@ -195,11 +230,19 @@ def check(
     if tiled:
         if balls is None:
             raise InputError("workers and scheduler go with balls")
-        if any(v is not None for v in (sphere, torus, mesh, lfs, sizing)):
+        if any(v is not None for v in (sphere, torus)):
             raise InputError(
                 "coverage against a surface needs every ball at once: drop the surface option "
-                "or workers/scheduler"
+                "or workers/scheduler (a mesh is taken for its sharp features only)"
             )
+        features = None
+        if mesh is not None:
+            from ..reports.check import sharp_features
+
+            shape = sample_shape(mesh=mesh, lfs=lfs, sizing=sizing, progress=progress)
+            features = sharp_features(shape)
+        elif lfs is not None or sizing is not None:
+            raise InputError("lfs and sizing describe a mesh: use them with mesh")
         return _check_tiled(
             balls,
             params,
@@ -211,6 +254,7 @@ def check(
             out,
             figure_format,
             progress,
+            features,
         )
     shape = sample_shape(
         sphere=sphere,
@@ -312,7 +356,17 @@ TILED_TABLES = ("parquet", "csv", "none")
 
 
 def _check_tiled(
-    balls, params, lipschitz, engine, workers, scheduler, table, out, figure_format, progress
+    balls,
+    params,
+    lipschitz,
+    engine,
+    workers,
+    scheduler,
+    table,
+    out,
+    figure_format,
+    progress,
+    features=None,
 ) -> CheckResult:
     """``balls`` checked in tiles (vorobound.reports.check_tiled), outputs as one set."""
     import dataclasses
@@ -335,7 +389,9 @@ def _check_tiled(
     params = params.but(lipschitz=lam)
     staging = TiledOutputs(out, table) if out is not None else nullcontext()
     with staging as outputs:
-        report = check_ball_file(balls, params, engine, workers or 1, scheduler, outputs, progress)
+        report = check_ball_file(
+            balls, params, engine, workers or 1, scheduler, outputs, progress, features=features
+        )
         result = _result(
             report,
             {

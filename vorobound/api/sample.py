@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
+from ..errors import InputError, LatticeTooLarge
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, params_json, sample_lfs
@@ -111,7 +112,10 @@ def sample(
     shape = sample_shape(
         sphere=sphere, torus=torus, mesh=mesh, lfs=lfs, sizing=sizing, progress=progress
     )
-    report = sample_report(shape, params, seed, progress)
+    try:
+        report = sample_report(shape, params, seed, progress)
+    except LatticeTooLarge as err:
+        raise LatticeTooLarge(_with_smallest_eps(str(err), shape, quality)) from None
     seconds = time.perf_counter() - start
     write_balls(output, report.balls, {"lfs": report.sample.lfs})
     return SampleResult(
@@ -130,4 +134,22 @@ def sample(
         coverage_probes=report.coverage_probes,
         quality=quality,
         report=report,
+    )
+
+
+def _with_smallest_eps(message: str, shape, quality: QualityParams) -> str:
+    """The refusal, plus the smallest ε the sampler builds on a mesh and what it guarantees."""
+    from ..reports.advisor import guarantee_words, smallest_samplable
+    from ..rounding import format_down
+
+    counts = shape.counts()
+    if not counts.mesh_lattice:
+        return message
+    try:
+        back = smallest_samplable(quality, counts, max(shape.lipschitz, 0.0))
+    except InputError as err:
+        return f"{message} ({err})"
+    return (
+        f"{message}; the smallest eps it builds on {shape.name} is {format_down(back.eps)}, "
+        f"which guarantees {guarantee_words(back.guarantee)}"
     )

@@ -74,6 +74,15 @@ def advise(
             "says what vc_mesh promises and what to check after).",
         ),
     ] = None,
+    max_samples: Annotated[
+        float | None,
+        typer.Option(
+            "--max-samples",
+            metavar="N",
+            help="Sample budget: recommend the best proven guarantee (smallest proven ρ_f) "
+            "whose packing count is at most N samples (needs a surface).",
+        ),
+    ] = None,
     as_json: Json = False,
 ) -> int:
     """Largest ε per mode and target, ball radius δ·L, spacing σ·ε·L and sample counts for a
@@ -82,7 +91,10 @@ def advise(
     The recommendation is the most conservative proven or certified ε* among the targets asked
     for (default: both), and says which target binds. Sample counts are a covering lower and a
     packing upper estimate (exact bounds on a sphere; docs/advisor.md). Each row says how strong
-    its ε* is: proven, certified, numerical or invalid. Python: vorobound.advise(...).
+    its ε* is: proven, certified, numerical or invalid. Each ε comes with what it guarantees
+    (the smallest proven ρ_f per target) and, on a mesh, what `vorobound sample` would cost.
+    Exit code 1 when `vorobound sample` cannot build the recommended ε; the last line then
+    names the smallest ε it can and what that guarantees. Python: vorobound.advise(...).
     """
     from ..api.advise import advise as run
 
@@ -95,6 +107,7 @@ def advise(
             mode=parse_modes(mode),
             target=parse_targets(target),
             area=area,
+            max_samples=max_samples,
             **surface_args(sphere, torus, mesh, lfs, sizing),
             vorocrust=vorocrust,
             progress=progress,
@@ -116,7 +129,7 @@ def _show(result) -> None:
 
 
 def _show_advice(result) -> None:
-    from ..reports.advisor import GUARANTEE, versus_baseline
+    from ..reports.advisor import GUARANTEE, guarantee_words, versus_baseline
 
     data = result.to_dict()
     entries, surface, h3 = data["modes"], result.surface, result.advice.h3_route
@@ -152,6 +165,7 @@ def _show_advice(result) -> None:
         ),
         table,
     )
+    _budget_table(result)
     for e in entries:
         if e["note"]:
             print_footer(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
@@ -161,12 +175,17 @@ def _show_advice(result) -> None:
         counts = (
             "" if surface is None else f", {rec.samples_low:,.0f} – {rec.samples_high:,.0f} samples"
         )
+        if rec.max_samples is None:
+            why = f"{rec.claim}; {rec.mode}, binding target {rec.binding_target}"
+        else:
+            why = f"the best proven guarantee within {rec.max_samples:,.0f} samples"
         print_footer(
-            f"recommended ε = {format_down(rec.eps)} ({rec.claim}; {rec.mode}, binding target "
-            f"{rec.binding_target}): ball radius {format_down(rec.ball_radius)}{counts}, "
+            f"recommended ε = {format_down(rec.eps)} ({why}): ball radius "
+            f"{format_down(rec.ball_radius)}{counts}, "
             f"{versus_baseline(rec.reduction_vs_1_500)} samples than ε = 1/500"
         )
-        print(f"  for every guide triangle, given H3, it gives {rec.guarantee_statement}")
+        print_footer(f"  for every guide triangle, given H3, it gives {rec.guarantee_statement}")
+        print_footer(f"  it guarantees {guarantee_words(rec.guarantee)}")
     if rec is not None and surface is not None:
         for line in _sampler_lines(rec):
             print_footer(line)
@@ -175,8 +194,63 @@ def _show_advice(result) -> None:
     print_footer(GUARANTEE)
 
 
+def _budget_table(result) -> None:
+    """Per row: what its ε* costs (samples, the sampler's estimate) and guarantees."""
+    from ..rounding import format_down, format_up
+
+    rows = [a for a in result.advice.rows if a.eps_star is not None]
+    if not rows:
+        return
+    table = []
+    for a in rows:
+        g, cost = a.guarantee, a.cost
+        table.append(
+            (
+                a.mode,
+                a.target,
+                format_down(a.eps_star),
+                "—" if result.surface is None else f"{a.samples_high:,.0f}",
+                "—" if cost is None else _memory(cost.memory_bytes),
+                "—" if cost is None else _duration(cost.cpu_seconds),
+                "—" if cost is None else ("yes" if cost.samplable else "no"),
+                "n/a" if g is None else format_up(g.rho_f_ratio),
+                "n/a" if g is None else format_up(g.rho_f_additive),
+                "n/a" if g is None else format_up(g.rho_f_55),
+            )
+        )
+    print_table(
+        "What each ε* costs and guarantees (ρ_f: smallest proven, given H3)",
+        (
+            "mode",
+            "target",
+            "ε*",
+            "samples (high)",
+            "sampler memory",
+            "sampler CPU",
+            "samplable",
+            "ρ_f (54) ratio",
+            "ρ_f additive",
+            "ρ_f (55)",
+        ),
+        table,
+    )
+
+
+def _memory(size: float) -> str:
+    return f"{size / 1e9:.3g} GB" if size >= 1e9 else f"{size / 1e6:.3g} MB"
+
+
+def _duration(seconds: float) -> str:
+    if seconds >= 3600:
+        return f"{seconds / 3600:.3g} h"
+    return f"{seconds / 60:.3g} min" if seconds >= 60 else f"{seconds:.3g} s"
+
+
 def _sampler_lines(rec) -> list[str]:
     """What the counts include, and whether `vorobound sample` can make this sample."""
+    from ..reports.advisor import guarantee_words
+    from ..rounding import format_down
+
     lines = []
     if rec.feature_samples is not None:
         low, high = rec.feature_samples
@@ -187,10 +261,13 @@ def _sampler_lines(rec) -> list[str]:
     if rec.lattice_candidates is not None:
         from ..sampling.sampler.lattice import MAX_CANDIDATES
 
+        cost = rec.cost
         if rec.samplable:
             lines.append(
                 f"  `vorobound sample --mesh` at this ε builds about "
-                f"{rec.lattice_candidates:.3g} lattice candidates (at most {MAX_CANDIDATES:.0e})"
+                f"{rec.lattice_candidates:.3g} lattice candidates (at most {MAX_CANDIDATES:.0e}): "
+                f"about {_memory(cost.memory_bytes)} and {_duration(cost.cpu_seconds)} CPU "
+                "(estimates)"
             )
         else:
             lines.append(
@@ -199,4 +276,12 @@ def _sampler_lines(rec) -> list[str]:
                 f"{MAX_CANDIDATES:.0e} it builds (any smaller ε needs more); the counts stand "
                 "for any VoroCrust sampler"
             )
+            back = rec.fallback
+            if back is not None:
+                lines.append(
+                    f"  the smallest ε it builds: {format_down(back.eps)} "
+                    f"({back.samples_low:,.0f} – {back.samples_high:,.0f} samples, about "
+                    f"{_memory(back.cost.memory_bytes)} and {_duration(back.cost.cpu_seconds)} "
+                    f"CPU), which guarantees {guarantee_words(back.guarantee)}"
+                )
     return lines

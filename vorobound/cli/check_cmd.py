@@ -188,6 +188,48 @@ def _show(result) -> None:
         print(f"wrote {path}")
 
 
+def _print_classes(s: dict) -> None:
+    """Smooth-patch and feature triangles apart: only the first decide the exit code."""
+    smooth, features = s["violations_smooth"], s["violations_at_features"]
+    n_features = features["n_guide_triangles"]
+    worst = features["worst"].get("h3_ratio")
+    rows = [
+        (
+            "smooth patches",
+            f"{s['n_guide_triangles'] - n_features:,}",
+            *(f"{smooth[k]:,}" for k in ("outside_constraint_set", "quality", "ratio")),
+            f"{smooth['proven_bound']:,}",
+            "decides the exit code",
+        ),
+        (
+            "at sharp features",
+            f"{n_features:,}",
+            *(f"{features[k]:,}" for k in ("outside_constraint_set", "quality", "ratio")),
+            f"{features['proven_bound']:,}",
+            "reported only"
+            + (
+                ""
+                if worst is None
+                else ("; worst H3 at " + ", ".join(f"{x:.6g}" for x in worst["centroid"]))
+            ),
+        ),
+    ]
+    print_table(
+        "Guide triangles by where they sit",
+        (
+            "where",
+            "triangles",
+            "outside (33)-(36)/H3",
+            "R > ρ_f δL_i",
+            "R > ρ_f R̂",
+            "proven bound",
+            "note",
+        ),
+        rows,
+    )
+    print(f"rule: {s['by_class']['feature_rule']}")
+
+
 def _print_summary(s: dict) -> None:
     p = s["params"]
     title = (
@@ -275,6 +317,7 @@ def _print_summary(s: dict) -> None:
             for mode, b in s["ratio_bound"].items()
         ],
     )
+    _print_classes(s)
     for name, key in (("sparsity", "sparsity_worst"), ("Lipschitz", "lipschitz_worst")):
         rows = s[key]
         if rows:

@@ -20,13 +20,14 @@ from dataclasses import dataclass
 
 from ..bounds.claims import CERTIFIED, NUMERICAL, PROVEN
 from ..bounds.guarantee import eps_star, for_mode
+from ..bounds.guarantee_at import GuaranteeAt, guarantee_at
 from ..bounds.params import Mode, QualityParams
 from ..bounds.targets import H3Route, Target, h3_route
+from ..checks import EPS_RANGE
 from ..constants import BASELINE_EPS
 from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
-from ..rounding import format_down, format_up, round_down
-from ..sampling.sampler.lattice import MAX_CANDIDATES
+from ..rounding import format_down, format_up, round_down, round_up
 from ..sampling.surfaces.base import SurfaceCounts
 
 GUARANTEE = (
@@ -83,6 +84,10 @@ class ModeAdvice:
     note: str | None = None
     """Why the row has no ε* (claim NONE): no admissible ε, or no crossing in the scanned
     range."""
+    guarantee: GuaranteeAt | None = None
+    """What ε* guarantees per target (the smallest proven ρ_f each meets there)."""
+    cost: object = None
+    """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ε* (meshes only)."""
 
     @property
     def trusted_eps(self) -> float | None:
@@ -95,14 +100,29 @@ class ModeAdvice:
 
 
 @dataclass(frozen=True)
+class Fallback:
+    """The smallest ε ``vorobound sample`` can build when the recommended one is too fine, and
+    what it still guarantees."""
+
+    eps: float
+    guarantee: GuaranteeAt | None
+    samples_low: float
+    samples_high: float
+    cost: object
+    """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ``eps``."""
+
+
+@dataclass(frozen=True)
 class Recommendation:
-    """The ε to use: the most conservative of the targets' best proven or certified ε*."""
+    """The ε to use: the most conservative of the targets' best proven or certified ε*, or
+    with a sample budget the ε of the best proven guarantee within it."""
 
     eps: float
     """That ε* rounded down to :data:`vorobound.rounding.DIGITS` significant digits (the
     number printed), never above it; the lengths and counts below are at this ε."""
     binding_target: str
-    """The target that sets it (its best trusted ε* is the smallest)."""
+    """The target that sets it (its best trusted ε* is the smallest); "budget" when a sample
+    budget sets it."""
     mode: str
     """The mode whose ε* it is."""
     claim: str
@@ -115,8 +135,19 @@ class Recommendation:
     reduction_vs_1_500: float
     feature_samples: tuple[float, float] | None = None
     """(low, high) samples on the sharp features, part of the counts (None: smooth)."""
-    lattice_candidates: float | None = None
-    """About how many candidates ``vorobound sample`` needs at ε (meshes only)."""
+    guarantee: GuaranteeAt | None = None
+    """What ``eps`` guarantees per target (smallest proven ρ_f)."""
+    cost: object = None
+    """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ``eps`` (meshes only)."""
+    fallback: Fallback | None = None
+    """When ``eps`` cannot be sampled: the smallest ε that can, and its guarantee."""
+    max_samples: float | None = None
+    """The sample budget asked for (``--max-samples``), if any."""
+
+    @property
+    def lattice_candidates(self) -> float | None:
+        """About how many candidates ``vorobound sample`` needs at ε (meshes only)."""
+        return None if self.cost is None else self.cost.candidates
 
     @property
     def guarantees(self) -> tuple[str, ...]:
@@ -138,9 +169,12 @@ class Recommendation:
     @property
     def samplable(self) -> bool | None:
         """Whether ``vorobound sample`` builds that lattice (None: not a mesh)."""
-        if self.lattice_candidates is None:
-            return None
-        return self.lattice_candidates <= MAX_CANDIDATES
+        return None if self.cost is None else self.cost.samplable
+
+    @property
+    def rho_f_proven(self) -> float | None:
+        """The smallest ρ_f proven at ``eps`` for the ratio target R ≤ ρ_f·R̂ (eq. (54))."""
+        return None if self.guarantee is None else self.guarantee.rho_f_ratio
 
 
 @dataclass(frozen=True)
@@ -172,13 +206,31 @@ def feature_counts(surface: SurfaceCounts, eps: float, sigma: float) -> tuple[fl
     return (high / 2, high)
 
 
-def lattice_candidates(surface: SurfaceCounts, eps: float, sigma: float, lam: float | None):
-    """Expected size of the lattice ``vorobound sample`` builds on a mesh (None otherwise)."""
+def sampler_cost(surface: SurfaceCounts, eps: float, sigma: float, lam: float | None):
+    """Estimated cost of ``vorobound sample`` on a mesh at ``eps`` (None for other surfaces)."""
     if not surface.mesh_lattice:
         return None
-    from ..sampling.sampler.mesh_lattice import expected_candidates
+    from ..sampling.sampler.cost import sampler_cost as cost
 
-    return expected_candidates(surface.inv_lfs_sq_integral, eps, sigma, 1.0 if lam is None else lam)
+    return cost(surface.inv_lfs_sq_integral, eps, sigma, 1.0 if lam is None else lam)
+
+
+def what_eps_guarantees(quality: QualityParams, eps: float) -> GuaranteeAt | None:
+    """The smallest proven ρ_f per target at ``eps`` (None where no guide triangle exists)."""
+    try:
+        return guarantee_at(eps, quality)
+    except InputError:
+        return None
+
+
+def printable_eps_up(value: float) -> float:
+    """The float at or above ``value`` that :func:`vorobound.rounding.format_down` prints as
+    ``value`` rounded up: an ε chosen for a budget (it may only grow) printed without loss."""
+    eps = round_up(value)
+    text = format_up(value)
+    while format_down(eps) != text:  # the decimal's float may lie just below the decimal
+        eps = math.nextafter(eps, math.inf)
+    return eps
 
 
 def _finite_count(count: float, surface: SurfaceCounts) -> float:
@@ -193,10 +245,14 @@ def advise(
     modes: list[str],
     progress: Progress | None = None,
     targets: list[str] = ("additive", "ratio"),
+    max_samples: float | None = None,
 ) -> Advice:
-    """Advice for each (mode, target): ε*, ball radius, spacing and sample counts on
-    ``surface``, the H3 row, and the recommended ε. ``quality.lipschitz`` is the tight mode's
-    λ (the chains have none); ``quality.target`` is replaced by each of ``targets``."""
+    """Advice for each (mode, target): ε*, ball radius, spacing, sample counts and sampler cost
+    on ``surface``, what each ε* guarantees, the H3 row, and the recommended ε.
+    ``quality.lipschitz`` is the tight mode's λ (the chains have none); ``quality.target`` is
+    replaced by each of ``targets``. With ``max_samples`` the recommendation is instead the
+    best proven guarantee whose packing count stays within that many samples
+    (:func:`budget_recommendation`)."""
     lipschitz = quality.lipschitz
     for name, value in (("area", surface.area), ("integral of 1/L²", surface.inv_lfs_sq_integral)):
         if not (math.isfinite(value) and value > 0):
@@ -213,7 +269,11 @@ def advise(
                 rows.append(_no_row(mode, target, lam, err))
                 continue
             rows.append(_row(quality, surface, mode, target, lam, star))
-    return Advice(rows, _recommend(quality, surface, rows, lipschitz), h3_route(quality))
+    if max_samples is None:
+        recommendation = _recommend(quality, surface, rows, lipschitz)
+    else:
+        recommendation = budget_recommendation(quality, surface, max_samples)
+    return Advice(rows, recommendation, h3_route(quality))
 
 
 def _labels(mode, lam) -> tuple[str, str]:
@@ -259,6 +319,8 @@ def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
         claim=star.claim,
         method=star.method,
         proven_lower_bound=star.proven_lower_bound,
+        guarantee=what_eps_guarantees(quality, eps),
+        cost=sampler_cost(surface, eps, quality.sigma, lam),
     )
 
 
@@ -278,19 +340,122 @@ def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommend
     # give every count and length at that ε.
     eps = round_down(binding.trusted_eps)
     claim = binding.claim if binding.claim in TRUSTED else PROVEN
-    return Recommendation(
-        eps=eps,
+    return _recommendation(
+        quality,
+        surface,
+        eps,
         binding_target=binding.target,
         mode=binding.mode,
         claim=claim,
         per_target={t: row.trusted_eps for t, row in best.items()},
+    )
+
+
+def budget_eps(surface: SurfaceCounts, sigma: float, max_samples: float) -> float:
+    """The smallest ε whose packing count (the most samples a σ-sparse sample can have) is at
+    most ``max_samples``: ε = (2/σ)·sqrt(∫dA/L² / (π N)); every ε below it may need more."""
+    return 2 / sigma * math.sqrt(surface.inv_lfs_sq_integral / (math.pi * max_samples))
+
+
+def budget_recommendation(
+    quality: QualityParams, surface: SurfaceCounts, max_samples: float
+) -> Recommendation:
+    """The best proven guarantee within ``max_samples`` samples: the smallest ε whose packing
+    count fits (rounded up to the printed digits), since every target's proven ρ_f grows with
+    ε; its ρ_f per target is in ``guarantee``.
+
+    Raises
+    ------
+    InputError
+        When even the largest supported ε needs more samples.
+    """
+    low, high = EPS_RANGE
+    eps = printable_eps_up(max(budget_eps(surface, quality.sigma, max_samples), low))
+    while packing_count(surface, eps, quality.sigma) > max_samples:  # rounding of the formula
+        eps = math.nextafter(eps, math.inf)
+    if not eps <= high:
+        raise InputError(
+            f"{max_samples:.6g} samples are too few for {surface.name}: even eps={high:g} can "
+            f"need {packing_count(surface, high, quality.sigma):,.0f}"
+        )
+    return _recommendation(
+        quality,
+        surface,
+        eps,
+        binding_target="budget",
+        mode="tight",
+        claim=PROVEN,
+        per_target={},
+        max_samples=max_samples,
+    )
+
+
+def _recommendation(quality, surface, eps, max_samples=None, **choice) -> Recommendation:
+    """The recommendation at ``eps``: counts, guarantee, sampler cost and, when the sampler
+    cannot build ``eps``, the smallest ε it can (:class:`Fallback`)."""
+    cost = sampler_cost(surface, eps, quality.sigma, quality.lipschitz)
+    return Recommendation(
+        eps=eps,
         ball_radius=quality.delta_ratio * eps * surface.lfs_min,
         min_spacing=quality.sigma * eps * surface.lfs_min,
         samples_low=covering_count(surface, eps),
         samples_high=packing_count(surface, eps, quality.sigma),
         reduction_vs_1_500=(eps / BASELINE_EPS) ** 2,
         feature_samples=feature_counts(surface, eps, quality.sigma),
-        lattice_candidates=lattice_candidates(surface, eps, quality.sigma, lipschitz),
+        guarantee=what_eps_guarantees(quality, eps),
+        cost=cost,
+        fallback=None if cost is None or cost.samplable else smallest_samplable(quality, surface),
+        max_samples=max_samples,
+        **choice,
+    )
+
+
+def smallest_samplable(
+    quality: QualityParams, surface: SurfaceCounts, lam: float | None = None
+) -> Fallback:
+    """The smallest ε ``vorobound sample`` builds on ``surface`` (a mesh), and what it
+    guarantees; ``lam`` is the Lipschitz constant the lattice uses (default: λ, or 1)."""
+    from ..sampling.sampler.cost import smallest_samplable_eps
+
+    if lam is None:
+        lam = 1.0 if quality.lipschitz is None else quality.lipschitz
+    eps = printable_eps_up(smallest_samplable_eps(surface.inv_lfs_sq_integral, quality.sigma, lam))
+    return Fallback(
+        eps=eps,
+        guarantee=what_eps_guarantees(quality, eps),
+        samples_low=covering_count(surface, eps),
+        samples_high=packing_count(surface, eps, quality.sigma),
+        cost=sampler_cost(surface, eps, quality.sigma, lam),
+    )
+
+
+def guarantee_words(guarantee: GuaranteeAt | None) -> str:
+    """What an ε guarantees, for people (ρ_f rounded up: a bound)."""
+    if guarantee is None:
+        return "no guarantee (no guide triangle exists at this eps)"
+    ratio = guarantee.rho_f_ratio
+    first = (
+        f"R <= {format_up(ratio)}·R̂ (eq. (54))"
+        if math.isfinite(ratio)
+        else "no ρ_f for eq. (54) (R̂ can be 0)"
+    )
+    return (
+        f"{first}, R − R̂ <= {format_up(guarantee.additive_fraction)}·δL_i, "
+        f"R <= {format_up(guarantee.rho_f_55)}·δL_i (eq. (55)); proven, given H3"
+    )
+
+
+def samplable_verdict(rec: Recommendation) -> str:
+    """The last line when ``vorobound sample`` cannot build the recommended ε."""
+    text = (
+        f"`vorobound sample --mesh` cannot build the recommended eps = {format_down(rec.eps)} "
+        f"(about {rec.lattice_candidates:.3g} lattice candidates)"
+    )
+    if rec.fallback is None:
+        return text
+    return (
+        f"{text}; the smallest eps it builds is {format_down(rec.fallback.eps)}, which "
+        f"guarantees {guarantee_words(rec.fallback.guarantee)}"
     )
 
 

@@ -27,6 +27,7 @@ from ..bounds.targets import H3_STATUS
 from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling.balls import Balls, make_balls
+from ..sampling.guides.features import FEATURE_RULE
 from ..sampling.guides.measure import (
     GuideMeasurements,
     ModeBound,
@@ -36,6 +37,7 @@ from ..sampling.guides.measure import (
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
 from ..sampling.io.balls import fill_vtu
 from ..sampling.sampler import conditions
+from .check_tally import H3_RTOL, GuideTally, class_entries, gap_edges
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
 UNDEFINED_BOUND = (
@@ -44,8 +46,6 @@ UNDEFINED_BOUND = (
 )
 """File name (without extension) of the histogram of the realized gap."""
 NO_RATIO_BOUND = "no finite bound on R/R^ at this eps: the mode's bound on (R - R^)/R reaches 1"
-H3_RTOL = 1e-9
-"""A guide triangle breaks H3 when R(1−ε)/(εL_i) > 1 + H3_RTOL (rounding of R)."""
 LIPSCHITZ_SOURCES = {
     "exact": "exact: a local feature size is 1-Lipschitz",
     "estimated": "of the estimated L: lambda-Lipschitz by construction, the lambda the sample "
@@ -92,6 +92,9 @@ class CheckReport:
     seed: int | None
     timings: dict[str, float] = field(default_factory=dict)
     """Wall time per stage, in seconds."""
+    feature_rule: str | None = None
+    """How guide triangles were split into smooth-patch and feature ones (None: no sharp
+    features known, every triangle is smooth)."""
 
     def summary(self) -> dict:
         """The JSON summary (plain types; see docs/samples.md for the fields)."""
@@ -149,6 +152,14 @@ class CheckReport:
             "constraint_violations": {n: int(rows.sum()) for n, rows in g.violated.items()},
             "timings": {k: round(v, 3) for k, v in self.timings.items()},
         }
+        tally = GuideTally.of(
+            g,
+            np.arange(len(self.balls)),
+            self.balls.centers,
+            self.params,
+            gap_edges(self.params, []),
+        )
+        out["by_class"] = class_entries(tally, self.feature_rule)
         if self.coverage_max is None:
             out["coverage_note"] = "coverage needs the surface: only the balls were given"
         if count == 0:
@@ -245,6 +256,14 @@ def check_surface(
     return _check(balls, sample.lfs, params, lam, engine, shape, seed, stages, shape.name, kind)
 
 
+def sharp_features(shape):
+    """The sharp features of ``shape`` the check splits guide triangles by (None: none
+    known; :mod:`vorobound.sampling.guides.features`)."""
+    from ..sampling.guides.features import SharpFeatures
+
+    return None if shape is None else SharpFeatures.of_shape(shape)
+
+
 def check_balls(
     balls: Balls,
     params: SamplingParams,
@@ -292,8 +311,10 @@ def _check(
         params = params.but(lipschitz=lipschitz)
         bounds = mode_bounds(params, Target.additive)
         ratios = mode_bounds(params, Target.ratio)
+    features = sharp_features(shape)
     with stages("measure", announce=True):
         guides = measure_guides(search.guide, lfs, params, bounds, ratios)
+        guides = guides.with_features(balls.centers, balls.radii, features)
     return CheckReport(
         source=source,
         params=params,
@@ -315,6 +336,7 @@ def _check(
         coverage_probes=probes,
         seed=seed,
         timings=stages.seconds,
+        feature_rule=None if features is None else FEATURE_RULE,
     )
 
 
@@ -373,6 +395,8 @@ def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> di
         "c_over_eps_lfs": g.edges[:, 2],
         "sin_theta": g.sin_theta,
         "inside": g.inside.astype(np.int64),
+        "feature_reach": np.full(len(g), np.inf) if g.feature_reach is None else g.feature_reach,
+        "at_feature": g.at_feature.astype(np.int64),
     }
     for name, rows in g.violated.items():
         columns[f"breaks_{name}"] = rows.astype(np.int64)
@@ -395,6 +419,7 @@ def _write_vtu(path: Path, report: CheckReport) -> None:
         "quality_ratio": [blank, np.where(np.isfinite(g.quality_ratio), g.quality_ratio, np.nan)],
         "h3_ratio": [blank, g.h3_ratio],
         "inside_constraint_set": [blank, g.inside.astype(float)],
+        "at_feature": [blank, g.at_feature.astype(float)],
     }
     point_data = {"radius": report.balls.radii, "lfs": report.lfs}
     fill_vtu(path, report.balls.centers, cells, point_data, cell_data)

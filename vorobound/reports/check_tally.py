@@ -21,10 +21,13 @@ import numpy as np
 from ..bounds.params import SamplingParams
 from ..sampling.guides.measure import GuideMeasurements
 from ..sampling.sampler import conditions
-from .check import H3_RTOL
 
 MAXIMA = ("rho", "quality_ratio", "h3_ratio", "gap_ratio", "orthoradius_sq")
 """Per-triangle quantities whose maximum a tally keeps (orthoradius_sq over (δL_i)²)."""
+H3_RTOL = 1e-9
+"""A guide triangle breaks H3 when R(1−ε)/(εL_i) > 1 + H3_RTOL (rounding of R)."""
+CLASSES = ("smooth", "at_features")
+"""Where a guide triangle sits (:mod:`vorobound.sampling.guides.features`)."""
 HISTOGRAM_BINS = 1200
 """Fixed bins of the gap ratio (R − R̂)/(εL_i) between 0 and :func:`gap_edges`' top."""
 
@@ -65,6 +68,9 @@ class GuideTally:
     constraint_violations: dict[str, int]
     histogram: np.ndarray
     """Counts below the first edge, in each bin, and at or above the last edge."""
+    classes: dict[str, GuideTally] = field(default_factory=dict)
+    """Class in ``CLASSES`` ↦ the tally of its triangles (smooth patch, at a sharp feature);
+    empty in those tallies themselves."""
 
     @classmethod
     def of(
@@ -74,10 +80,17 @@ class GuideTally:
         centers: np.ndarray,
         params: SamplingParams,
         edges: np.ndarray,
+        split: bool = True,
     ) -> GuideTally:
         """The tally of measured guide triangles; ``ids`` maps their ball indices to the ones
-        reported, ``centers`` are the balls' centers (by the same local indices)."""
+        reported, ``centers`` are the balls' centers (by the same local indices). ``split``
+        adds the tallies of the smooth-patch and the feature triangles (``classes``)."""
         g = guides
+        classes = {}
+        if split:
+            feature = g.at_feature
+            for name, rows in zip(CLASSES, (~feature, feature), strict=True):
+                classes[name] = cls.of(g.take(rows), ids, centers, params, edges, split=False)
         values = {
             "rho": g.rho,
             "quality_ratio": g.quality_ratio,
@@ -119,6 +132,7 @@ class GuideTally:
             },
             constraint_violations={name: int(rows.sum()) for name, rows in g.violated.items()},
             histogram=histogram,
+            classes=classes,
         )
 
     @classmethod
@@ -145,6 +159,11 @@ class GuideTally:
             ratio_bound_violations=_sum(t.ratio_bound_violations for t in tallies),
             constraint_violations=_sum(t.constraint_violations for t in tallies),
             histogram=np.sum([t.histogram for t in tallies], axis=0),
+            classes={
+                name: cls.merge([t.classes[name] for t in tallies])
+                for name in CLASSES
+                if all(name in t.classes for t in tallies)
+            },
         )
 
 
@@ -197,3 +216,29 @@ class PairTally:
             sum(t.violations for t in tallies),
             worst[: conditions.WORST_LISTED],
         )
+
+
+def class_entries(tally: GuideTally, feature_rule: str | None) -> dict:
+    """The summary's split by where the guide triangles sit: ``feature_rule`` (None: no
+    features known) and per class its count, the counts of the checks on triangles, the
+    violations of each mode's bounds and where each maximum occurs (ball indices, centroid)."""
+    from ..sampling.guides.features import NO_FEATURES
+
+    out = {"feature_rule": feature_rule or NO_FEATURES}
+    for name in CLASSES:
+        t = tally.classes.get(name)
+        if t is None:
+            out[name] = None
+            continue
+        out[name] = {
+            "n_guide_triangles": t.count,
+            **t.counts,
+            "violations": dict(t.violations),
+            "ratio_bound_violations": dict(t.ratio_bound_violations),
+            "maxima": {k: (float(v) if np.isfinite(v) else None) for k, v in t.maxima.items()},
+            "worst": {
+                k: {"triangle": list(w.triple), "centroid": list(w.centroid)}
+                for k, w in t.where.items()
+            },
+        }
+    return out

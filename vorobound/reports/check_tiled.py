@@ -49,6 +49,7 @@ from ..parallel import task_executor, task_result
 from ..progress import Counter, Progress
 from ..sampling.balls import MIN_BALLS
 from ..sampling.guides import tiles
+from ..sampling.guides.features import FEATURE_RULE
 from ..sampling.guides.measure import mode_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
 from ..sampling.io.stream import CHUNK_ROWS, ball_chunks
@@ -94,6 +95,7 @@ def check_ball_file(
     progress: Progress | None = None,
     tile_balls: int | None = None,
     chunk_rows: int = CHUNK_ROWS,
+    features=None,
 ) -> TiledCheckReport:
     """Check the balls of a file in tiles (module docstring): L_i = r_i/δ.
 
@@ -116,6 +118,10 @@ def check_ball_file(
         Balls per tile (default :func:`tile_size`).
     chunk_rows : int
         Rows read at a time.
+    features : SharpFeatures, optional
+        The part's sharp features (:mod:`vorobound.sampling.guides.features`): the tiles
+        split their guide triangles into smooth-patch and feature ones, as the whole check
+        does.
 
     Raises
     ------
@@ -167,6 +173,7 @@ def check_ball_file(
                 vtu_share=0.0 if outputs is None else share,
                 what=f"balls {path.name}",
                 total=spill.count,
+                features=features,
             )
             run = _Rounds(executor, slots, plan, spill, settings, chunk_rows, progress)
             outcomes = run.all(beta, sparsity_reach, core_radius)
@@ -397,6 +404,7 @@ def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings
         vtu=vtu,
         gap_edges=settings.edges,
         timings=timings,
+        feature_rule=None if settings.features is None else FEATURE_RULE,
     )
 
 

@@ -64,6 +64,8 @@ class TileSettings:
     """The input's name, for messages."""
     total: int
     """Balls in the whole set."""
+    features: object = None
+    """:class:`vorobound.sampling.guides.features.SharpFeatures` of the part, or None."""
 
 
 @dataclass(frozen=True)
@@ -151,6 +153,7 @@ def _run(job: TileJob) -> TileOutcome:
     lfs = balls.radii / s.params.delta
     with clock("measure"):
         guides = measure_guides(guide, lfs, s.params, list(s.bounds), list(s.ratio_bounds))
+        guides = guides.with_features(balls.centers, balls.radii, s.features)
         tally = GuideTally.of(guides, job.ids, balls.centers, s.params, s.edges)
     with clock("conditions"):
         near = conditions.neighbours(balls.centers, owned=core)
@@ -288,5 +291,6 @@ def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:
             ),
             "h3_ratio": guides.h3_ratio[rows],
             "inside_constraint_set": guides.inside[rows].astype(float),
+            "at_feature": guides.at_feature[rows].astype(float),
         },
     )

@@ -17,7 +17,7 @@ from ..bounds.params import SamplingParams
 from ..bounds.targets import H3_STATUS
 from ..sampling.guides.measure import ModeBound
 from .check import LIPSCHITZ_SOURCES, _finite, bound_entries, ratio_bound_entries
-from .check_tally import GuideTally, PairTally
+from .check_tally import GuideTally, PairTally, class_entries
 from .tile_job import VtuRows
 
 
@@ -75,6 +75,8 @@ class TiledCheckReport:
     """Bin edges of ``guides.histogram``."""
     timings: dict[str, float] = field(default_factory=dict)
     """Wall seconds per driver stage."""
+    feature_rule: str | None = None
+    """How guide triangles were split (None: no sharp features known)."""
 
     def summary(self) -> dict:
         """The JSON summary: the fields of :meth:`CheckReport.summary` (docs/samples.md) with
@@ -136,6 +138,7 @@ class TiledCheckReport:
                 for name, w in g.where.items()
             },
             "tiles": self._tiles(),
+            "by_class": class_entries(g, self.feature_rule),
         }
         if not self.sparsity_exact:
             out["sparsity_note"] = (

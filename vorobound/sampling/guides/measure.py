@@ -104,9 +104,43 @@ class GuideMeasurements:
     """Mode ↦ rows whose R − R̂ exceeds that mode's bound."""
     exceeds_ratio: dict[str, np.ndarray] | None = None
     """Mode ↦ rows whose R/R̂ exceeds that mode's bound on it (ratio target)."""
+    feature_reach: np.ndarray | None = None
+    """min over the vertices of d_F/r, the distance to the nearest sharp feature in ball
+    radii (:mod:`vorobound.sampling.guides.features`); None: no features known."""
 
     def __len__(self) -> int:
         return len(self.triples)
+
+    @property
+    def at_feature(self) -> np.ndarray:
+        """Rows within reach of a sharp feature (:func:`.features.at_features`); none when no
+        features are known."""
+        from .features import at_features
+
+        if self.feature_reach is None:
+            return np.zeros(len(self), dtype=bool)
+        return at_features(self.feature_reach)
+
+    def take(self, rows: np.ndarray) -> GuideMeasurements:
+        """The measurements of ``rows`` only (a boolean mask or indices)."""
+        out = {}
+        for name, value in vars(self).items():
+            if isinstance(value, dict):
+                out[name] = {k: v[rows] for k, v in value.items()}
+            elif value is None:
+                out[name] = None
+            else:
+                out[name] = value[rows]
+        return GuideMeasurements(**out)
+
+    def with_features(self, centers, radii, features) -> GuideMeasurements:
+        """These measurements with each row's distance to the sharp ``features`` (None: none
+        known), in ball radii; ``centers`` and ``radii`` are indexed by ``triples``."""
+        from dataclasses import replace
+
+        from .features import feature_reach
+
+        return replace(self, feature_reach=feature_reach(self.triples, centers, radii, features))
 
     @property
     def inside(self) -> np.ndarray:

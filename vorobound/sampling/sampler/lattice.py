@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, LatticeTooLarge
 from ..surfaces.analytic import RevolutionShape
 
 SPARSITY_SLACK = 1e-12
@@ -71,13 +71,13 @@ def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):
 
 def candidate_limit_error(
     count: float, eps: float, at_least: bool = False, about: bool = False
-) -> InputError:
+) -> LatticeTooLarge:
     """The one refusal for lattices that do not fit in memory (``count`` a lower bound, an
     estimate, or exact)."""
     amount = (
         f"at least {count:.3g}" if at_least else f"about {count:.3g}" if about else f"{count:.3g}"
     )
-    return InputError(
+    return LatticeTooLarge(
         f"eps={eps:g} needs {amount} lattice candidates, more than the "
         f"{MAX_CANDIDATES:.0e} that fit in memory (the count grows like area/(eps·L)² and with "
         "sigma near 1): use a larger eps, or a surface with a larger L"

@@ -1,0 +1,86 @@
+"""What ``vorobound sample --mesh`` costs at an ε, and the smallest ε it can build.
+
+The mesh lattice has about :func:`.mesh_lattice.expected_candidates` candidates (∝ ∫dA/L²/ε²);
+memory and CPU time grow linearly in that count. The constants are measured by
+``python benchmarks/bench_sample_cost.py`` (peak RSS and CPU seconds of ``vorobound sample``
+on the CAD cube at ε = 0.05, 0.025, 0.0125: 0.4, 1.4 and 5.3 million candidates, 2.3, 5.5 and
+20.9 CPU s, 198, 389 and 1175 MB on the 2-core machine shared with other jobs; fitted as
+base + slope × candidates) and are estimates, not bounds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ...errors import InputError
+from .lattice import MAX_CANDIDATES
+from .mesh_lattice import expected_candidates
+
+BYTES_PER_CANDIDATE = 201.0
+"""Peak memory per lattice candidate (measured slope, benchmarks/bench_sample_cost.py)."""
+BASE_BYTES = 112e6
+"""Peak memory of a small ``vorobound sample --mesh`` run (interpreter, numpy, scipy, mesh)."""
+CPU_SECONDS_PER_CANDIDATE = 3.9e-6
+"""CPU seconds per lattice candidate (lattice, maximal subset, checks; measured slope)."""
+BASE_CPU_SECONDS = 0.5
+"""CPU seconds of a small run (imports, the local feature size of a small mesh)."""
+
+
+@dataclass(frozen=True)
+class SamplerCost:
+    """Estimated cost of ``vorobound sample --mesh`` at one ε."""
+
+    candidates: float
+    """About how many lattice candidates it builds."""
+    memory_bytes: float
+    """Estimated peak memory."""
+    cpu_seconds: float
+    """Estimated CPU time (not counting the local feature size of a large mesh)."""
+
+    @property
+    def samplable(self) -> bool:
+        """Whether the sampler builds this lattice (at most :data:`MAX_CANDIDATES`)."""
+        return self.candidates <= MAX_CANDIDATES
+
+
+def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: float) -> SamplerCost:
+    """The estimated cost at ``eps`` on a mesh whose ∫dA/L² is ``inv_lfs_sq_integral``."""
+    count = expected_candidates(inv_lfs_sq_integral, eps, sigma, lam)
+    return SamplerCost(
+        candidates=count,
+        memory_bytes=BASE_BYTES + BYTES_PER_CANDIDATE * count,
+        cpu_seconds=BASE_CPU_SECONDS + CPU_SECONDS_PER_CANDIDATE * count,
+    )
+
+
+def smallest_samplable_eps(
+    inv_lfs_sq_integral: float, sigma: float, lam: float, high: float = 0.999
+) -> float:
+    """The smallest ε (to 1e-9 relative) whose lattice has at most :data:`MAX_CANDIDATES`
+    candidates; the count decreases with ε, so every larger ε is samplable too.
+
+    Raises
+    ------
+    InputError
+        When even ``high`` needs more candidates.
+    """
+
+    def fits(eps: float) -> bool:
+        return expected_candidates(inv_lfs_sq_integral, eps, sigma, lam) <= MAX_CANDIDATES
+
+    if not fits(high):
+        raise InputError(
+            f"even eps={high:g} needs more than {MAX_CANDIDATES:.0e} lattice candidates: "
+            "vorobound sample cannot sample this surface"
+        )
+    low = 1e-12
+    if fits(low):
+        return low
+    while high / low > 1 + 1e-9:  # bisect in log ε: fits(high) and not fits(low)
+        mid = math.sqrt(low * high)
+        if fits(mid):
+            high = mid
+        else:
+            low = mid
+    return high
