@@ -27,6 +27,7 @@ from vorobound.bounds.tight.ratio_form import (
 )
 from vorobound.errors import NoAdmissibleEps, VoroboundError
 from vorobound.geometry import weighted_triangles
+from vorobound.rounding import format_down, round_down
 
 OPTIMIZER_RTOL = 1e-9
 """The ratio closed form and the numerical optimizer agree to this (measured: ~1e-15)."""
@@ -246,7 +247,9 @@ def test_default_sweep_and_advice_are_proven(run_cli):
     data = json.loads(out)
     rec = data["recommendation"]
     assert rec["claim"] in ("proven", "certified") and rec["binding_target"] == "ratio"
-    assert rec["eps"] == min(rec["eps_per_target"].values())
+    # the printed ε, rounded down from the binding ε* (vorobound.rounding)
+    assert rec["eps"] == round_down(min(rec["eps_per_target"].values()))
+    assert rec["eps"] <= min(rec["eps_per_target"].values())
     assert {m["claim"] for m in data["modes"]} == {"proven"}
     assert data["h3_route"]["eps_star"] == pytest.approx(1 - 1 / 2.76)
 
@@ -274,7 +277,9 @@ def test_readme_guarantee_bullets_match_the_computed_values():
     expected = [ratio, ratio_lam, additive, h3_route(quality).eps_star, 0.0047]
     for value in expected:
         assert any(math.isclose(q, value, rel_tol=5e-5) for q in quoted), value
-    assert f"{certified:.5g}" in section
+    assert format_down(certified) in section
+    for q in quoted[:4]:  # the computed values, rounded down (0.0047 is the paper's)
+        assert any(q <= value for value in expected[:4])
 
 
 @pytest.mark.parametrize("rho_f", [1.05, 1.38, 2.0])

@@ -160,7 +160,14 @@ def check(
     with progress_bar(not as_json) as progress:
         result = run(
             eps=eps,
-            **surface_args(sphere, torus, mesh, lfs, sizing, instead={"--balls FILE": balls}),
+            **surface_args(
+                sphere,
+                torus,
+                mesh,
+                lfs,
+                sizing,
+                instead={"--balls FILE": balls, "--vorocrust DIR": vorocrust},
+            ),
             balls=balls,
             vorocrust=vorocrust,
             sigma=sigma,

@@ -145,7 +145,11 @@ def reconstruct(
                 mesh,
                 lfs,
                 sizing,
-                instead={"--balls FILE": balls, "--seeds FILE": seeds},
+                instead={
+                    "--balls FILE": balls,
+                    "--seeds FILE": seeds,
+                    "--vorocrust DIR": vorocrust,
+                },
             ),
             balls=balls,
             seeds=seeds,
