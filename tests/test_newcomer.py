@@ -270,3 +270,11 @@ def test_reconstruct_reads_the_numbers_that_need_it():
     fine = readings(summary | {"collapsed_facets": 0, "edge_ratio_min": 0.3,
                                "min_angle_min_deg": 20.0, "flipped_facets": 0})  # fmt: skip
     assert len(fine) == 2 and "no sliver facets" in fine[0] and "faces outward" in fine[1]
+
+
+def test_notation_keeps_the_star_of_eps_star():
+    """'eps* for ...' is ε*, not a product ε·for (found when the branches were merged)."""
+    from vorobound.cli.notation import to_unicode
+
+    text = to_unicode("no eps* for rigorous; R <= rho_f*R_hat")
+    assert "ε* for" in text and "ρ_f·R̂" in text

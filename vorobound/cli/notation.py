@@ -50,7 +50,7 @@ _TO_ASCII = (
 _WORD = r"(?<![\w\-`'])"
 """No symbol inside a longer name, an option (--eps) or a quoted command."""
 _TO_UNICODE = (
-    (re.compile(r"(?<=[\w)])\s?\*\s?(?=[\w(])"), "·"),  # products first: eps_star keeps its *
+    (re.compile(r"(?<=[\w)])(?:\*| \* )(?=[\w(])"), "·"),  # a*b or a * b; not ε* for
     (re.compile(_WORD + r"eps_star\b"), "ε*"),
     (re.compile(r"(?<=\d)-(?=eps\b)"), "−"),
     (re.compile(_WORD + r"eps\b"), "ε"),
