@@ -5,6 +5,7 @@ files are intact; two concurrent ``figure`` runs each leave complete files; a ki
 terminated ``sweep --jobs 2`` leaves no live worker; a big paper sweep runs in bounded memory.
 """
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -55,8 +56,20 @@ class _ReadyStderr:
         self.ready.set()
 
     def rest(self, proc, timeout: float) -> list[str]:
-        """The other lines of stderr, once the child has ended."""
-        proc.wait(timeout=timeout)
+        """The other lines of stderr, once the child has ended. A child that does not end
+        is asked for its threads' stacks (SIGUSR1, see the CLI) and killed; the test fails
+        with them."""
+        try:
+            proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(OSError):
+                proc.send_signal(signal.SIGUSR1)
+                time.sleep(3)
+                proc.kill()
+            proc.wait(30)
+            self.thread.join(timeout=30)
+            stacks = "\n".join(self.lines[-200:])
+            pytest.fail(f"the command did not end within {timeout} s; its stacks:\n{stacks}")
         self.thread.join(timeout=timeout)
         return [line for line in self.lines if line.strip()]
 

@@ -235,6 +235,13 @@ def _kill_pool(pool: concurrent.futures.ProcessPoolExecutor, started: list) -> N
     but not yet in it) rather than wait for their tasks."""
     table = list((getattr(pool, "_processes", None) or {}).values())
     _kill_started(table + [p for p in started if p not in table])
+    # The pool's feeder thread may be blocked writing a task into a pipe no worker reads any
+    # more; multiprocessing joins that thread at exit (unbounded), so the process would never
+    # end (a Ctrl-C that hung CI for 120 s). It is not waited for.
+    calls = getattr(pool, "_call_queue", None)
+    if calls is not None:
+        with contextlib.suppress(Exception):
+            calls.cancel_join_thread()
     # With its workers gone the pool's manager thread ends at once; waiting for it releases
     # the pool's semaphores before this process exits (else the resource tracker warns). A
     # worker killed while it sent a result can leave that thread waiting for ever (a hang of

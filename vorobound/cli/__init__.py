@@ -144,6 +144,11 @@ def _signals_raise_interrupted():
 
     previous = {sig: signal.signal(sig, handler) for sig in (signal.SIGINT, signal.SIGTERM)}
     if os.environ.get(SIGNALS_READY_VARIABLE):
+        # For tests: SIGUSR1 prints every thread's stack (where a run that does not stop is).
+        import faulthandler
+
+        with contextlib.suppress(AttributeError, ValueError, RuntimeError, OSError):
+            faulthandler.register(signal.SIGUSR1, all_threads=True)
         print(SIGNALS_READY_LINE, file=sys.stderr, flush=True)
     try:
         yield
@@ -308,6 +313,27 @@ def _fail(message: str, code: int, prefix: str = "error: ") -> int:
     return code
 
 
+EXIT_HANDLER_SECONDS = 15.0
+"""After an interrupt, the longest wait for the exit handlers (temporary folders, multiprocessing's
+cleanup): one that blocks (a queue thread writing to a pipe nobody reads) must not turn Ctrl-C
+into a hang."""
+
+
+def _run_exit_handlers(seconds: float) -> bool:
+    """Run the ``atexit`` handlers in a daemon thread for at most ``seconds``; whether they
+    ended."""
+    import atexit
+
+    def run() -> None:
+        with contextlib.suppress(Exception):
+            atexit._run_exitfuncs()  # multiprocessing's cleanup, among others
+
+    thread = threading.Thread(target=run, name="vorobound-exit", daemon=True)
+    thread.start()
+    thread.join(seconds)
+    return not thread.is_alive()
+
+
 def entry() -> None:
     """Console-script entry point.
 
@@ -318,10 +344,7 @@ def entry() -> None:
     """
     code = main()
     if code == EXIT_INTERRUPTED:
-        import atexit
-
-        with contextlib.suppress(Exception):
-            atexit._run_exitfuncs()  # multiprocessing's cleanup, among others
+        _run_exit_handlers(EXIT_HANDLER_SECONDS)
         for stream in (sys.stdout, sys.stderr):
             with contextlib.suppress(OSError, ValueError):
                 stream.flush()
