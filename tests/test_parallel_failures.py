@@ -136,3 +136,103 @@ def test_a_scheduler_address_without_port_is_one_line_and_no_del_traceback(ball_
         "error: cannot reach the dask scheduler at foo: missing port number in address 'foo'"
     ]
     assert time.monotonic() - start < 18  # the client's __del__ waited 20 s
+
+
+# --- a real cluster that loses its scheduler or its only worker mid-run ----------------------
+
+
+@pytest.fixture(scope="module")
+def row_balls(tmp_path_factory):
+    """About 1.3·10⁵ balls: many seconds on one dask worker thread."""
+    import numpy as np
+
+    from vorobound.sampling.balls import make_balls
+    from vorobound.sampling.io.balls import write_balls
+    from vorobound.sampling.sampler.torus_rows import torus_rows
+
+    parts = list(torus_rows(3.0, 1.0, 0.03))
+    balls = make_balls(np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts]))
+    path = tmp_path_factory.mktemp("rows") / "rows.npz"
+    write_balls(path, balls, {})
+    return path
+
+
+def _dask_process(tmp_path: Path, role: str, scheduler_file: Path) -> subprocess.Popen:
+    args = {
+        "scheduler": ["--port", "0"],
+        "worker": ["--nthreads", "1", "--nworkers", "1", "--no-nanny"],
+    }[role]
+    return subprocess.Popen(
+        [sys.executable, "-m", f"distributed.cli.dask_{role}", *args, "--no-dashboard"]
+        + ["--scheduler-file", str(scheduler_file)],
+        stdout=subprocess.DEVNULL,
+        stderr=open(tmp_path / f"{role}.log", "w"),  # noqa: SIM115 (the process owns it)
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("lost", ["scheduler", "worker"])
+def test_a_cluster_that_dies_mid_run_is_one_line_and_no_output(tmp_path, row_balls, lost):
+    """The scheduler or the only worker SIGKILLed while the tiles run: exit 2 with one line in
+    bounded time, nothing written (a lost worker used to hang the run for ever; a lost
+    scheduler printed dask's 30-line reconnect traceback)."""
+    pytest.importorskip("distributed")
+    import json
+    import signal
+
+    scheduler_file = tmp_path / "scheduler.json"
+    processes = [_dask_process(tmp_path, "scheduler", scheduler_file)]
+    try:
+        deadline = time.monotonic() + 60
+        while not scheduler_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        time.sleep(0.5)  # written, then complete
+        address = json.loads(scheduler_file.read_text())["address"]
+        processes.append(_dask_process(tmp_path, "worker", scheduler_file))
+        out = tmp_path / "out"
+        run = subprocess.Popen(
+            [sys.executable, "-m", "vorobound", "check", "--balls", str(row_balls)]
+            + ["--eps", "0.03", "--scheduler", address, "--out", str(out)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=os.environ | {"PYTHONPATH": str(ROOT), "VOROBOUND_DASK_WORKER_SECONDS": "3"},
+        )
+        # The tiles are running once the worker holds a task (its log says nothing by default):
+        # the output's hidden folder exists and the run has lasted a while.
+        deadline = time.monotonic() + 120
+        while not (out.exists() and any(out.iterdir())) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        time.sleep(3)
+        assert run.poll() is None, "the run ended before the cluster could fail"
+        victim = processes[0] if lost == "scheduler" else processes[1]
+        start = time.monotonic()
+        victim.send_signal(signal.SIGKILL)
+        _, err = run.communicate(timeout=120)
+        assert time.monotonic() - start < 60
+        lines = err.strip().splitlines()
+        assert run.returncode == 2 and len(lines) == 1, err
+        assert "dask" in lines[0] and "nothing was written" in lines[0]
+        if lost == "worker":
+            assert "has had no worker for 3 s" in lines[0]
+        assert list(out.iterdir()) == []
+    finally:
+        for process in processes:
+            process.kill()
+            process.wait(30)
+
+
+@pytest.mark.parametrize("text", ["0", "-1", "nan", "inf", "soon", "1e308"])
+def test_a_bad_worker_wait_is_refused(monkeypatch, text):
+    from vorobound.errors import InputError
+
+    monkeypatch.setenv(parallel.DASK_WORKER_VARIABLE, text)
+    with pytest.raises(InputError, match="VOROBOUND_DASK_WORKER_SECONDS"):
+        parallel._worker_seconds()
+
+
+def test_the_worker_wait_comes_from_the_environment(monkeypatch):
+    monkeypatch.delenv(parallel.DASK_WORKER_VARIABLE, raising=False)
+    assert parallel._worker_seconds() == parallel.DASK_WORKER_SECONDS
+    monkeypatch.setenv(parallel.DASK_WORKER_VARIABLE, "2.5")
+    assert parallel._worker_seconds() == 2.5

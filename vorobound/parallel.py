@@ -206,7 +206,7 @@ def task_executor(
     :func:`task_result`.
     """
     if scheduler is not None:
-        with _dask_executor(scheduler) as found:
+        with _dask_logs_quiet(), _dask_executor(scheduler) as found:
             yield found
         return
     if workers <= 1:
@@ -266,26 +266,97 @@ def _bounded(call) -> bool:
 def _dask_executor(address: str) -> Iterator[tuple[concurrent.futures.Executor, int]]:
     from .errors import WorkerError
 
+    patience = _worker_seconds()
     client = _dask_client(address)
     try:
         try:
-            client.wait_for_workers(1, timeout=DASK_WORKER_SECONDS)
+            client.wait_for_workers(1, timeout=patience)
         except (TimeoutError, OSError) as exc:
             raise WorkerError(
-                f"the dask cluster at {address} has no workers (waited {DASK_WORKER_SECONDS:g} "
+                f"the dask cluster at {address} has no workers (waited {patience:g} "
                 f"s: {type(exc).__name__}); start some with dask worker {address}"
             ) from None
         executor = client.get_executor(pure=False)
         slots = max(1, sum(client.nthreads().values()))
+        watch = _WorkerWatch(client, executor, address, patience)
         try:
             yield executor, slots
         except BaseException:
+            watch.stop()
             executor.shutdown(wait=False)
             raise
+        watch.stop()
         executor.shutdown(wait=True)
     finally:
         with contextlib.suppress(Exception):
             client.close(timeout=DASK_CONNECT_SECONDS)
+        _LOST.clear()
+
+
+_LOST: list[str] = []
+"""Why the running dask computation was given up (set by :class:`_WorkerWatch`), for the
+message of :func:`task_result`."""
+
+
+class _WorkerWatch:
+    """Cancels a dask computation whose cluster has had no worker for
+    ``patience`` seconds (:data:`DASK_WORKER_SECONDS`): dask itself would wait for ever for a
+    worker to come back (issue 34: a run whose only worker was killed never ended)."""
+
+    def __init__(self, client, executor, address: str, patience: float, poll: float = 1.0):
+        self.client, self.executor, self.address = client, executor, address
+        self.patience, self.poll = patience, min(poll, patience / 4)
+        self.done = threading.Event()
+        self.thread = threading.Thread(target=self._run, name="vorobound-dask-watch", daemon=True)
+        self.thread.start()
+
+    def stop(self) -> None:
+        self.done.set()
+
+    def _run(self) -> None:
+        import time
+
+        without: float | None = None
+        while not self.done.wait(self.poll):
+            try:
+                workers = len(self.client.scheduler_info().get("workers", {}))
+            except Exception:  # the client is closing or reconnecting: dask reports that
+                continue
+            if workers:
+                without = None
+                continue
+            now = time.monotonic()
+            without = now if without is None else without
+            if now - without >= self.patience:
+                _LOST.append(
+                    f"the dask cluster at {self.address} has had no worker for {self.patience:g} s"
+                )
+                with contextlib.suppress(Exception):
+                    self.client.cancel(list(getattr(self.executor, "_futures", ())))
+                return
+
+
+@contextlib.contextmanager
+def _dask_logs_quiet() -> Iterator[None]:
+    """dask.distributed's own log lines (a lost scheduler prints a 30-line traceback as it tries
+    to reconnect) are silenced: the run reports the failure in one line of its own."""
+    import logging
+
+    with contextlib.suppress(ImportError):
+        import distributed  # noqa: F401 (its import configures its loggers: before, not after)
+    # dask's configuration gives some of its loggers levels of their own (distributed.client).
+    names = ["distributed"] + [
+        name for name in list(logging.root.manager.loggerDict) if name.startswith("distributed.")
+    ]
+    loggers = [logging.getLogger(name) for name in names]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for logger, level in zip(loggers, levels, strict=True):
+            logger.setLevel(level)
 
 
 def _dask_client(address: str):
@@ -342,8 +413,26 @@ def _quiet_del(exc: BaseException) -> None:
 
 DASK_CONNECT_SECONDS = 10
 """How long to wait for a dask scheduler to answer."""
-DASK_WORKER_SECONDS = 30
-"""How long to wait for a dask cluster's first worker."""
+DASK_WORKER_SECONDS = 30.0
+"""How long to wait for a dask cluster's first worker, and for one to come back when it has
+lost them all mid-run; the environment variable :data:`DASK_WORKER_VARIABLE` overrides it."""
+DASK_WORKER_VARIABLE = "VOROBOUND_DASK_WORKER_SECONDS"
+
+
+def _worker_seconds() -> float:
+    """:data:`DASK_WORKER_SECONDS`, or the positive number of seconds the environment gives."""
+    from .errors import InputError
+
+    text = os.environ.get(DASK_WORKER_VARIABLE)
+    if text is None:
+        return DASK_WORKER_SECONDS
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1e6:
+        raise InputError(f"{DASK_WORKER_VARIABLE}={text!r}: give a number of seconds in (0, 1e6)")
+    return value
 
 
 def task_result(future: concurrent.futures.Future, what: str):
@@ -355,6 +444,8 @@ def task_result(future: concurrent.futures.Future, what: str):
     try:
         return future.result()
     except concurrent.futures.CancelledError:  # a dask scheduler or worker gone mid-run
+        if _LOST:
+            raise WorkerError(f"{_LOST[0]}: {what} was given up; nothing was written") from None
         raise WorkerError(
             f"the computation of {what} was cancelled (the dask scheduler or its workers went "
             "away?); nothing was written"
