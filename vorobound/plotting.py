@@ -679,7 +679,11 @@ def _tag_lines(ax, positions) -> None:
     if not positions:
         return
     low, high = ax.get_xlim()
-    scale = np.log10 if ax.get_xscale() == "log" else (lambda v: v)
+    log = ax.get_xscale() == "log"
+
+    def scale(value):
+        return np.log10(value) if log else value
+
     span = scale(high) - scale(low)
     rows: list[float] = []  # the right-most tag position on each row
     for index in np.argsort(positions, kind="stable"):
