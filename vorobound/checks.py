@@ -83,7 +83,7 @@ def checked_count(value, name: str, low: int, high: int) -> int:
     if (
         isinstance(value, bool)
         or not isinstance(value, numbers.Integral)
-        or not low <= value <= high
+        or not low <= int(value) <= high
     ):
         raise InputError(f"{name} must be an integer in [{low}, {high}], got {brief(value)}")
     return int(value)

@@ -119,7 +119,10 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", encoding: str = "utf-8
     binary = "b" in mode
     with atomic_path(path) as temp:
         try:
-            handle = open(temp, mode, **({} if binary else {"encoding": encoding, "newline": ""}))
+            if binary:
+                handle = open(temp, mode)
+            else:
+                handle = open(temp, mode, encoding=encoding, newline="")
         except OSError as exc:
             raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
         with handle:

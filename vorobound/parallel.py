@@ -19,6 +19,7 @@ import concurrent.futures.process
 import contextlib
 import contextvars
 import ctypes
+import functools
 import multiprocessing
 import multiprocessing.context
 import multiprocessing.pool
@@ -26,7 +27,7 @@ import os
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 PR_SET_PDEATHSIG = 1
 """prctl option: the signal a process receives when its parent exits (Linux)."""
@@ -165,7 +166,7 @@ def process_pool(workers: int) -> Iterator[multiprocessing.pool.Pool]:
             # them first would have it start new ones); workers started before an interrupt
             # inside Pool() are known only to `started`.
             if pool is not None:
-                _bounded(lambda: (pool.terminate(), pool.join()))
+                _bounded(functools.partial(_stop, pool))
             _kill_started(started)
             raise
     pool.close()
@@ -253,7 +254,12 @@ SHUTDOWN_SECONDS = 10
 """The longest wait for a pool to stop once its workers are killed (Ctrl-C, an error)."""
 
 
-def _bounded(call) -> bool:
+def _stop(pool: multiprocessing.pool.Pool) -> None:
+    pool.terminate()
+    pool.join()
+
+
+def _bounded(call: Callable[[], object]) -> bool:
     """Run ``call`` in a daemon thread for at most :data:`SHUTDOWN_SECONDS`; whether it ended
     (a stop that hangs is left behind: its workers are dead, the process is leaving)."""
     thread = threading.Thread(target=call, name="vorobound-pool-stop", daemon=True)
@@ -405,7 +411,7 @@ def _quiet_del(exc: BaseException) -> None:
     traceback = exc.__traceback__
     while traceback is not None:
         client = traceback.tb_frame.f_locals.get("self")
-        if type(client).__name__ == "Client":
+        if client is not None and type(client).__name__ == "Client":
             with contextlib.suppress(Exception):
                 client.status = "closed"  # __del__ then has nothing to close
         traceback = traceback.tb_next

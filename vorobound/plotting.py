@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .files import atomic_path, ensure_folder, write_set
 from .reports.figure_data import (
@@ -11,6 +12,9 @@ from .reports.figure_data import (
     TargetFigureData,
     gap_histogram_data,
 )
+
+if TYPE_CHECKING:  # matplotlib's own annotations (3.8+); nothing is imported at run time
+    from matplotlib.typing import LineStyleType, RcKeyType
 
 COLUMN_WIDTH_IN = 3.5
 """One column of a two-column paper, in inches."""
@@ -29,7 +33,7 @@ LEGEND_ROW_IN = 0.16
 """Height added to a figure per legend row, in inches (7-point text and its spacing)."""
 POINT_MASS_WIDTH = 0.012
 """Width of the bar of a point mass in the gap histogram, as a share of the shown range."""
-_STYLE = {
+_STYLE: dict[RcKeyType, object] = {
     "font.size": 8,
     "axes.labelsize": 8,
     "legend.fontsize": 7,
@@ -140,7 +144,7 @@ def plot_figure3(data: Figure3Data, ax=None):
 
 MODE_STYLE = {"paper": "C0", "rigorous": "C1", "tight": "C2", "tight, λ = 1": "C3"}
 """One colour per mode in every figure of both targets."""
-TARGET_LINES = {"additive": "-", "ratio": "--"}
+TARGET_LINES: dict[str, LineStyleType] = {"additive": "-", "ratio": "--"}
 """One line style per target in the comparison."""
 TARGET_WORDS = {
     "additive": r"additive: $R - \hat R \leq (\rho_f - 1)\,\delta L_i$",
@@ -675,7 +679,11 @@ def _tag_lines(ax, positions) -> None:
     if not positions:
         return
     low, high = ax.get_xlim()
-    scale = np.log10 if ax.get_xscale() == "log" else (lambda v: v)
+    log = ax.get_xscale() == "log"
+
+    def scale(value):
+        return np.log10(value) if log else value
+
     span = scale(high) - scale(low)
     rows: list[float] = []  # the right-most tag position on each row
     for index in np.argsort(positions, kind="stable"):

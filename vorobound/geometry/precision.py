@@ -54,7 +54,7 @@ def _finished_rows(inv: Invariants) -> tuple[dict[str, np.ndarray], Radicals]:
     """
     orthoradius_sq = inv.rt_sq - inv.w_min
     if inv.k_num.dtype == object:
-        inv = Invariants(*(None if f is None else _as_float64(f) for f in inv))
+        inv = Invariants._make(None if f is None else _as_float64(f) for f in inv)
     rad = finish(inv)
     fields = {
         "edges": rad.edges,

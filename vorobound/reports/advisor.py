@@ -16,7 +16,9 @@ over the curvature radius.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..bounds.claims import CERTIFIED, NUMERICAL, PROVEN
 from ..bounds.guarantee import eps_star, for_mode
@@ -29,6 +31,9 @@ from ..errors import InputError, NoAdmissibleEps
 from ..progress import Progress
 from ..rounding import format_down, format_up, round_down, round_up
 from ..sampling.surfaces.base import SurfaceCounts
+
+if TYPE_CHECKING:
+    from ..sampling.sampler.cost import SamplerCost
 
 GUARANTEE = (
     "What eps <= eps_star gives, per target: every guide triangle of the mode's constraint set "
@@ -86,7 +91,7 @@ class ModeAdvice:
     range."""
     guarantee: GuaranteeAt | None = None
     """What ε* guarantees per target (the smallest proven ρ_f each meets there)."""
-    cost: object = None
+    cost: SamplerCost | None = None
     """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ε* (meshes only)."""
 
     @property
@@ -108,7 +113,7 @@ class Fallback:
     guarantee: GuaranteeAt | None
     samples_low: float
     samples_high: float
-    cost: object
+    cost: SamplerCost | None
     """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ``eps``."""
 
 
@@ -137,7 +142,7 @@ class Recommendation:
     """(low, high) samples on the sharp features, part of the counts (None: smooth)."""
     guarantee: GuaranteeAt | None = None
     """What ``eps`` guarantees per target (smallest proven ρ_f)."""
-    cost: object = None
+    cost: SamplerCost | None = None
     """:class:`vorobound.sampling.sampler.cost.SamplerCost` at ``eps`` (meshes only)."""
     fallback: Fallback | None = None
     """When ``eps`` cannot be sampled: the smallest ε that can, and its guarantee."""
@@ -206,7 +211,9 @@ def feature_counts(surface: SurfaceCounts, eps: float, sigma: float) -> tuple[fl
     return (high / 2, high)
 
 
-def sampler_cost(surface: SurfaceCounts, eps: float, sigma: float, lam: float | None):
+def sampler_cost(
+    surface: SurfaceCounts, eps: float, sigma: float, lam: float | None
+) -> SamplerCost | None:
     """Estimated cost of ``vorobound sample`` on a mesh at ``eps`` (None for other surfaces)."""
     if not surface.mesh_lattice:
         return None
@@ -244,7 +251,7 @@ def advise(
     surface: SurfaceCounts,
     modes: list[str],
     progress: Progress | None = None,
-    targets: list[str] = ("additive", "ratio"),
+    targets: Sequence[str] = ("additive", "ratio"),
     max_samples: float | None = None,
 ) -> Advice:
     """Advice for each (mode, target): ε*, ball radius, spacing, sample counts and sampler cost
@@ -326,19 +333,20 @@ def _row(quality, surface, mode, target, lam, star) -> ModeAdvice:
 
 def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommendation | None:
     """Per target the largest trusted ε over the modes; then the smallest over the targets."""
-    best: dict[str, ModeAdvice] = {}
+    best: dict[str, tuple[ModeAdvice, float]] = {}  # target: (row, its trusted ε)
     for row in rows:
-        if row.trusted_eps is None:
+        trusted = row.trusted_eps
+        if trusted is None:
             continue
-        if row.target not in best or row.trusted_eps > best[row.target].trusted_eps:
-            best[row.target] = row
+        if row.target not in best or trusted > best[row.target][1]:
+            best[row.target] = (row, trusted)
     targets = {row.target for row in rows}
     if not best or set(best) != targets:
         return None  # some target asked for has no proven or certified ε*
-    binding = min(best.values(), key=lambda row: row.trusted_eps)
+    binding, binding_eps = min(best.values(), key=lambda pair: pair[1])
     # The ε a user copies is the printed one: round it down (never past the trusted ε*) and
     # give every count and length at that ε.
-    eps = round_down(binding.trusted_eps)
+    eps = round_down(binding_eps)
     claim = binding.claim if binding.claim in TRUSTED else PROVEN
     return _recommendation(
         quality,
@@ -347,7 +355,7 @@ def _recommend(quality, surface, rows: list[ModeAdvice], lipschitz) -> Recommend
         binding_target=binding.target,
         mode=binding.mode,
         claim=claim,
-        per_target={t: row.trusted_eps for t, row in best.items()},
+        per_target={t: trusted for t, (_, trusted) in best.items()},
     )
 
 

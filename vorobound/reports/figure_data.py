@@ -294,8 +294,8 @@ def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
             f"[{format_down(smallest, digits)}, {format_up(largest, digits)}]"
         )
         return GapHistogramData(values, count, bins, None, note, inside, own, beyond)
-    bins = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
-    return GapHistogramData(values, count, bins, None, None, shown, xlim)
+    edges = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
+    return GapHistogramData(values, count, edges, None, None, shown, xlim)
 
 
 def _everyone(values: np.ndarray, count: int) -> str:

@@ -36,10 +36,13 @@ def facet_fields(report: ReconstructReport) -> dict[str, np.ndarray]:
     }
 
 
-def polygon_cells(surface: PolygonSurface, fields: dict[str, np.ndarray]):
+def polygon_cells(
+    surface: PolygonSurface, fields: dict[str, np.ndarray]
+) -> tuple[list[tuple[str, np.ndarray]], dict[str, list[np.ndarray]]]:
     """meshio cell blocks (triangle, quad, polygon of each size) and the matching cell data."""
     sizes = surface.sizes
-    cells, data = [], {name: [] for name in fields}
+    cells: list[tuple[str, np.ndarray]] = []
+    data: dict[str, list[np.ndarray]] = {name: [] for name in fields}
     for size in np.unique(sizes):
         chosen = np.flatnonzero(sizes == size)
         start = surface.offsets[chosen]

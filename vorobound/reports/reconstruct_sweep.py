@@ -64,6 +64,7 @@ class SweepRow:
 
     @classmethod
     def of(cls, report: ReconstructReport) -> SweepRow:
+        assert report.eps is not None, "a sweep row is of a sampled surface, which has an ε"
         s = report.summary()
         return cls(
             eps=report.eps,

@@ -179,12 +179,13 @@ def _optimizer_share(spec: SweepSpec) -> float:
     tasks = list(itertools.islice(_tight_tasks(spec), 0, None, step))
     slow = 0
     for eps, lam, sigma, rho_f, ratio, _, _, target in tasks:
-        solve = ratio_eps_star_closed_form if target is Target.ratio else tight_eps_star_closed_form
         try:
-            if eps is None:
-                exact = solve(sigma, ratio, rho_f, lam).status.name == "exact"
-            else:
+            if eps is not None:
                 exact = closed_form_is_exact(eps, sigma, ratio, lam)
+            elif target is Target.ratio:
+                exact = ratio_eps_star_closed_form(sigma, ratio, rho_f, lam).status.name == "exact"
+            else:
+                exact = tight_eps_star_closed_form(sigma, ratio, rho_f, lam).status.name == "exact"
         except VoroboundError:
             exact = True  # answered at once (an empty cell or an error)
         slow += not exact

@@ -98,8 +98,8 @@ class Realization:
 
     @property
     def quality(self) -> QualityParams | None:
-        if self.eps is None:
-            return None
+        if self.eps is None or self.sigma is None or self.delta_ratio is None:
+            return None  # all three are None together: nothing realized
         return QualityParams(self.sigma, self.delta_ratio, lipschitz=self.lipschitz)
 
     def realized_json(self) -> dict:
@@ -110,7 +110,9 @@ class Realization:
             "delta_ratio": self.delta_ratio,
             "lipschitz": self.lipschitz,
             "eps_coverage": self.eps_coverage,
-            "delta": None if self.eps is None else self.eps * self.delta_ratio,
+            "delta": None
+            if self.eps is None or self.delta_ratio is None
+            else self.eps * self.delta_ratio,
             "measured": {
                 "spacing_over_radius_min": m.spacing,
                 "radius_lipschitz": m.radius_lipschitz,
@@ -198,9 +200,10 @@ def off_surface(balls: Balls, shape) -> Measured | None:
     return Measured(nan, (-1, -1), nan, None, None, None, None, float(off[far]), far)
 
 
-def _params(eps: float, m: Measured, rho_f: float):
+def _params(eps: float, m: Measured, rho_f: float) -> tuple[QualityParams | None, str | None]:
     """(σ, δ/ε, λ) at ``eps`` from the measured ratios, rounded toward safety; None when one
     leaves its supported range."""
+    assert m.radius_over_lfs is not None, "measured with the surface"
     kappa = round_up(m.radius_over_lfs / eps * (1 + SAFETY_RTOL))
     sigma = round_down(kappa * m.spacing * (1 - SAFETY_RTOL))
     lam = (
@@ -237,6 +240,7 @@ def realize(balls: Balls, shape, engine, rho_f: float, progress=None) -> Realiza
         return Realization(m, None, None, None, None, "surface", {"note": "ε needs the surface"})
     if len(guides.triples) == 0:
         return Realization(m, None, None, None, None, "guide_triangles")
+    assert m.coverage is not None, "measured with the surface"
     eps_low = round_up(m.coverage * (1 + SAFETY_RTOL))
     if eps_low > EPS_RANGE[1]:
         return Realization(

@@ -136,7 +136,8 @@ class ChengResult:
 
 
 def _checked_alpha(alpha, dim) -> float:
-    if not isinstance(dim, numbers.Number) or dim not in (2, 3):  # an array is no dim
+    # an array is no dim; int is a numbers.Number only by ABC registration, unseen by typeshed
+    if not isinstance(dim, numbers.Number) or dim not in (2, 3):  # type: ignore[comparison-overlap]
         raise InputError(f"dim must be 2 (triangle) or 3 (tetrahedron), got {dim!r}")
     try:
         value = float(alpha)

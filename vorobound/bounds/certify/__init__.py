@@ -59,6 +59,7 @@ class CertifyRequest:
         if eps is None:
             fraction = checked_number(fraction, "fraction", *FRACTION_RANGE)
             star, status, base = _tight_eps_star(quality, progress)
+            assert base is not None, "with the default, no base raises InputError"
             eps = min(fraction * base, EPS_RANGE[1])
         else:
             # An explicit ε_max needs no ε*: the search proves the claim or finds a

@@ -23,6 +23,7 @@ import platform
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from flint import arb
 
@@ -32,7 +33,7 @@ from ...errors import CertificateError, ReadError
 from ...files import write_text
 from ...progress import Progress, silent
 from .. import constraints
-from ..params import QualityParams
+from ..params import QualityParams, Target
 from . import interval
 from .interval import DIMENSIONS, Setting, nearest_float
 from .search import MAX_DEPTH, Leaf, SearchResult
@@ -79,6 +80,7 @@ def certificate_payload(result: SearchResult) -> dict:
                 nodes.append(node.name)
                 infeasible[node.name] = infeasible.get(node.name, 0) + 1
             else:
+                assert node.bound is not None, "a bound leaf carries its bound"
                 nodes.append([node.name, node.bound])
                 bounded[node.name] = bounded.get(node.name, 0) + 1
                 largest = max(largest, node.bound)
@@ -340,14 +342,12 @@ def _setting(payload: dict) -> Setting:
     params = payload.get("parameters")
     if not isinstance(params, dict):
         raise CertificateError("certificate has no parameters")
+    # JSON values, of any type: QualityParams checks each (a missing one is None, refused)
+    values: dict[str, Any] = {
+        name: params.get(name) for name in ("sigma", "delta_ratio", "rho_f", "lipschitz")
+    }
     try:
-        quality = QualityParams(
-            params.get("sigma"),
-            params.get("delta_ratio"),
-            params.get("rho_f"),
-            lipschitz=params.get("lipschitz"),
-            target=target,
-        )
+        quality = QualityParams(**values, target=Target(target))
         eps_max = checked_number(params.get("eps_max"), "eps_max", *EPS_RANGE)
     except ValueError as exc:
         raise CertificateError(f"certificate parameters: {exc}") from None

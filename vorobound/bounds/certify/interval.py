@@ -101,8 +101,10 @@ class Setting:
         """From validated parameters (:class:`~vorobound.bounds.params.QualityParams`) and a
         float ε_max, each converted exactly."""
         lam = None if quality.lipschitz is None else exact_rational(quality.lipschitz)
-        values = (exact_rational(v) for v in (quality.sigma, quality.delta_ratio, quality.rho_f))
-        return cls(*values, lam, exact_rational(eps_max), quality.target.value)
+        sigma, delta_ratio, rho_f = (
+            exact_rational(v) for v in (quality.sigma, quality.delta_ratio, quality.rho_f)
+        )
+        return cls(sigma, delta_ratio, rho_f, lam, exact_rational(eps_max), quality.target.value)
 
     def scale(self) -> arb:
         """The target in the enclosures' units: ρ_f − 1, or 1 − 1/ρ_f for the ratio target."""
@@ -199,8 +201,8 @@ def violated_constraint(point: Scaled, setting: Setting) -> str | None:
     """
     params, cfg = _params(point, setting), point.configuration()
     for constraint in constraints.active_constraints(params):
-        small, large = constraint.sides(cfg, params, ArbBackend)
-        if _ball(large) < _ball(small):
+        small, large = _sides(constraint, cfg, params)
+        if large < small:
             return constraint.name
     return None
 
@@ -211,23 +213,35 @@ def constraint_fails(name: str, point: Scaled, setting: Setting) -> bool:
     constraint = constraints.BY_NAME[name]
     if constraint not in constraints.active_constraints(params):
         return False
-    small, large = constraint.sides(point.configuration(), params, ArbBackend)
-    return bool(_ball(large) < _ball(small))
+    small, large = _sides(constraint, point.configuration(), params)
+    return bool(large < small)
 
 
 def constraints_hold(point: Scaled, setting: Setting) -> bool:
     """True if every constraint holds at every point of the (point) box."""
     params, cfg = _params(point, setting), point.configuration()
     for constraint in constraints.active_constraints(params):
-        small, large = constraint.sides(cfg, params, ArbBackend)
-        if not _ball(small) <= _ball(large):
+        small, large = _sides(constraint, cfg, params)
+        if not small <= large:
             return False
     return True
 
 
+def _sides(
+    constraint: constraints.Constraint,
+    cfg: constraints.ScaledConfiguration,
+    params: constraints.ConstraintParams,
+) -> tuple[arb, arb]:
+    """Enclosures of the constraint's two sides ``small ≤ large``."""
+    # constraints.Sides declares a module (numpy) as xp; ArbBackend has what the sides call
+    small, large = constraint.sides(cfg, params, ArbBackend)  # type: ignore[arg-type]
+    return _ball(small), _ball(large)
+
+
 def _params(point: Scaled, setting: Setting) -> constraints.ConstraintParams:
     lam = None if setting.lipschitz is None else arb(setting.lipschitz)
-    return constraints.ConstraintParams(point.eps, arb(setting.sigma), lam)
+    # ConstraintParams declares float fields; its constraints take any scalar of the backend
+    return constraints.ConstraintParams(point.eps, arb(setting.sigma), lam)  # type: ignore[arg-type]
 
 
 def _cap(value: arb, *limits: arb) -> arb:

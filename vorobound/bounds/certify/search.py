@@ -135,7 +135,7 @@ def counterexample_at(point: tuple[float, ...], setting: Setting) -> Counterexam
 def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
     """The target's fraction at ``point`` in floats, or None if ``feasible_mask`` rejects it."""
     from ..configurations import feasible_mask
-    from ..params import QualityParams
+    from ..params import QualityParams, Target
 
     eps, edge_b, edge_c, cos_theta, excess_j, excess_k = point
     quality = QualityParams(
@@ -143,7 +143,7 @@ def _float_ratio(point: tuple[float, ...], setting: Setting) -> float | None:
         nearest_float(setting.delta_ratio),
         nearest_float(setting.rho_f),
         lipschitz=None if setting.lipschitz is None else nearest_float(setting.lipschitz),
-        target=setting.target,
+        target=Target(setting.target),
     )
     params = quality.at(eps)
     tri = absolute_configuration(point)

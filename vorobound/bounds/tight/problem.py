@@ -174,7 +174,7 @@ class Problem:
         lo, hi = self.box()
         cap = "(33)" if self.lfs_scale == 1 else "(Lipschitz cap λ·2ε/(1−ε))"
         names_lo = ("b = σεL_i (35)", "c = σεL_i (34)", "", "L_j = L_i", "L_k = L_i")
-        names_hi = ("b = 2ε/(1−ε)·L_i (35)", "c = 2ε/(1−ε)·L_i (34)", "")
+        names_hi: tuple[str, ...] = ("b = 2ε/(1−ε)·L_i (35)", "c = 2ε/(1−ε)·L_i (34)", "")
         names_hi += (f"L_j at its cap {cap}", f"L_k at its cap {cap}")
         pairs = list(zip(names_lo, x - lo, strict=True))
         pairs += list(zip(names_hi, hi - x, strict=True))
