@@ -120,8 +120,25 @@ def _short(value) -> str:
     return text if len(text) <= 40 else text[:37] + "...'"
 
 
-FIGURE_FORMATS = ("png", "pdf", "svg")
-"""File formats of the figures (``figure_format``)."""
+class FigureFormat(str, enum.Enum):
+    """File formats of the figures (``figure_format``)."""
+
+    png = "png"
+    pdf = "pdf"
+    svg = "svg"
+
+
+FIGURE_FORMATS = tuple(f.value for f in FigureFormat)
+"""File formats of the figures (``figure_format``), by name."""
+
+
+class TableFormat(str, enum.Enum):
+    """How a check's output folder holds the per-triangle rows (``table``)."""
+
+    parquet = "parquet"
+    npz = "npz"
+    csv = "csv"
+    none = "none"
 
 
 def checked_outputs(out, figure_format: str) -> None:

@@ -9,6 +9,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down
+from .command import invoke
 from .options import (
     DeltaRatio,
     Json,
@@ -18,10 +19,8 @@ from .options import (
     TargetsOpt,
     parse_modes,
     parse_targets,
-    surface_args,
 )
-from .progress import progress_bar
-from .render import emit, print_footer, print_table
+from .render import print_footer, print_table
 
 
 def advise(
@@ -96,23 +95,7 @@ def advise(
     Exit code 1 when `vorobound sample` cannot build the recommended ε; the last line then
     names the smallest ε it can and what that guarantees. Python: vorobound.advise(...).
     """
-    from ..api.advise import advise as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            rho_f=rho_f,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lipschitz=lipschitz,
-            mode=parse_modes(mode),
-            target=parse_targets(target),
-            area=area,
-            max_samples=max_samples,
-            **surface_args(sphere, torus, mesh, lfs, sizing),
-            vorocrust=vorocrust,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("advise", _show, locals(), mode=parse_modes(mode), target=parse_targets(target))
 
 
 def _show(result) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
+from .command import invoke
 from .options import (
     DeltaRatio,
     Eps,
@@ -19,8 +20,7 @@ from .options import (
     TargetOpt,
     TightMethodOpt,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+from .render import fmt, print_footer, print_table
 
 
 def bounds(
@@ -42,23 +42,7 @@ def bounds(
     R̂ ≤ δ·L_i gives R ≤ ρ_f·δ·L_i (eq. (55)). Every bound rests on property H3 (an assumption
     from the VoroCrust literature). Python: vorobound.bound(eps=...).
     """
-    from ..api.bound import bound
-
-    with progress_bar(not as_json and mode is ModeChoice.tight) as progress:
-        if mode is ModeChoice.tight:
-            progress("tight supremum", 0, None)
-        result = bound(
-            eps=eps,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            mode=mode.value,
-            target=target.value,
-            lipschitz=lipschitz,
-            method=method.value,
-        )
-    return emit(result, as_json, _show)
+    return invoke("bound", _show, locals(), bar=mode is ModeChoice.tight, task="tight supremum")
 
 
 def _show(result) -> None:

@@ -10,6 +10,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
+from .command import invoke
 from .options import (
     LAMBDA_HELP,
     EngineChoice,
@@ -24,10 +25,8 @@ from .options import (
     SizingOpt,
     SphereOpt,
     TorusOpt,
-    surface_args,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
 class TableChoice(str, Enum):
@@ -155,35 +154,9 @@ def check(
     Exit code 1 when anything checked fails (the last line counts it). Python:
     vorobound.check(eps=..., torus=(3, 1)).
     """
-    from ..api.check import check as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            **surface_args(
-                sphere,
-                torus,
-                mesh,
-                lfs,
-                sizing,
-                instead={"--balls FILE": balls, "--vorocrust DIR": vorocrust},
-            ),
-            balls=balls,
-            vorocrust=vorocrust,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            rho_f=rho_f,
-            seed=seed,
-            lipschitz=lipschitz,
-            engine=engine.value,
-            out=out,
-            figure_format=figure_format.value,
-            workers=workers,
-            scheduler=scheduler,
-            table=None if table is None else table.value,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke(
+        "check", _show, locals(), instead={"--balls FILE": balls, "--vorocrust DIR": vorocrust}
+    )
 
 
 def _show(result) -> None:

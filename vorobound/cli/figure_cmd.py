@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .command import invoke
 from .options import (
     DeltaRatio,
     FigureFormat,
@@ -16,8 +17,6 @@ from .options import (
     RhoF,
     Sigma,
 )
-from .progress import progress_bar
-from .render import emit
 
 
 def figure(
@@ -36,20 +35,7 @@ def figure(
     The set is replaced as a whole: if anything fails, the previous files stay as they were.
     Python: vorobound.figure(out=...).
     """
-    from ..api.figures import figure as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            out=out,
-            figure_format=figure_format.value,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            tight=not no_tight,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("figure", _show, locals())
 
 
 def _show(result) -> None:

@@ -8,9 +8,9 @@ from typing import Annotated
 
 import typer
 
+from .command import invoke
 from .options import LAMBDA_HELP, Json, Seed
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+from .render import fmt, print_footer, print_table
 
 POSITIONAL_MESH_NOTE = (
     "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
@@ -90,24 +90,15 @@ def lfs(
     say where the two estimates disagree, and name an open or non-manifold mesh, degenerate
     faces or coarse curved patches. `sample --mesh` and `advise --mesh` use this same L.
     """
-    from ..api.lfs import lfs as run
+    options = {name: value for name, value in locals().items() if name != "mesh_file"}
     from ..errors import InputError
 
     if (mesh is None) == (mesh_file is None):
         raise InputError("give the mesh once: --mesh FILE")
-    with progress_bar(not as_json) as progress:
-        result = run(
-            mesh=mesh or mesh_file,
-            output=output or None,
-            samples=samples,
-            lipschitz=lipschitz,
-            sharp_angle=sharp_angle,
-            seed=seed,
-            progress=progress,
-        )
+    code = invoke("lfs", _show, options, mesh=mesh or mesh_file, output=output or None)
     if mesh_file is not None:  # after the run: a bad input keeps its one line of error
         print(POSITIONAL_MESH_NOTE, file=sys.stderr)
-    return emit(result, as_json, _show)
+    return code
 
 
 def _show(result) -> None:

@@ -8,31 +8,25 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from ..api.result import FigureFormat, TableFormat
+from ..bounds.params import Mode, Target, TightMethod
 from ..checks import parse_values  # noqa: F401  (the CLI parses with it)
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
+from ..sampling.guides.engines import Engine
 
-
-class ModeChoice(str, Enum):
-    paper = "paper"
-    rigorous = "rigorous"
-    tight = "tight"
-
-
-class MethodChoice(str, Enum):
-    auto = "auto"
-    optimize = "optimize"
-
-
-class TargetChoice(str, Enum):
-    additive = "additive"
-    ratio = "ratio"
+# The choices are the library's own enums (numpy-free modules: `vorobound --help` loads them);
+# the old names stay for code that imports them.
+ModeChoice = Mode
+MethodChoice = TightMethod
+TargetChoice = Target
+EngineChoice = Engine
+TableChoice = TableFormat
 
 
 TARGET_HELP = (
@@ -180,13 +174,6 @@ def surface_args(
     }
 
 
-class EngineChoice(str, Enum):
-    auto = "auto"
-    gudhi = "gudhi"
-    hull = "hull"
-    brute = "brute"
-
-
 EngineOpt = Annotated[
     EngineChoice,
     typer.Option(
@@ -196,12 +183,6 @@ EngineOpt = Annotated[
         "gudhi if installed, else brute).",
     ),
 ]
-
-
-class FigureFormat(str, Enum):
-    png = "png"
-    pdf = "pdf"
-    svg = "svg"
 
 
 FigureFormatOpt = Annotated[

@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
+from .command import invoke
 from .options import (
     DeltaRatio,
     Eps,
@@ -19,10 +20,8 @@ from .options import (
     SizingOpt,
     SphereOpt,
     TorusOpt,
-    surface_args,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
 def sample(
@@ -55,19 +54,7 @@ def sample(
     sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs, ≥ 1 required); exit code 1 if
     either fails. Python: vorobound.sample(eps=..., output=..., torus=(3, 1)).
     """
-    from ..api.sample import sample as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            output=output,
-            **surface_args(sphere, torus, mesh, lfs, sizing),
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            seed=seed,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("sample", _show, locals())
 
 
 def _show(result) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down
+from .command import invoke
 from .options import (
     DeltaRatio,
     Json,
@@ -18,8 +19,7 @@ from .options import (
     TargetOpt,
     TightMethodOpt,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+from .render import fmt, print_footer, print_table
 
 
 def solve(
@@ -41,21 +41,7 @@ def solve(
     assumption from the VoroCrust literature; the output also says up to which ε H3 alone
     gives R ≤ ρ_f·δ·L_i (eq. (55)). Python: vorobound.solve(...).
     """
-    from ..api.solve import solve as run
-
-    with progress_bar(not as_json and mode is ModeChoice.tight) as progress:
-        result = run(
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            mode=mode.value,
-            target=target.value,
-            lipschitz=lipschitz,
-            method=method.value,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("solve", _show, locals(), bar=mode is ModeChoice.tight)
 
 
 def _show(result) -> None:

@@ -7,6 +7,7 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .command import invoke
 from .options import (
     DeltaRatio,
     Eps,
@@ -17,8 +18,7 @@ from .options import (
     Seed,
     Sigma,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
 def validate(
@@ -46,22 +46,7 @@ def validate(
     violations is wrong (docs/errata.md); a rigorous or tight ratio above 1 would be a bug (exit
     code 1). Python: vorobound.validate(eps=...).
     """
-    from ..api.validate import validate as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            samples=samples,
-            seed=seed,
-            lipschitz=lipschitz,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            tight=not no_tight,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("validate", _show, locals())
 
 
 def _show(result) -> None:
