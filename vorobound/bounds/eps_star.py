@@ -278,7 +278,7 @@ def solve_eps_star_batch(
     )
     shape = sigma.shape
     s, r, q = (x.reshape(-1, 1) for x in (sigma, ratio, rho_f))
-    start = np.maximum(0.0, 1 - constraints.SQRT3 / s)  # constraints.empty_below, per row
+    start = np.vectorize(constraints.empty_below, otypes=[float])(s)
     first_eps = np.where(start > 0, start * (1 + EMPTY_START_RTOL), grid[0])
 
     def gap_rows(eps, index):

@@ -2,37 +2,22 @@
 
 from __future__ import annotations
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
+    BoundOptions,
     Eps,
     Json,
-    Lfs,
-    Lipschitz,
-    MethodChoice,
     ModeChoice,
-    ModeOpt,
-    RhoF,
-    Sigma,
     TargetChoice,
-    TargetOpt,
-    TightMethodOpt,
 )
 from .render import fmt, print_footer, print_table
 
 
+@grouped
 def bounds(
     eps: Eps,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
-    mode: ModeOpt = ModeChoice.tight,
-    target: TargetOpt = TargetChoice.ratio,
-    lipschitz: Lipschitz = None,
-    method: TightMethodOpt = MethodChoice.auto,
+    question: BoundOptions = BoundOptions(),
     as_json: Json = False,
 ) -> int:
     """A mode's bound at one ε, against a target: every quantity of the chain (33)–(53), or the
@@ -42,7 +27,9 @@ def bounds(
     R̂ ≤ δ·L_i gives R ≤ ρ_f·δ·L_i (eq. (55)). Every bound rests on property H3 (an assumption
     from the VoroCrust literature). Python: vorobound.bound(eps=...).
     """
-    return invoke("bound", _show, locals(), bar=mode is ModeChoice.tight, task="tight supremum")
+    return invoke(
+        "bound", _show, locals(), bar=question.mode is ModeChoice.tight, task="tight supremum"
+    )
 
 
 def _show(result) -> None:

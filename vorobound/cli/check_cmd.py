@@ -10,7 +10,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
     LAMBDA_HELP,
     EngineChoice,
@@ -18,13 +18,9 @@ from .options import (
     FigureFormat,
     FigureFormatOpt,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     RhoF,
     Seed,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
+    SurfaceOptions,
 )
 from .render import fmt, print_table
 
@@ -36,6 +32,7 @@ class TableChoice(str, Enum):
     none = "none"
 
 
+@grouped
 def check(
     eps: Annotated[
         float | None,
@@ -47,11 +44,7 @@ def check(
             "with the guarantee they give (docs/vorocrust.md).",
         ),
     ] = None,
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     balls: Annotated[
         Path | None,
         typer.Option(

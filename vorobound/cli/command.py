@@ -10,7 +10,10 @@ API's surface keywords), runs the function under a progress bar, and renders the
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import inspect
+import typing
 from collections.abc import Callable, Mapping
 from enum import Enum
 from typing import Any
@@ -28,10 +31,14 @@ def api_keywords(options: Mapping[str, Any], instead: dict | None = None) -> dic
 
     ``instead`` (the options that may replace a surface, ``{"--balls FILE": value}``) goes to
     :func:`~vorobound.cli.options.surface_args` for the message when no surface is given."""
+    flat: dict[str, Any] = {}
+    for name, value in options.items():
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            flat |= {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}
+        elif name != "as_json":
+            flat[name] = value
     kwargs = {
-        name: value.value if isinstance(value, Enum) else value
-        for name, value in options.items()
-        if name != "as_json"
+        name: value.value if isinstance(value, Enum) else value for name, value in flat.items()
     }
     if "no_tight" in kwargs:
         kwargs["tight"] = not kwargs.pop("no_tight")
@@ -70,3 +77,34 @@ def invoke(
             kwargs["progress"] = progress
         result = run(**kwargs)
     return emit(result, as_json, show)
+
+
+def grouped(command: Callable[..., int]) -> Callable[..., int]:
+    """The command with each parameter whose type is an option group (a dataclass of
+    :mod:`~vorobound.cli.options`, such as ``SurfaceOptions``) spelled out as that group's
+    options, in place, for typer; the command receives the group as one object."""
+    hints = typing.get_type_hints(command, include_extras=True)
+    groups: dict[str, Any] = {}
+    parameters = []
+    for parameter in inspect.signature(command).parameters.values():
+        kind = hints[parameter.name]
+        if not (isinstance(kind, type) and dataclasses.is_dataclass(kind)):
+            parameters.append(parameter.replace(annotation=kind))
+            continue
+        groups[parameter.name] = kind
+        fields = typing.get_type_hints(kind, include_extras=True)
+        parameters += [
+            inspect.Parameter(f.name, parameter.kind, default=f.default, annotation=fields[f.name])
+            for f in dataclasses.fields(kind)
+        ]
+
+    @functools.wraps(command)
+    def run(**options: Any) -> int:
+        for name, kind in groups.items():
+            names = [f.name for f in dataclasses.fields(kind)]
+            options[name] = kind(**{key: options.pop(key) for key in names})
+        return command(**options)
+
+    run.__signature__ = inspect.Signature(parameters, return_annotation=int)  # type: ignore[attr-defined]
+    run.__annotations__ = {p.name: p.annotation for p in parameters} | {"return": int}
+    return run

@@ -4,28 +4,22 @@ the ratio target)."""
 from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
     FigureFormat,
     FigureFormatOpt,
     Json,
-    Lfs,
     NoTight,
     Out,
-    RhoF,
-    Sigma,
+    QualityOptions,
 )
 
 
+@grouped
 def figure(
     out: Out = DEFAULT_OUT,
     figure_format: FigureFormatOpt = FigureFormat.png,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: NoTight = False,
     as_json: Json = False,
 ) -> int:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated
 
@@ -148,6 +149,39 @@ NoTight = Annotated[
         "--no-tight", metavar="", help="Skip the tight mode (its optimizations take time)."
     ),
 ]
+
+
+@dataclass(frozen=True)
+class SurfaceOptions:
+    """The surface as the command line gives it (one of sphere, torus, mesh; L for a mesh):
+    declared once here, a command takes it as one parameter (:func:`~vorobound.cli.command.
+    grouped` spells out its options) and :func:`surface_args` turns it into the API's."""
+
+    sphere: SphereOpt = None
+    torus: TorusOpt = None
+    mesh: MeshOpt = None
+    lfs: MeshLfsOpt = None
+    sizing: SizingOpt = None
+
+
+@dataclass(frozen=True)
+class QualityOptions:
+    """σ, δ/ε, L_i and ρ_f with the paper's defaults (the ε-free quality parameters)."""
+
+    sigma: Sigma = PAPER_SIGMA
+    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO
+    lfs: Lfs = 1.0
+    rho_f: RhoF = PAPER_RHO_F
+
+
+@dataclass(frozen=True)
+class BoundOptions(QualityOptions):
+    """The quality parameters and the question asked of a bound: mode, target, λ, method."""
+
+    mode: ModeOpt = Mode.tight
+    target: TargetOpt = Target.ratio
+    lipschitz: Lipschitz = None
+    method: TightMethodOpt = TightMethod.auto
 
 
 SURFACE_OPTIONS = "--sphere R, --torus R,r or --mesh FILE"

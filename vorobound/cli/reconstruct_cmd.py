@@ -9,7 +9,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..rounding import format_down
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
     DeltaRatio,
     EngineChoice,
@@ -17,18 +17,15 @@ from .options import (
     FigureFormat,
     FigureFormatOpt,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     Seed,
     Sigma,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
+    SurfaceOptions,
     parse_values,
 )
 from .render import fmt, print_footer, print_table
 
 
+@grouped
 def reconstruct(
     eps: Annotated[
         str | None,
@@ -40,11 +37,7 @@ def reconstruct(
             "ε·L.",
         ),
     ] = None,
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     balls: Annotated[
         Path | None,
         typer.Option(

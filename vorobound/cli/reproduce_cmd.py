@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_toward
-from .command import invoke
-from .options import DeltaRatio, Json, Lfs, NoTight, Out, RhoF, Sigma
+from .command import grouped, invoke
+from .options import Json, NoTight, Out, QualityOptions
 from .render import print_table
 
 
@@ -16,12 +15,10 @@ def _cell(value, rounding: str) -> str:
     return format_toward(value, rounding)
 
 
+@grouped
 def reproduce(
     out: Out = DEFAULT_OUT,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: NoTight = False,
     as_json: Json = False,
 ) -> int:

@@ -8,22 +8,19 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
     DeltaRatio,
     Eps,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     Seed,
     Sigma,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
+    SurfaceOptions,
 )
 from .render import fmt, print_table
 
 
+@grouped
 def sample(
     eps: Eps,
     output: Annotated[
@@ -35,11 +32,7 @@ def sample(
             help="Sample file to write: .npz, .vtu or .csv (x, y, z, r, L), from the suffix.",
         ),
     ],
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     seed: Seed = 0,

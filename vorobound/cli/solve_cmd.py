@@ -2,35 +2,19 @@
 
 from __future__ import annotations
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
+    BoundOptions,
     Json,
-    Lfs,
-    Lipschitz,
-    MethodChoice,
     ModeChoice,
-    ModeOpt,
-    RhoF,
-    Sigma,
-    TargetChoice,
-    TargetOpt,
-    TightMethodOpt,
 )
 from .render import fmt, print_footer, print_table
 
 
+@grouped
 def solve(
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
-    mode: ModeOpt = ModeChoice.tight,
-    target: TargetOpt = TargetChoice.ratio,
-    lipschitz: Lipschitz = None,
-    method: TightMethodOpt = MethodChoice.auto,
+    question: BoundOptions = BoundOptions(),
     as_json: Json = False,
 ) -> int:
     """The largest ε at which a bound meets a quality target, and how strong that is.
@@ -41,7 +25,7 @@ def solve(
     assumption from the VoroCrust literature; the output also says up to which ε H3 alone
     gives R ≤ ρ_f·δ·L_i (eq. (55)). Python: vorobound.solve(...).
     """
-    return invoke("solve", _show, locals(), bar=mode is ModeChoice.tight)
+    return invoke("solve", _show, locals(), bar=question.mode is ModeChoice.tight)
 
 
 def _show(result) -> None:

@@ -6,21 +6,18 @@ from typing import Annotated
 
 import typer
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
     Eps,
     Json,
-    Lfs,
     Lipschitz,
-    RhoF,
+    QualityOptions,
     Seed,
-    Sigma,
 )
 from .render import fmt, print_table
 
 
+@grouped
 def validate(
     eps: Eps,
     samples: Annotated[
@@ -31,10 +28,7 @@ def validate(
     ] = 20000,
     seed: Seed = 0,
     lipschitz: Lipschitz = None,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: Annotated[
         bool, typer.Option("--no-tight", metavar="", help="Do not compare with the tight supremum.")
     ] = False,
