@@ -6,12 +6,17 @@ import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..bounds.params import QualityParams, checked_modes, checked_targets
 from ..checks import checked_number
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
+
+if TYPE_CHECKING:
+    from ..reports.advisor import Advice
+    from ..sampling.surfaces.base import SurfaceCounts
 from .arguments import checked_arguments
 from .result import Result, params_json
 
@@ -33,9 +38,9 @@ class AdviseResult(Result):
     samples_high: float | None
     surface_name: str | None
     lfs_source: str | None
-    advice: object = field(repr=False)
+    advice: Advice = field(repr=False)
     """:class:`vorobound.reports.advisor.Advice`."""
-    surface: object = field(repr=False)
+    surface: SurfaceCounts | None = field(repr=False)
     quality: QualityParams = field(repr=False)
     modes: tuple[str, ...] = field(repr=False)
     targets: tuple[str, ...] = field(repr=False)

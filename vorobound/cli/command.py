@@ -67,7 +67,7 @@ def invoke(
     if isinstance(run, str):
         import vorobound
 
-        run = getattr(vorobound, run)
+        run = typing.cast(Callable[..., Any], getattr(vorobound, run))
     as_json = bool(options.get("as_json", False))
     kwargs = api_keywords(options, instead) | changes
     with progress_bar(bar and not as_json) as progress:

@@ -232,30 +232,6 @@ Seed = Annotated[
 ]
 
 
-def quality_params(
-    sigma: float,
-    delta_ratio: float,
-    rho_f: float,
-    lfs: float = 1.0,
-    lipschitz: float | None = None,
-    target: str = "ratio",
-):
-    """The validated ε-free parameters (InputError names the parameter and its range)."""
-    from ..bounds.params import QualityParams
-
-    return QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target)
-
-
-def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> dict:
-    """The parameters as JSON: σ, δ/ε, ρ_f (and L_i, and ε when given)."""
-    out = {} if eps is None else {"eps": eps}
-    out |= {"sigma": quality.sigma, "delta_ratio": quality.delta_ratio}
-    if include_lfs:
-        out["lfs"] = quality.lfs
-    out["rho_f"] = quality.rho_f
-    return out
-
-
 def parse_modes(text: str) -> list[str]:
     """``--mode`` as a comma list of paper, rigorous, tight (duplicates dropped, order kept)."""
     from ..bounds.params import checked_modes
