@@ -183,7 +183,7 @@ def advise(
     """
     from ..reports.advisor import advise as run
     from ..sampling.surfaces.base import planar_area
-    from .surfaces import count_surface
+    from .surfaces import Surface, count_surface
 
     if max_samples is not None:
         max_samples = checked_number(max_samples, "max_samples", 1.0, MAX_SAMPLES_LIMIT)
@@ -191,13 +191,7 @@ def advise(
     targets = tuple(t.value for t in checked_targets(target))
     quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz)
     surface, lfs_source = count_surface(
-        area=area,
-        lfs=lfs,
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        sizing=sizing,
-        progress=progress,
+        Surface(sphere, torus, mesh, lfs, sizing), area=area, progress=progress
     )
     if max_samples is not None and surface is None:
         raise InputError("--max-samples needs a surface (--sphere, --torus, --mesh or --area)")

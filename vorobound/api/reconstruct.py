@@ -230,7 +230,7 @@ def reconstruct(
     Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
     """
     from ..checks import SEED_MAX, checked_count, checked_seed
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     checked_outputs(out, figure_format)
     if vorocrust is not None:
@@ -260,15 +260,8 @@ def reconstruct(
         raise InputError(f"seed + repeats - 1 must be at most {SEED_MAX} (draw k has seed + k)")
     if values is not None and len(values) > 1 and not sampled:
         raise InputError("an eps sweep samples a surface: several eps go without balls/seeds")
-    shape = sample_shape(
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        lfs=lfs,
-        sizing=sizing,
-        required=sampled,
-        instead=("balls FILE", "seeds FILE"),
-        progress=progress,
+    shape = Surface(sphere, torus, mesh, lfs, sizing).shape(
+        required=sampled, instead=("balls FILE", "seeds FILE"), progress=progress
     )
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")

@@ -106,16 +106,14 @@ def sample(
     from ..checks import checked_seed
     from ..reports.sample import sample_report
     from ..sampling.io.balls import checked_output, write_balls
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     output = checked_output(output)
     seed = checked_seed(seed)
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
     start = time.perf_counter()
-    shape = sample_shape(
-        sphere=sphere, torus=torus, mesh=mesh, lfs=lfs, sizing=sizing, progress=progress
-    )
+    shape = Surface(sphere, torus, mesh, lfs, sizing).shape(progress=progress)
     try:
         report = sample_report(shape, params, seed, progress)
     except LatticeTooLarge as err:
