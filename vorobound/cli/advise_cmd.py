@@ -9,11 +9,13 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down
-from .command import invoke
+from .command import grouped, invoke
 from .options import (
+    CountedSurfaceOptions,
     DeltaRatio,
     Json,
     Lipschitz,
+    ModesOpt,
     RhoF,
     Sigma,
     TargetsOpt,
@@ -22,57 +24,28 @@ from .options import (
 )
 from .render import print_footer, print_table
 
+DECK = (
+    "With --mesh: write DIR/vc.in, DIR/sizing.csv and the part as OBJ, so that "
+    "`vc_mesh -vc vc.in` run in DIR samples at the recommended ε (radii ε·L/β, β = "
+    "VoroCrust's coverage factor; LIP_CONST, R_MAX, VC_ANGLE from L; docs/vorocrust.md "
+    "says what vc_mesh promises and what to check after)."
+)
+"""--vorocrust of advise: the deck for vc_mesh."""
 
+
+@grouped
 def advise(
     rho_f: RhoF = PAPER_RHO_F,
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     lipschitz: Lipschitz = None,
-    mode: Annotated[
-        str,
-        typer.Option(
-            "--mode", metavar="MODES", help="Comma list of modes: paper, rigorous, tight."
-        ),
-    ] = "rigorous,tight",
+    mode: ModesOpt = "rigorous,tight",
     target: TargetsOpt = "additive,ratio",
     area: Annotated[
         float | None, typer.Option("--area", metavar="AREA", help="Surface area (with --lfs).")
     ] = None,
-    lfs: Annotated[
-        float | None, typer.Option("--lfs", metavar="L", help="Constant local feature size L.")
-    ] = None,
-    sphere: Annotated[
-        float | None, typer.Option("--sphere", metavar="R", help="Sphere of radius R.")
-    ] = None,
-    torus: Annotated[
-        str | None, typer.Option("--torus", metavar="R,r", help="Ring torus, radii R > r.")
-    ] = None,
-    mesh: Annotated[
-        Path | None,
-        typer.Option(
-            "--mesh",
-            metavar="FILE",
-            help="Triangle mesh file (any format meshio reads). Without --lfs or --sizing its "
-            "local feature size is estimated (as by `vorobound lfs`), and the output says so.",
-        ),
-    ] = None,
-    sizing: Annotated[
-        Path | None,
-        typer.Option(
-            "--sizing", metavar="FILE", help="CSV with the local feature size per vertex."
-        ),
-    ] = None,
-    vorocrust: Annotated[
-        Path | None,
-        typer.Option(
-            "--vorocrust",
-            metavar="DIR",
-            help="With --mesh: write DIR/vc.in, DIR/sizing.csv and the part as OBJ, so that "
-            "`vc_mesh -vc vc.in` run in DIR samples at the recommended ε (radii ε·L/β, β = "
-            "VoroCrust's coverage factor; LIP_CONST, R_MAX, VC_ANGLE from L; docs/vorocrust.md "
-            "says what vc_mesh promises and what to check after).",
-        ),
-    ] = None,
+    surface: CountedSurfaceOptions = CountedSurfaceOptions(),
+    vorocrust: Annotated[Path | None, typer.Option("--vorocrust", metavar="DIR", help=DECK)] = None,
     max_samples: Annotated[
         float | None,
         typer.Option(

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
@@ -21,15 +20,9 @@ from .options import (
     RhoF,
     Seed,
     SurfaceOptions,
+    TableChoice,
 )
 from .render import fmt, print_table
-
-
-class TableChoice(str, Enum):
-    parquet = "parquet"
-    npz = "npz"
-    csv = "csv"
-    none = "none"
 
 
 @grouped

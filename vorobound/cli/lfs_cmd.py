@@ -12,6 +12,8 @@ from .command import invoke
 from .options import LAMBDA_HELP, Json, Seed
 from .render import fmt, print_footer, print_table
 
+MESH = "Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
+"""--mesh of lfs."""
 POSITIONAL_MESH_NOTE = (
     "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
     "use `vorobound lfs --mesh MESH`, as every command takes a mesh"
@@ -28,12 +30,7 @@ def lfs(
             "does).",
         ),
     ] = None,
-    mesh: Annotated[
-        Path | None,
-        typer.Option(
-            "--mesh", metavar="FILE", help="Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
-        ),
-    ] = None,
+    mesh: Annotated[Path | None, typer.Option("--mesh", metavar="FILE", help=MESH)] = None,
     output: Annotated[
         list[Path] | None,
         typer.Option(

@@ -51,6 +51,11 @@ def parse_targets(text: str) -> list[str]:
         raise InputError(f"--target: expected additive or ratio, got {text!r}") from None
 
 
+ModesOpt = Annotated[
+    str,
+    typer.Option("--mode", metavar="MODES", help="Comma list of modes: paper, rigorous, tight."),
+]
+
 TightMethodOpt = Annotated[
     MethodChoice,
     typer.Option(
@@ -162,6 +167,20 @@ class SurfaceOptions:
     mesh: MeshOpt = None
     lfs: MeshLfsOpt = None
     sizing: SizingOpt = None
+
+
+AreaLfsOpt = Annotated[
+    float | None,
+    typer.Option("--lfs", metavar="L", help="Constant local feature size L (of --area or --mesh)."),
+]
+
+
+@dataclass(frozen=True)
+class CountedSurfaceOptions(SurfaceOptions):
+    """The surface whose samples the advisor counts: as :class:`SurfaceOptions`, and ``lfs``
+    also goes with ``--area``."""
+
+    lfs: AreaLfsOpt = None
 
 
 @dataclass(frozen=True)

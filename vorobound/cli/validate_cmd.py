@@ -16,16 +16,14 @@ from .options import (
 )
 from .render import fmt, print_table
 
+SAMPLES = "Feasible configurations to draw (at most 2,000,000)."
+"""--samples of validate."""
+
 
 @grouped
 def validate(
     eps: Eps,
-    samples: Annotated[
-        int,
-        typer.Option(
-            "--samples", metavar="N", help="Feasible configurations to draw (at most 2,000,000)."
-        ),
-    ] = 20000,
+    samples: Annotated[int, typer.Option("--samples", metavar="N", help=SAMPLES)] = 20000,
     seed: Seed = 0,
     lipschitz: Lipschitz = None,
     quality: QualityOptions = QualityOptions(),
