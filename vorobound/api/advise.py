@@ -60,7 +60,9 @@ class AdviseResult(Result):
             return ""
         from ..reports.advisor import samplable_verdict
 
-        return samplable_verdict(self.advice.recommendation)
+        rec = self.advice.recommendation
+        assert rec is not None  # not ok: a recommendation the sampler cannot make
+        return samplable_verdict(rec)
 
     def payload(self) -> dict:
         from ..reports.advisor import GUARANTEE
@@ -116,7 +118,7 @@ class AdviseResult(Result):
             }
         h3 = self.advice.h3_route
         surface_info = None
-        if counted:
+        if surface is not None:
             surface_info = {
                 "name": surface.name,
                 "area": surface.area,
@@ -205,13 +207,13 @@ def advise(
         max_samples=max_samples,
     )
     rec = advice.recommendation
-    counted = surface is not None and rec is not None
+    counted = rec if surface is not None else None
     result = AdviseResult(
         eps=None if rec is None else rec.eps,
         claim=None if rec is None else rec.claim,
         ball_radius=None if rec is None else rec.ball_radius,
-        samples_low=rec.samples_low if counted else None,
-        samples_high=rec.samples_high if counted else None,
+        samples_low=None if counted is None else counted.samples_low,
+        samples_high=None if counted is None else counted.samples_high,
         surface_name=None if surface is None else surface.name,
         lfs_source=lfs_source,
         advice=advice,

@@ -4,15 +4,20 @@
 from __future__ import annotations
 
 import math
+import typing
 from dataclasses import dataclass, field
 
 from ..bounds.guarantee import BoundAt
-from ..bounds.params import Mode, SamplingParams, Target
+from ..bounds.params import Mode, SamplingParams, Target, checked_target
 from ..bounds.targets import H3_STATUS, STATEMENT
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import VoroboundError
 from .arguments import checked_arguments
 from .result import Result, params_json
+
+if typing.TYPE_CHECKING:
+    from ..bounds.chain import ChainBounds
+    from ..bounds.tight.method import TightBound
 
 UNBOUNDED = "no finite bound: the bound on (R - R^)/R is 1 or more, so R^ may be 0"
 
@@ -64,7 +69,7 @@ class BoundResult(Result):
             if math.isinf(self.value):
                 out["bound_note"] = UNBOUNDED
         if self.mode == Mode.tight.value:
-            tight = self.detail.detail
+            tight = typing.cast("TightBound", self.detail.detail)
             out["maximizer"] = tight.maximizer
             if tight.optimizer is not None:
                 out["infimum"] = tight.optimizer.infimum
@@ -74,7 +79,7 @@ class BoundResult(Result):
         else:
             out["quantities"] = {
                 name: {"equation": eq, "description": text, "value": float(value)}
-                for name, eq, text, value in self.detail.detail.rows()
+                for name, eq, text, value in typing.cast("ChainBounds", self.detail.detail).rows()
             }
         return out
 
@@ -110,7 +115,8 @@ def bound(
     from ..bounds.guarantee import bound_at
     from ..bounds.params import QualityParams
 
-    params = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target).at(eps)
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, checked_target(target))
+    params = quality.at(eps)
     result = bound_at(params, mode, method)
     if math.isnan(result.fraction):
         raise VoroboundError(

@@ -3,14 +3,22 @@
 from __future__ import annotations
 
 import os
+import typing
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-from ..bounds.params import QualityParams, Target
+from ..bounds.params import QualityParams, Target, checked_target
 from ..bounds.targets import H3_STATUS
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, params_json
+
+if TYPE_CHECKING:
+    from ..bounds.certify import Certification
+    from ..bounds.certify.certificate import CertificateReport
+    from ..bounds.independent import IndependentReport
+    from ..errors import NotCertified
 
 DEFAULT_FRACTION = 0.999
 
@@ -34,8 +42,8 @@ class CertifyResult(Result):
     """Empty when certified; else why not (a counterexample, or a limit of the search)."""
     certificate: str | None = None
     """Where the certificate was written (``output``), if anywhere."""
-    quality: QualityParams = field(repr=False, default=None)
-    detail: object = field(repr=False, default=None)
+    quality: QualityParams = field(repr=False, kw_only=True)
+    detail: Certification | NotCertified = field(repr=False, kw_only=True)
     """The bounds layer's CertifyResult, or the NotCertified failure."""
 
     @property
@@ -55,7 +63,7 @@ class CertifyResult(Result):
         }
         if not self.certified:
             return out | {"reason": self.reason} | _failure_payload(self.detail, self.target)
-        result = self.detail
+        result = typing.cast("Certification", self.detail)
         search = result.search
         return out | {
             "statement": result.certificate()["statement"],
@@ -134,7 +142,9 @@ def certify(
     from ..bounds.certify.interval import nearest_float
     from ..files import checked_destination
 
-    quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz, target=target)
+    quality = QualityParams(
+        sigma, delta_ratio, rho_f, lipschitz=lipschitz, target=checked_target(target)
+    )
     limits = search_limits(max_depth, max_boxes)
     if output is not None:
         checked_destination(output)
@@ -205,7 +215,7 @@ class CheckerVerdict:
     reason: str
     """Empty when valid; else why the checker rejects the certificate."""
     seconds: float
-    report: object = field(repr=False, default=None)
+    report: CertificateReport | IndependentReport | None = field(repr=False, default=None)
 
 
 @dataclass(frozen=True, repr=False)
@@ -228,8 +238,8 @@ class CertificateCheck(Result):
     reason: str = ""
     """Empty when valid; else the disagreement between the checkers."""
     checkers: tuple[CheckerVerdict, ...] = ()
-    report: object = field(repr=False, default=None)
-    versions: dict = field(repr=False, default=None)
+    report: CertificateReport | IndependentReport = field(repr=False, kw_only=True)
+    versions: dict = field(repr=False, default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -295,6 +305,7 @@ def check_certificate(path: str | os.PathLike, progress: Progress | None = None)
         raise CertificateError(f"{first.reason} (the {second.name} checker rejects it too)")
     reason = _disagreement(verdicts)
     report = accepted[0].report
+    assert report is not None  # an accepting checker has its report
     return CertificateCheck(
         valid=not reason,
         certificate=os.fspath(path),

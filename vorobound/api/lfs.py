@@ -6,10 +6,14 @@ import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, frame
+
+if TYPE_CHECKING:
+    from ..sampling.lfs.estimate import LfsEstimate
 
 
 @dataclass(frozen=True, repr=False)
@@ -26,14 +30,16 @@ class LfsResult(Result):
     lipschitz: float
     seconds: float
     written: tuple[str, ...] = field(repr=False, default=())
-    estimate: object = field(repr=False, default=None)
+    estimate: LfsEstimate = field(repr=False, kw_only=True)
     """:class:`vorobound.sampling.lfs.estimate.LfsEstimate` (``.lfs`` per vertex, ``.at(x)``)."""
     asked: dict = field(repr=False, default_factory=dict)
 
     def payload(self) -> dict:
         e = self.estimate
         report = e.mesh_report
-        thickness = e.sites.thickness
+        sites = e.sites
+        assert sites is not None  # an estimate always has its sites
+        thickness = sites.thickness
         finite = thickness[thickness == thickness]
         finite = finite[abs(finite) != float("inf")]
         return {
@@ -57,7 +63,7 @@ class LfsResult(Result):
             "feature_length": e.feature_length,
             "feature_inv_lfs": e.feature_inv_lfs,
             "rounds": e.rounds,
-            "face_sites": int((e.sites.kind == 1).sum()),
+            "face_sites": int((sites.kind == 1).sum()),
             "thickness_min": float(finite.min()) if len(finite) else None,
             "disagreement": e.disagreement,
             "max_dihedral": e.max_dihedral,

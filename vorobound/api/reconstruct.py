@@ -9,6 +9,7 @@ import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from numbers import Number
+from typing import TYPE_CHECKING, Any
 
 from ..bounds.params import QualityParams
 from ..checks import parse_values
@@ -17,6 +18,11 @@ from ..errors import InputError
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json
+
+if TYPE_CHECKING:
+    from ..reports.reconstruct import ReconstructReport
+    from ..reports.reconstruct_draws import ReconstructDraws
+    from ..reports.reconstruct_sweep import ReconstructSweep
 
 REPEATS_MAX = 10_000
 """Most draws per ε (``repeats``)."""
@@ -38,8 +44,7 @@ class ReconstructResult(Result):
     hausdorff_over_eps_lfs: float | None
     """Largest two-sided distance between M̂ and the surface over ε·L (None: no surface)."""
     normal_deviation_max_deg: float | None
-    report: object = field(repr=False)
-    """:class:`vorobound.reports.reconstruct.ReconstructReport`."""
+    report: ReconstructReport = field(repr=False)
     written: tuple[str, ...] = field(repr=False, default=())
     quality: QualityParams | None = field(repr=False, default=None)
     asked: dict = field(repr=False, default_factory=dict)
@@ -79,7 +84,7 @@ class ReconstructSweepResult(Result):
     all_correct: bool
     largest_correct_eps: float | None
     """The largest ε of the sweep at which M̂ had the surface's topology."""
-    sweep: object = field(repr=False)
+    sweep: ReconstructSweep = field(repr=False)
     """:class:`vorobound.reports.reconstruct_sweep.ReconstructSweep`."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
@@ -123,7 +128,7 @@ class ReconstructDrawsResult(Result):
     """The largest ε at which every draw gave the right M̂ (None: no such ε)."""
     smallest_none_correct_eps: float | None
     """The smallest ε at which no draw gave the right M̂ (None: no such ε)."""
-    draws: object = field(repr=False)
+    draws: ReconstructDraws = field(repr=False)
     """:class:`vorobound.reports.reconstruct_draws.ReconstructDraws`."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
@@ -163,7 +168,7 @@ class ReconstructDrawsResult(Result):
         )
 
 
-def _eps_values(eps) -> list[float] | None:
+def _eps_values(eps) -> list[Any] | None:
     if eps is None:
         return None
     if isinstance(eps, str):

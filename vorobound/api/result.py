@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 REPR_LIMIT = 200
 """Longest repr of a result, in characters."""
@@ -40,7 +40,7 @@ def jsonable(value):
     return value
 
 
-def params_json(quality=None, eps: float | None = None, **asked) -> dict:
+def params_json(quality=None, eps: float | Sequence[float] | None = None, **asked) -> dict:
     """The ``params`` object: ε (if given), the quality parameters (σ, δ/ε, ρ_f, L_i, λ, target)
     and whatever else the command was asked (mode, ...), in one order for every command."""
     out = {} if eps is None else {"eps": eps}
@@ -101,7 +101,7 @@ class Result:
 
     def __repr__(self) -> str:
         parts = []
-        for field in dataclasses.fields(self):
+        for field in dataclasses.fields(self):  # type: ignore[arg-type]  # subclasses are
             if field.name.startswith("_") or not field.repr:
                 continue
             value = getattr(self, field.name)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..bounds.eps_star import EpsStar
-from ..bounds.params import Mode, QualityParams, Target
+from ..bounds.params import Mode, QualityParams, Target, checked_target
 from ..bounds.targets import H3_STATUS, STATEMENT, H3Route
 from ..constants import BASELINE_EPS, PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
@@ -110,7 +110,7 @@ def solve(
     from ..bounds.guarantee import eps_star
     from ..bounds.targets import h3_route
 
-    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target)
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, checked_target(target))
     star = eps_star(quality, mode, method, progress)
     h3 = h3_route(quality)
     return SolveResult(

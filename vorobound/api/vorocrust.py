@@ -120,7 +120,7 @@ def check_run(
     warn_off_surface(realization.measured, target_balls, source)
     target = "ratio"
     check_eps, check_quality = realization.eps, realization.quality
-    if check_quality is None:
+    if check_quality is None or check_eps is None:
         raise _not_realized(realization, source)
     proven = realization.rho_f_ratio
     check_rho = proven if proven is not None and proven > 1 else rho_f
@@ -248,7 +248,7 @@ def sizing_rows(shape, lam: float, seed: int = 0):
     return points, np.maximum(values - lam * reach, 0.5 * values)
 
 
-def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> dict:
+def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> tuple[dict, dict]:
     """The files of a VoroCrust run directory that samples the part at the advised ε: the
     part as OBJ, ``sizing.csv`` (r = ε·L/β at the mesh's vertices and face centroids) and
     ``vc.in``; returns the writers by path and what was chosen (docs/vorocrust.md)."""

@@ -33,6 +33,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 
@@ -173,9 +174,10 @@ class ScaledConfiguration:
 class ConstraintParams:
     """What the constraint set depends on: ε, σ and the optional Lipschitz constant λ."""
 
-    eps: object
-    sigma: float
-    lipschitz: float | None = None
+    eps: Any
+    """A float, an array or an interval (the checkers evaluate the constraints in each)."""
+    sigma: Any
+    lipschitz: Any = None
 
 
 Sides = Callable[[ScaledConfiguration, ConstraintParams, ModuleType], tuple]
