@@ -45,6 +45,19 @@ class BoundResult(Result):
     def meets_target(self) -> bool:
         return self.fraction_of_target <= 1
 
+    premise = H3_STATUS
+    """What every bound rests on (property H3)."""
+
+    @property
+    def tight(self) -> TightBound:
+        """Mode tight: the supremum, its maximizer and the optimizer's evidence."""
+        return typing.cast("TightBound", self.detail.detail)
+
+    @property
+    def chain(self) -> ChainBounds:
+        """Modes paper and rigorous: every quantity of the chain (33)–(53)."""
+        return typing.cast("ChainBounds", self.detail.detail)
+
     @property
     def share_bound(self) -> float:
         """Ratio target: the bound on (R − R̂)/R (the target allows 1 − 1/ρ_f)."""
@@ -62,14 +75,14 @@ class BoundResult(Result):
             "limit": self.limit,
             "fraction_of_target": self.fraction_of_target,
             "meets_target": self.meets_target,
-            "premise": H3_STATUS,
+            "premise": self.premise,
         }
         if self.target == Target.ratio.value:
             out["share_bound"] = self.share_bound
             if math.isinf(self.value):
                 out["bound_note"] = UNBOUNDED
         if self.mode == Mode.tight.value:
-            tight = typing.cast("TightBound", self.detail.detail)
+            tight = self.tight
             out["maximizer"] = tight.maximizer
             if tight.optimizer is not None:
                 out["infimum"] = tight.optimizer.infimum
@@ -79,7 +92,7 @@ class BoundResult(Result):
         else:
             out["quantities"] = {
                 name: {"equation": eq, "description": text, "value": float(value)}
-                for name, eq, text, value in typing.cast("ChainBounds", self.detail.detail).rows()
+                for name, eq, text, value in self.chain.rows()
             }
         return out
 

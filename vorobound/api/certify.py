@@ -54,6 +54,21 @@ class CertifyResult(Result):
     def verdict(self) -> str:
         return f"not certified: {self.reason}"
 
+    premise = H3_STATUS
+    """What the certificate rests on (property H3)."""
+
+    @property
+    def certification(self) -> Certification:
+        """The search that certified (only when ``certified``)."""
+        if not self.certified:
+            raise AttributeError("not certified: no certification")
+        return typing.cast("Certification", self.detail)
+
+    @property
+    def statement(self) -> str:
+        """What the certificate proves (certified results only)."""
+        return self.certification.certificate()["statement"]
+
     def payload(self) -> dict:
         out = {
             "params": params_json(self.quality, eps=self.eps_max, mode="tight"),
@@ -63,10 +78,10 @@ class CertifyResult(Result):
         }
         if not self.certified:
             return out | {"reason": self.reason} | _failure_payload(self.detail, self.target)
-        result = typing.cast("Certification", self.detail)
+        result = self.certification
         search = result.search
         return out | {
-            "statement": result.certificate()["statement"],
+            "statement": self.statement,
             "eps_certified": self.eps_certified,
             "eps_star_tight": self.eps_star_tight,
             "eps_star_tight_status": result.request.eps_star_status,
@@ -75,7 +90,7 @@ class CertifyResult(Result):
             "max_depth": search.max_depth,
             "seconds": search.seconds,
             "certificate": self.certificate,
-            "premise": H3_STATUS,
+            "premise": self.premise,
         }
 
 

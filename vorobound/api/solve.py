@@ -37,23 +37,39 @@ class SolveResult(Result):
     def quality(self) -> QualityParams:
         return self.detail.quality
 
+    @property
+    def target_statement(self) -> str:
+        return STATEMENT[Target(self.target)]
+
+    @property
+    def eps_star_over_baseline(self) -> float:
+        return self.eps_star / BASELINE_EPS
+
+    @property
+    def ball_radius(self) -> float:
+        """δ·L_i at ε*."""
+        return self.detail.params.delta * self.quality.lfs
+
+    premise = H3_STATUS
+    """What every answer rests on (property H3)."""
+
     def payload(self) -> dict:
         star = self.detail
         out = {
             "params": params_json(self.quality, mode=self.mode),
             "mode": self.mode,
             "target": self.target,
-            "target_statement": STATEMENT[Target(self.target)],
+            "target_statement": self.target_statement,
             "eps_star": self.eps_star,
             "claim": self.claim,
             "method": self.method,
             "proven_lower_bound": self.proven_lower_bound,
-            "eps_star_over_baseline": self.eps_star / BASELINE_EPS,
-            "ball_radius": star.params.delta * self.quality.lfs,
+            "eps_star_over_baseline": self.eps_star_over_baseline,
+            "ball_radius": self.ball_radius,
             "residual": star.residual,
             "iterations": star.iterations,
             "bracket": list(star.bracket),
-            "premise": H3_STATUS,
+            "premise": self.premise,
             "h3_route": {
                 "eps_star": self.h3.eps_star,
                 "claim": self.h3.claim,

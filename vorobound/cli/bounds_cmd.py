@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..rounding import format_up
 from .command import grouped, invoke
 from .options import (
@@ -11,6 +13,9 @@ from .options import (
     ModeChoice,
     TargetChoice,
 )
+
+if TYPE_CHECKING:
+    from ..api.bound import BoundResult
 from .render import fmt, print_footer, print_table
 
 
@@ -32,19 +37,18 @@ def bounds(
     )
 
 
-def _show(result) -> None:
+def _show(result: BoundResult) -> None:
     from ..api.bound import UNBOUNDED
 
-    data = result.to_dict()
     ratio = result.target == TargetChoice.ratio.value
     quantity = "R/R̂" if ratio else "R − R̂"
     limit = "ρ_f" if ratio else "(ρ_f − 1)·δ·L_i"
     if result.mode == ModeChoice.tight.value:
-        _show_tight(result, data, quantity)
+        _show_tight(result, quantity)
     else:
         rows = [
-            (name, q["equation"], format_up(q["value"], 10), q["description"])
-            for name, q in data["quantities"].items()
+            (name, equation, format_up(float(value), 10), text)
+            for name, equation, text, value in result.chain.rows()
         ]
         print_table(
             f"Chain (33)–(53), mode {result.mode} ({result.claim}), ε = {result.eps:g}",
@@ -79,11 +83,11 @@ def _show(result) -> None:
                 "fails at this ε, only that this chain cannot prove it (mode tight gives the "
                 "supremum)"
             )
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"premise: {result.premise}")
 
 
-def _show_tight(result, data: dict, quantity: str) -> None:
-    tight = result.detail.detail
+def _show_tight(result: BoundResult, quantity: str) -> None:
+    tight = result.tight
     rows = [
         (f"sup {quantity} (tight bound)", format_up(result.value, 10)),
         ("method, claim", f"{result.method}, {result.claim}"),

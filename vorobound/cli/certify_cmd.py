@@ -101,16 +101,16 @@ def _show(result) -> None:
     if not result.certified:
         _show_failure(result)
         return
-    data = result.to_dict()
-    q = result.quality
+    q, search = result.quality, result.certification.search
+    status = result.certification.request.eps_star_status
     rows = [
-        ("target", data["statement"].split(": ", 1)[-1].split(", with R^")[0]),
+        ("target", result.statement.split(": ", 1)[-1].split(", with R^")[0]),
         ("certified: every ε ≤", format_down(result.eps_certified, 12)),
-        ("tight ε*", f"{format_down(result.eps_star_tight, 12)} ({data['eps_star_tight_status']})"),
+        ("tight ε*", f"{format_down(result.eps_star_tight, 12)} ({status})"),
         ("certified / tight", fmt(result.ratio, 8)),
-        ("boxes", str(data["boxes"])),
-        ("deepest bisection", str(data["max_depth"])),
-        ("seconds", fmt(data["seconds"], 3)),
+        ("boxes", str(search.boxes)),
+        ("deepest bisection", str(search.max_depth)),
+        ("seconds", fmt(search.seconds, 3)),
         (
             "certificate",
             "not written (use -o FILE)" if result.certificate is None else result.certificate,
@@ -123,7 +123,7 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"premise: {result.premise}")
 
 
 def _show_check(checked) -> None:

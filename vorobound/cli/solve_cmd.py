@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..rounding import format_down
 from .command import grouped, invoke
 from .options import (
@@ -9,6 +11,9 @@ from .options import (
     Json,
     ModeChoice,
 )
+
+if TYPE_CHECKING:
+    from ..api.solve import SolveResult
 from .render import fmt, print_footer, print_table
 
 
@@ -28,9 +33,8 @@ def solve(
     return invoke("solve", _show, locals(), bar=question.mode is ModeChoice.tight)
 
 
-def _show(result) -> None:
-    data = result.to_dict()
-    q = result.quality
+def _show(result: SolveResult) -> None:
+    star, q = result.detail, result.quality
     rows = [
         ("ε*", format_down(result.eps_star, 12)),
         ("claim", result.claim),
@@ -41,11 +45,11 @@ def _show(result) -> None:
             ("proven lower bound on ε* (closed form)", format_down(result.proven_lower_bound, 12))
         )
     rows += [
-        ("ε* / (1/500)", format_down(data["eps_star_over_baseline"], 6)),
-        ("ball radius δ·L_i at ε*", format_down(data["ball_radius"], 10)),
-        ("relative residual", fmt(data["residual"], 3)),
-        ("root-finder iterations", str(data["iterations"])),
-        ("bracket", f"[{fmt(data['bracket'][0])}, {fmt(data['bracket'][1])}]"),
+        ("ε* / (1/500)", format_down(result.eps_star_over_baseline, 6)),
+        ("ball radius δ·L_i at ε*", format_down(result.ball_radius, 10)),
+        ("relative residual", fmt(star.residual, 3)),
+        ("root-finder iterations", str(star.iterations)),
+        ("bracket", f"[{fmt(star.bracket[0])}, {fmt(star.bracket[1])}]"),
         ("H3 alone gives (55) up to ε", f"{format_down(result.h3_eps_star, 6)} (given H3)"),
     ]
     lam = "" if q.lipschitz is None else f", λ = {q.lipschitz:g}"
@@ -55,5 +59,5 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print_footer(f"target: {data['target_statement']}")
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"target: {result.target_statement}")
+    print_footer(f"premise: {result.premise}")
