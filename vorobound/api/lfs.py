@@ -34,14 +34,26 @@ class LfsResult(Result):
     """:class:`vorobound.sampling.lfs.estimate.LfsEstimate` (``.lfs`` per vertex, ``.at(x)``)."""
     asked: dict = field(repr=False, default_factory=dict)
 
-    def payload(self) -> dict:
-        e = self.estimate
-        report = e.mesh_report
-        sites = e.sites
+    @property
+    def face_sites(self) -> int:
+        """Sites inside the faces at which L was evaluated."""
+        sites = self.estimate.sites
         assert sites is not None  # an estimate always has its sites
+        return int((sites.kind == 1).sum())
+
+    @property
+    def thickness_min(self) -> float | None:
+        """The thinnest part of the mesh along the normals (None where nothing is finite)."""
+        sites = self.estimate.sites
+        assert sites is not None
         thickness = sites.thickness
         finite = thickness[thickness == thickness]
         finite = finite[abs(finite) != float("inf")]
+        return float(finite.min()) if len(finite) else None
+
+    def payload(self) -> dict:
+        e = self.estimate
+        report = e.mesh_report
         return {
             "params": {"mesh": self.mesh} | self.asked,
             "mesh": self.mesh,
@@ -63,8 +75,8 @@ class LfsResult(Result):
             "feature_length": e.feature_length,
             "feature_inv_lfs": e.feature_inv_lfs,
             "rounds": e.rounds,
-            "face_sites": int((sites.kind == 1).sum()),
-            "thickness_min": float(finite.min()) if len(finite) else None,
+            "face_sites": self.face_sites,
+            "thickness_min": self.thickness_min,
             "disagreement": e.disagreement,
             "max_dihedral": e.max_dihedral,
             "boundary_edges": report.boundary_edges,

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from .command import invoke
 from .options import LAMBDA_HELP, Json, Seed
+
+if TYPE_CHECKING:
+    from ..api.lfs import LfsResult
 from .render import fmt, print_footer, print_table
 
 MESH = "Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
@@ -98,32 +101,29 @@ def lfs(
     return code
 
 
-def _show(result) -> None:
+def _show(result: LfsResult) -> None:
     estimate = result.estimate
-    payload = result.to_dict()
     rows = [
-        ("vertices / triangles", f"{payload['vertices']:,} / {payload['triangles']:,}"),
+        ("vertices / triangles", f"{result.vertices:,} / {result.triangles:,}"),
         (
             "pole sample (curved patches)",
             f"{estimate.sample_count:,} ({estimate.added_samples:,} fitted edge midpoints)",
         ),
-        ("medial-axis points (poles)", f"{payload['medial_points']:,}"),
-        (
-            "face sites / refinement rounds",
-            f"{payload['face_sites']:,} / {payload['rounds']}",
-        ),
+        ("medial-axis points (poles)", f"{len(estimate.medial_points):,}"),
+        ("face sites / refinement rounds", f"{result.face_sites:,} / {estimate.rounds}"),
         (
             "smooth patches / feature edges / corners",
-            f"{estimate.patches:,} / {estimate.feature_edges:,} / {payload['feature_corners']:,}",
+            f"{estimate.patches:,} / {estimate.feature_edges:,} / "
+            f"{len(estimate.feature_corners):,}",
         ),
-        ("thinnest part (along normals)", fmt(payload["thickness_min"], 6)),
+        ("thinnest part (along normals)", fmt(result.thickness_min, 6)),
         ("estimates A vs B", _disagreement(estimate.disagreement)),
         (
             "L min / median / max",
-            " / ".join(fmt(payload[k], 6) for k in ("lfs_min", "lfs_median", "lfs_max")),
+            " / ".join(fmt(v, 6) for v in (result.lfs_min, result.lfs_median, result.lfs_max)),
         ),
         ("Lipschitz constant", fmt(estimate.lipschitz)),
-        (f"sharp edges (> {estimate.sharp_angle:g}°)", f"{payload['sharp_edges']:,}"),
+        (f"sharp edges (> {estimate.sharp_angle:g}°)", f"{len(estimate.sharp_edges):,}"),
         ("largest dihedral angle", f"{estimate.max_dihedral:.1f}°"),
         ("time", f"{result.seconds:.2f} s"),
     ]
