@@ -246,13 +246,8 @@ def guarantee_json(guarantee) -> dict | None:
     """What an ε guarantees (:class:`vorobound.bounds.guarantee_at.GuaranteeAt`) as JSON."""
     if guarantee is None:
         return None
-    return {
-        "eps": guarantee.eps,
-        "rho_f_ratio": guarantee.rho_f_ratio,
-        "rho_f_additive": guarantee.rho_f_additive,
-        "additive_fraction": guarantee.additive_fraction,
-        "rho_f_55": guarantee.rho_f_55,
-        "rho_f_h3": guarantee.rho_f_h3,
+    names = ("eps", "rho_f_ratio", "rho_f_additive", "additive_fraction", "rho_f_55", "rho_f_h3")
+    return {n: getattr(guarantee, n) for n in names} | {
         "claim": "proven",
         "status": guarantee.status,
     }
@@ -262,13 +257,12 @@ def cost_json(cost) -> dict | None:
     """The sampler's estimated cost (:class:`vorobound.sampling.sampler.cost.SamplerCost`)."""
     if cost is None:
         return None
-    return {
-        "lattice_candidates": cost.candidates,
-        "memory_bytes": cost.memory_bytes,
-        "cpu_seconds": cost.cpu_seconds,
-        "samplable": cost.samplable,
-        "claim": "numerical",
-    }
+    names = ("memory_bytes", "cpu_seconds", "samplable")
+    return (
+        {"lattice_candidates": cost.candidates}
+        | {n: getattr(cost, n) for n in names}
+        | {"claim": "numerical"}
+    )
 
 
 def fallback_json(fallback, counted: bool) -> dict | None:
