@@ -435,28 +435,43 @@ def _sweep(
 
 
 def _write_sweep(result: ReconstructSweepResult, out, figure_format: str):
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_reconstruct_sweep
-    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM, sweep_writers
+    from ..files import ensure_folder
+    from ..plotting import plot_reconstruct_sweep
+    from ..reports.reconstruct_sweep import sweep_writers
 
     sweep = result.sweep
     folder = ensure_folder(out)
-    writers = sweep_writers(sweep, folder)
     rows = sweep.rows
     panels = {
         "Hausdorff / (εL)": [r.hausdorff for r in rows],
         "max normal dev. (°)": [r.normal_deviation_max for r in rows],
         "min angle (°)": [r.min_angle_min for r in rows],
     }
-    marks = [(m.label, m.target, m.eps_star) for m in sweep.marks]
     figure = plot_reconstruct_sweep(
         [r.eps for r in rows],
         panels,
         [r.ok for r in rows],
-        marks,
+        _marks(sweep.marks),
         f"M̂ of {sweep.source}",
     )
-    writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
+    return _written(result, folder, sweep_writers(sweep, folder), figure, figure_format)
+
+
+def _marks(marks) -> list[tuple]:
+    """Every bound's ε* as the figures mark it: (label, target, ε*)."""
+    return [(m.label, m.target, m.eps_star) for m in marks]
+
+
+def _written(result, folder, writers: dict, figure, figure_format: str):
+    """``result`` with its files (the rows, the figure if any, summary.json) written as one
+    set."""
+    from ..files import write_set
+    from ..plotting import figure_writer
+    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM
+
+    if figure is not None:
+        stem = folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"
+        writers[stem] = figure_writer(figure, figure_format)
     result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
     _summary_writer(writers, folder, result)
     write_set(writers)
@@ -488,15 +503,14 @@ def _draws(
 
 
 def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_reconstruct_draws
+    from ..files import ensure_folder
+    from ..plotting import plot_reconstruct_draws
     from ..reports.reconstruct_draws import draws_writers
-    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM
 
     draws = result.draws
     folder = ensure_folder(out)
-    writers = draws_writers(draws, folder)
     rows = draws.rows
+    figure = None
     if len(rows) > 1:
         spreads = {
             "Hausdorff / (εL)": [r.hausdorff for r in rows],
@@ -507,13 +521,7 @@ def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
             [r.share_correct for r in rows],
             {label: ([s.median for s in v], [s.max for s in v]) for label, v in spreads.items()},
             (draws.largest_all_correct_eps, draws.smallest_none_correct_eps),
-            [(m.label, m.target, m.eps_star) for m in draws.marks],
+            _marks(draws.marks),
             f"M̂ of {draws.source}, {draws.repeats} draws per ε",
         )
-        writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(
-            figure, figure_format
-        )
-    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
-    _summary_writer(writers, folder, result)
-    write_set(writers)
-    return result
+    return _written(result, folder, draws_writers(draws, folder), figure, figure_format)
