@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -22,6 +22,9 @@ from .options import (
     parse_modes,
     parse_targets,
 )
+
+if TYPE_CHECKING:
+    from ..api.advise import AdviseResult
 from .render import print_footer, print_table
 
 DECK = (
@@ -84,25 +87,24 @@ def _show(result) -> None:
             print(f"wrote {path}")
 
 
-def _show_advice(result) -> None:
+def _show_advice(result: AdviseResult) -> None:
     from ..reports.advisor import GUARANTEE, guarantee_words, versus_baseline
 
-    data = result.to_dict()
-    entries, surface, h3 = data["modes"], result.surface, result.advice.h3_route
+    entries, surface, h3 = result.advice.rows, result.surface, result.advice.h3_route
     rec = result.advice.recommendation
     title = "Sampling advice" + (f" for {surface.name}" if surface else " (lengths per unit L)")
     table = [
         (
-            e["mode"],
-            e["target"],
-            format_down(e["eps_star"]),
-            e["claim"],
-            format_down(e["ball_radius"]),
-            format_down(e["min_spacing"]),
+            e.mode,
+            e.target,
+            format_down(e.eps_star),
+            e.claim,
+            format_down(e.ball_radius),
+            format_down(e.min_spacing),
             "—"
-            if e["samples_low"] is None
-            else f"{e['samples_low']:,.0f} – {e['samples_high']:,.0f}",
-            versus_baseline(e["reduction_vs_1_500"]),
+            if surface is None or e.samples_low is None
+            else f"{e.samples_low:,.0f} – {e.samples_high:,.0f}",
+            versus_baseline(e.reduction_vs_1_500),
         )
         for e in entries
     ]
@@ -123,8 +125,8 @@ def _show_advice(result) -> None:
     )
     _budget_table(result)
     for e in entries:
-        if e["note"]:
-            print_footer(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
+        if e.note:
+            print_footer(f"no ε* for {e.mode}, target {e.target}: {e.note}")
     if rec is None:
         print("recommended ε: none (no target asked for has a proven or certified ε*)")
     else:
