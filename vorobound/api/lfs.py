@@ -134,9 +134,9 @@ def lfs(
         paths = [output]
     else:
         paths = list(output)
-    outputs = [checked_lfs_output(path) for path in paths]
+    outputs = [checked_lfs_output(os.fspath(path)) for path in paths]
     start = time.perf_counter()
-    triangle_mesh = read_triangle_mesh(mesh)
+    triangle_mesh = read_triangle_mesh(os.fspath(mesh))
     options = {} if samples is None else {"samples": samples}
     estimate = estimate_lfs(
         triangle_mesh,

@@ -108,7 +108,7 @@ def sample(
     from ..sampling.io.balls import checked_output, write_balls
     from .surfaces import Surface
 
-    output = checked_output(output)
+    output = checked_output(os.fspath(output))
     seed = checked_seed(seed)
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
