@@ -17,12 +17,19 @@ class NoAdmissibleEps(VoroboundError):
     """No sampling density ε keeps the bound within the quality target.
 
     Sweeps turn this one error into an empty ε* cell (with the reason beside it); every other
-    error stops the sweep.
+    error stops the sweep. This family is the one representation of "no ε*": the batch solver's
+    status codes name these classes (:data:`vorobound.bounds.eps_star.NO_EPS_STAR`) and an
+    empty cell's note is the class's :attr:`reason`.
     """
+
+    reason = "bound exceeds the target at the smallest eps with guide triangles"
+    """Why there is no ε*, in a few words (each subclass says its own)."""
 
 
 class NoCrossing(NoAdmissibleEps):
     """The bound stays below the target wherever it is defined: no root, so no ε*."""
+
+    reason = "bound never reaches the target where it is defined"
 
 
 class NotCertified(VoroboundError):
@@ -38,6 +45,8 @@ class NotCertified(VoroboundError):
 class EmptyConstraintSet(NoAdmissibleEps):
     """No guide triangle satisfies the constraint set (33)–(36) with H3 at this ε:
     σ(1 − ε) > √3. Every bound holds there vacuously, so nothing can be bounded or measured."""
+
+    reason = "no feasible guide triangle at any supported eps"
 
 
 class LatticeTooLarge(InputError):

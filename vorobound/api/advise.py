@@ -6,12 +6,17 @@ import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..bounds.params import QualityParams, checked_modes, checked_targets
 from ..checks import checked_number
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
+
+if TYPE_CHECKING:
+    from ..reports.advisor import Advice
+    from ..sampling.surfaces.base import SurfaceCounts
 from .arguments import checked_arguments
 from .result import Result, params_json
 
@@ -33,9 +38,9 @@ class AdviseResult(Result):
     samples_high: float | None
     surface_name: str | None
     lfs_source: str | None
-    advice: object = field(repr=False)
+    advice: Advice = field(repr=False)
     """:class:`vorobound.reports.advisor.Advice`."""
-    surface: object = field(repr=False)
+    surface: SurfaceCounts | None = field(repr=False)
     quality: QualityParams = field(repr=False)
     modes: tuple[str, ...] = field(repr=False)
     targets: tuple[str, ...] = field(repr=False)
@@ -55,7 +60,9 @@ class AdviseResult(Result):
             return ""
         from ..reports.advisor import samplable_verdict
 
-        return samplable_verdict(self.advice.recommendation)
+        rec = self.advice.recommendation
+        assert rec is not None  # not ok: a recommendation the sampler cannot make
+        return samplable_verdict(rec)
 
     def payload(self) -> dict:
         from ..reports.advisor import GUARANTEE
@@ -111,7 +118,7 @@ class AdviseResult(Result):
             }
         h3 = self.advice.h3_route
         surface_info = None
-        if counted:
+        if surface is not None:
             surface_info = {
                 "name": surface.name,
                 "area": surface.area,
@@ -178,7 +185,7 @@ def advise(
     """
     from ..reports.advisor import advise as run
     from ..sampling.surfaces.base import planar_area
-    from .surfaces import count_surface
+    from .surfaces import Surface, count_surface
 
     if max_samples is not None:
         max_samples = checked_number(max_samples, "max_samples", 1.0, MAX_SAMPLES_LIMIT)
@@ -186,13 +193,7 @@ def advise(
     targets = tuple(t.value for t in checked_targets(target))
     quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz)
     surface, lfs_source = count_surface(
-        area=area,
-        lfs=lfs,
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        sizing=sizing,
-        progress=progress,
+        Surface(sphere, torus, mesh, lfs, sizing), area=area, progress=progress
     )
     if max_samples is not None and surface is None:
         raise InputError("--max-samples needs a surface (--sphere, --torus, --mesh or --area)")
@@ -206,13 +207,13 @@ def advise(
         max_samples=max_samples,
     )
     rec = advice.recommendation
-    counted = surface is not None and rec is not None
+    counted = rec if surface is not None else None
     result = AdviseResult(
         eps=None if rec is None else rec.eps,
         claim=None if rec is None else rec.claim,
         ball_radius=None if rec is None else rec.ball_radius,
-        samples_low=rec.samples_low if counted else None,
-        samples_high=rec.samples_high if counted else None,
+        samples_low=None if counted is None else counted.samples_low,
+        samples_high=None if counted is None else counted.samples_high,
         surface_name=None if surface is None else surface.name,
         lfs_source=lfs_source,
         advice=advice,
@@ -245,13 +246,8 @@ def guarantee_json(guarantee) -> dict | None:
     """What an ε guarantees (:class:`vorobound.bounds.guarantee_at.GuaranteeAt`) as JSON."""
     if guarantee is None:
         return None
-    return {
-        "eps": guarantee.eps,
-        "rho_f_ratio": guarantee.rho_f_ratio,
-        "rho_f_additive": guarantee.rho_f_additive,
-        "additive_fraction": guarantee.additive_fraction,
-        "rho_f_55": guarantee.rho_f_55,
-        "rho_f_h3": guarantee.rho_f_h3,
+    names = ("eps", "rho_f_ratio", "rho_f_additive", "additive_fraction", "rho_f_55", "rho_f_h3")
+    return {n: getattr(guarantee, n) for n in names} | {
         "claim": "proven",
         "status": guarantee.status,
     }
@@ -261,13 +257,12 @@ def cost_json(cost) -> dict | None:
     """The sampler's estimated cost (:class:`vorobound.sampling.sampler.cost.SamplerCost`)."""
     if cost is None:
         return None
-    return {
-        "lattice_candidates": cost.candidates,
-        "memory_bytes": cost.memory_bytes,
-        "cpu_seconds": cost.cpu_seconds,
-        "samplable": cost.samplable,
-        "claim": "numerical",
-    }
+    names = ("memory_bytes", "cpu_seconds", "samplable")
+    return (
+        {"lattice_candidates": cost.candidates}
+        | {n: getattr(cost, n) for n in names}
+        | {"claim": "numerical"}
+    )
 
 
 def fallback_json(fallback, counted: bool) -> dict | None:

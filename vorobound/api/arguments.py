@@ -14,6 +14,8 @@ from __future__ import annotations
 import functools
 import inspect
 import os
+from collections.abc import Callable
+from typing import Any
 
 
 def _is_bool(value) -> bool:
@@ -26,7 +28,7 @@ def _is_path(value) -> bool:
     return isinstance(value, str | os.PathLike) and os.fspath(value) not in ("", b"")
 
 
-_ATOMS = {
+_ATOMS: dict[str, Callable[[Any], bool]] = {
     "None": lambda v: v is None,
     "bool": _is_bool,
     "os.PathLike": _is_path,

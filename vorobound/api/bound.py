@@ -4,15 +4,20 @@
 from __future__ import annotations
 
 import math
+import typing
 from dataclasses import dataclass, field
 
 from ..bounds.guarantee import BoundAt
-from ..bounds.params import Mode, SamplingParams, Target
+from ..bounds.params import Mode, SamplingParams, Target, checked_target
 from ..bounds.targets import H3_STATUS, STATEMENT
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import VoroboundError
 from .arguments import checked_arguments
 from .result import Result, params_json
+
+if typing.TYPE_CHECKING:
+    from ..bounds.chain import ChainBounds
+    from ..bounds.tight.method import TightBound
 
 UNBOUNDED = "no finite bound: the bound on (R - R^)/R is 1 or more, so R^ may be 0"
 
@@ -40,6 +45,19 @@ class BoundResult(Result):
     def meets_target(self) -> bool:
         return self.fraction_of_target <= 1
 
+    premise = H3_STATUS
+    """What every bound rests on (property H3)."""
+
+    @property
+    def tight(self) -> TightBound:
+        """Mode tight: the supremum, its maximizer and the optimizer's evidence."""
+        return typing.cast("TightBound", self.detail.detail)
+
+    @property
+    def chain(self) -> ChainBounds:
+        """Modes paper and rigorous: every quantity of the chain (33)–(53)."""
+        return typing.cast("ChainBounds", self.detail.detail)
+
     @property
     def share_bound(self) -> float:
         """Ratio target: the bound on (R − R̂)/R (the target allows 1 − 1/ρ_f)."""
@@ -57,14 +75,14 @@ class BoundResult(Result):
             "limit": self.limit,
             "fraction_of_target": self.fraction_of_target,
             "meets_target": self.meets_target,
-            "premise": H3_STATUS,
+            "premise": self.premise,
         }
         if self.target == Target.ratio.value:
             out["share_bound"] = self.share_bound
             if math.isinf(self.value):
                 out["bound_note"] = UNBOUNDED
         if self.mode == Mode.tight.value:
-            tight = self.detail.detail
+            tight = self.tight
             out["maximizer"] = tight.maximizer
             if tight.optimizer is not None:
                 out["infimum"] = tight.optimizer.infimum
@@ -74,7 +92,7 @@ class BoundResult(Result):
         else:
             out["quantities"] = {
                 name: {"equation": eq, "description": text, "value": float(value)}
-                for name, eq, text, value in self.detail.detail.rows()
+                for name, eq, text, value in self.chain.rows()
             }
         return out
 
@@ -110,7 +128,8 @@ def bound(
     from ..bounds.guarantee import bound_at
     from ..bounds.params import QualityParams
 
-    params = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target).at(eps)
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, checked_target(target))
+    params = quality.at(eps)
     result = bound_at(params, mode, method)
     if math.isnan(result.fraction):
         raise VoroboundError(

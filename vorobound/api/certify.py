@@ -3,14 +3,22 @@
 from __future__ import annotations
 
 import os
+import typing
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-from ..bounds.params import QualityParams, Target
+from ..bounds.params import QualityParams, Target, checked_target
 from ..bounds.targets import H3_STATUS
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, params_json
+
+if TYPE_CHECKING:
+    from ..bounds.certify import Certification
+    from ..bounds.certify.certificate import CertificateReport
+    from ..bounds.independent import IndependentReport
+    from ..errors import NotCertified
 
 DEFAULT_FRACTION = 0.999
 
@@ -34,8 +42,8 @@ class CertifyResult(Result):
     """Empty when certified; else why not (a counterexample, or a limit of the search)."""
     certificate: str | None = None
     """Where the certificate was written (``output``), if anywhere."""
-    quality: QualityParams = field(repr=False, default=None)
-    detail: object = field(repr=False, default=None)
+    quality: QualityParams = field(repr=False, kw_only=True)
+    detail: Certification | NotCertified = field(repr=False, kw_only=True)
     """The bounds layer's CertifyResult, or the NotCertified failure."""
 
     @property
@@ -46,6 +54,21 @@ class CertifyResult(Result):
     def verdict(self) -> str:
         return f"not certified: {self.reason}"
 
+    premise = H3_STATUS
+    """What the certificate rests on (property H3)."""
+
+    @property
+    def certification(self) -> Certification:
+        """The search that certified (only when ``certified``)."""
+        if not self.certified:
+            raise AttributeError("not certified: no certification")
+        return typing.cast("Certification", self.detail)
+
+    @property
+    def statement(self) -> str:
+        """What the certificate proves (certified results only)."""
+        return self.certification.certificate()["statement"]
+
     def payload(self) -> dict:
         out = {
             "params": params_json(self.quality, eps=self.eps_max, mode="tight"),
@@ -55,10 +78,10 @@ class CertifyResult(Result):
         }
         if not self.certified:
             return out | {"reason": self.reason} | _failure_payload(self.detail, self.target)
-        result = self.detail
+        result = self.certification
         search = result.search
         return out | {
-            "statement": result.certificate()["statement"],
+            "statement": self.statement,
             "eps_certified": self.eps_certified,
             "eps_star_tight": self.eps_star_tight,
             "eps_star_tight_status": result.request.eps_star_status,
@@ -67,7 +90,7 @@ class CertifyResult(Result):
             "max_depth": search.max_depth,
             "seconds": search.seconds,
             "certificate": self.certificate,
-            "premise": H3_STATUS,
+            "premise": self.premise,
         }
 
 
@@ -134,7 +157,9 @@ def certify(
     from ..bounds.certify.interval import nearest_float
     from ..files import checked_destination
 
-    quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz, target=target)
+    quality = QualityParams(
+        sigma, delta_ratio, rho_f, lipschitz=lipschitz, target=checked_target(target)
+    )
     limits = search_limits(max_depth, max_boxes)
     if output is not None:
         checked_destination(output)
@@ -205,7 +230,7 @@ class CheckerVerdict:
     reason: str
     """Empty when valid; else why the checker rejects the certificate."""
     seconds: float
-    report: object = field(repr=False, default=None)
+    report: CertificateReport | IndependentReport | None = field(repr=False, default=None)
 
 
 @dataclass(frozen=True, repr=False)
@@ -228,8 +253,8 @@ class CertificateCheck(Result):
     reason: str = ""
     """Empty when valid; else the disagreement between the checkers."""
     checkers: tuple[CheckerVerdict, ...] = ()
-    report: object = field(repr=False, default=None)
-    versions: dict = field(repr=False, default=None)
+    report: CertificateReport | IndependentReport = field(repr=False, kw_only=True)
+    versions: dict = field(repr=False, default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -295,6 +320,7 @@ def check_certificate(path: str | os.PathLike, progress: Progress | None = None)
         raise CertificateError(f"{first.reason} (the {second.name} checker rejects it too)")
     reason = _disagreement(verdicts)
     report = accepted[0].report
+    assert report is not None  # an accepting checker has its report
     return CertificateCheck(
         valid=not reason,
         certificate=os.fspath(path),

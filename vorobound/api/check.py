@@ -193,7 +193,7 @@ def check(
     from ..checks import checked_lipschitz, checked_seed
     from ..errors import InputError
     from ..reports.check import check_balls, check_surface
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     if vorocrust is not None or (eps is None and balls is not None):
         if workers is not None or scheduler is not None or table is not None:
@@ -239,7 +239,7 @@ def check(
         if mesh is not None:
             from ..reports.check import sharp_features
 
-            shape = sample_shape(mesh=mesh, lfs=lfs, sizing=sizing, progress=progress)
+            shape = Surface(mesh=mesh, lfs=lfs, sizing=sizing).shape(progress=progress)
             features = sharp_features(shape)
         elif lfs is not None or sizing is not None:
             raise InputError("lfs and sizing describe a mesh: use them with mesh")
@@ -256,15 +256,8 @@ def check(
             progress,
             features,
         )
-    shape = sample_shape(
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        lfs=lfs,
-        sizing=sizing,
-        required=balls is None,
-        instead=("balls FILE",),
-        progress=progress,
+    shape = Surface(sphere, torus, mesh, lfs, sizing).shape(
+        required=balls is None, instead=("balls FILE",), progress=progress
     )
     if balls is not None:
         from ..reports.vorocrust import off_surface, warn_off_surface

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result
+
+if TYPE_CHECKING:
+    from ..studies.cheng import ChengResult
 
 
 @dataclass(frozen=True, repr=False)
@@ -21,7 +25,7 @@ class ChengOutcome(Result):
     c_conjectured: float
     numeric_sup: float
     """The numerical supremum of R/R̂ (inf: unbounded, for tetrahedra)."""
-    result: object = field(repr=False)
+    result: ChengResult = field(repr=False)
     seed: int = field(repr=False, default=0)
 
     @property

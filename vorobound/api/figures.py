@@ -25,7 +25,7 @@ def target_stars(quality: QualityParams, tight: bool = True, progress=None) -> l
     from ..errors import NoAdmissibleEps
     from ..reports.figure_data import TIGHT_SETTINGS
 
-    asked = [(mode, None) for mode in ("paper", "rigorous")]
+    asked: list[tuple[str, float | None]] = [(mode, None) for mode in ("paper", "rigorous")]
     asked += [("tight", lam) for lam in TIGHT_SETTINGS] if tight else []
     stars = []
     for mode, lam in asked:

@@ -6,10 +6,14 @@ import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, frame
+
+if TYPE_CHECKING:
+    from ..sampling.lfs.estimate import LfsEstimate
 
 
 @dataclass(frozen=True, repr=False)
@@ -26,16 +30,30 @@ class LfsResult(Result):
     lipschitz: float
     seconds: float
     written: tuple[str, ...] = field(repr=False, default=())
-    estimate: object = field(repr=False, default=None)
+    estimate: LfsEstimate = field(repr=False, kw_only=True)
     """:class:`vorobound.sampling.lfs.estimate.LfsEstimate` (``.lfs`` per vertex, ``.at(x)``)."""
     asked: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def face_sites(self) -> int:
+        """Sites inside the faces at which L was evaluated."""
+        sites = self.estimate.sites
+        assert sites is not None  # an estimate always has its sites
+        return int((sites.kind == 1).sum())
+
+    @property
+    def thickness_min(self) -> float | None:
+        """The thinnest part of the mesh along the normals (None where nothing is finite)."""
+        sites = self.estimate.sites
+        assert sites is not None
+        thickness = sites.thickness
+        finite = thickness[thickness == thickness]
+        finite = finite[abs(finite) != float("inf")]
+        return float(finite.min()) if len(finite) else None
 
     def payload(self) -> dict:
         e = self.estimate
         report = e.mesh_report
-        thickness = e.sites.thickness
-        finite = thickness[thickness == thickness]
-        finite = finite[abs(finite) != float("inf")]
         return {
             "params": {"mesh": self.mesh} | self.asked,
             "mesh": self.mesh,
@@ -57,8 +75,8 @@ class LfsResult(Result):
             "feature_length": e.feature_length,
             "feature_inv_lfs": e.feature_inv_lfs,
             "rounds": e.rounds,
-            "face_sites": int((e.sites.kind == 1).sum()),
-            "thickness_min": float(finite.min()) if len(finite) else None,
+            "face_sites": self.face_sites,
+            "thickness_min": self.thickness_min,
             "disagreement": e.disagreement,
             "max_dihedral": e.max_dihedral,
             "boundary_edges": report.boundary_edges,
@@ -116,9 +134,9 @@ def lfs(
         paths = [output]
     else:
         paths = list(output)
-    outputs = [checked_lfs_output(path) for path in paths]
+    outputs = [checked_lfs_output(os.fspath(path)) for path in paths]
     start = time.perf_counter()
-    triangle_mesh = read_triangle_mesh(mesh)
+    triangle_mesh = read_triangle_mesh(os.fspath(mesh))
     options = {} if samples is None else {"samples": samples}
     estimate = estimate_lfs(
         triangle_mesh,

@@ -9,6 +9,7 @@ import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from numbers import Number
+from typing import TYPE_CHECKING, Any
 
 from ..bounds.params import QualityParams
 from ..checks import parse_values
@@ -17,6 +18,11 @@ from ..errors import InputError
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json
+
+if TYPE_CHECKING:
+    from ..reports.reconstruct import ReconstructReport
+    from ..reports.reconstruct_draws import ReconstructDraws
+    from ..reports.reconstruct_sweep import ReconstructSweep
 
 REPEATS_MAX = 10_000
 """Most draws per ε (``repeats``)."""
@@ -38,8 +44,7 @@ class ReconstructResult(Result):
     hausdorff_over_eps_lfs: float | None
     """Largest two-sided distance between M̂ and the surface over ε·L (None: no surface)."""
     normal_deviation_max_deg: float | None
-    report: object = field(repr=False)
-    """:class:`vorobound.reports.reconstruct.ReconstructReport`."""
+    report: ReconstructReport = field(repr=False)
     written: tuple[str, ...] = field(repr=False, default=())
     quality: QualityParams | None = field(repr=False, default=None)
     asked: dict = field(repr=False, default_factory=dict)
@@ -79,7 +84,7 @@ class ReconstructSweepResult(Result):
     all_correct: bool
     largest_correct_eps: float | None
     """The largest ε of the sweep at which M̂ had the surface's topology."""
-    sweep: object = field(repr=False)
+    sweep: ReconstructSweep = field(repr=False)
     """:class:`vorobound.reports.reconstruct_sweep.ReconstructSweep`."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
@@ -123,7 +128,7 @@ class ReconstructDrawsResult(Result):
     """The largest ε at which every draw gave the right M̂ (None: no such ε)."""
     smallest_none_correct_eps: float | None
     """The smallest ε at which no draw gave the right M̂ (None: no such ε)."""
-    draws: object = field(repr=False)
+    draws: ReconstructDraws = field(repr=False)
     """:class:`vorobound.reports.reconstruct_draws.ReconstructDraws`."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
@@ -163,7 +168,7 @@ class ReconstructDrawsResult(Result):
         )
 
 
-def _eps_values(eps) -> list[float] | None:
+def _eps_values(eps) -> list[Any] | None:
     if eps is None:
         return None
     if isinstance(eps, str):
@@ -230,7 +235,7 @@ def reconstruct(
     Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
     """
     from ..checks import SEED_MAX, checked_count, checked_seed
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     checked_outputs(out, figure_format)
     if vorocrust is not None:
@@ -260,15 +265,8 @@ def reconstruct(
         raise InputError(f"seed + repeats - 1 must be at most {SEED_MAX} (draw k has seed + k)")
     if values is not None and len(values) > 1 and not sampled:
         raise InputError("an eps sweep samples a surface: several eps go without balls/seeds")
-    shape = sample_shape(
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        lfs=lfs,
-        sizing=sizing,
-        required=sampled,
-        instead=("balls FILE", "seeds FILE"),
-        progress=progress,
+    shape = Surface(sphere, torus, mesh, lfs, sizing).shape(
+        required=sampled, instead=("balls FILE", "seeds FILE"), progress=progress
     )
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")
@@ -437,28 +435,43 @@ def _sweep(
 
 
 def _write_sweep(result: ReconstructSweepResult, out, figure_format: str):
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_reconstruct_sweep
-    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM, sweep_writers
+    from ..files import ensure_folder
+    from ..plotting import plot_reconstruct_sweep
+    from ..reports.reconstruct_sweep import sweep_writers
 
     sweep = result.sweep
     folder = ensure_folder(out)
-    writers = sweep_writers(sweep, folder)
     rows = sweep.rows
     panels = {
         "Hausdorff / (εL)": [r.hausdorff for r in rows],
         "max normal dev. (°)": [r.normal_deviation_max for r in rows],
         "min angle (°)": [r.min_angle_min for r in rows],
     }
-    marks = [(m.label, m.target, m.eps_star) for m in sweep.marks]
     figure = plot_reconstruct_sweep(
         [r.eps for r in rows],
         panels,
         [r.ok for r in rows],
-        marks,
+        _marks(sweep.marks),
         f"M̂ of {sweep.source}",
     )
-    writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
+    return _written(result, folder, sweep_writers(sweep, folder), figure, figure_format)
+
+
+def _marks(marks) -> list[tuple]:
+    """Every bound's ε* as the figures mark it: (label, target, ε*)."""
+    return [(m.label, m.target, m.eps_star) for m in marks]
+
+
+def _written(result, folder, writers: dict, figure, figure_format: str):
+    """``result`` with its files (the rows, the figure if any, summary.json) written as one
+    set."""
+    from ..files import write_set
+    from ..plotting import figure_writer
+    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM
+
+    if figure is not None:
+        stem = folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"
+        writers[stem] = figure_writer(figure, figure_format)
     result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
     _summary_writer(writers, folder, result)
     write_set(writers)
@@ -490,15 +503,14 @@ def _draws(
 
 
 def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_reconstruct_draws
+    from ..files import ensure_folder
+    from ..plotting import plot_reconstruct_draws
     from ..reports.reconstruct_draws import draws_writers
-    from ..reports.reconstruct_sweep import SWEEP_FIGURE_STEM
 
     draws = result.draws
     folder = ensure_folder(out)
-    writers = draws_writers(draws, folder)
     rows = draws.rows
+    figure = None
     if len(rows) > 1:
         spreads = {
             "Hausdorff / (εL)": [r.hausdorff for r in rows],
@@ -509,13 +521,7 @@ def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
             [r.share_correct for r in rows],
             {label: ([s.median for s in v], [s.max for s in v]) for label, v in spreads.items()},
             (draws.largest_all_correct_eps, draws.smallest_none_correct_eps),
-            [(m.label, m.target, m.eps_star) for m in draws.marks],
+            _marks(draws.marks),
             f"M̂ of {draws.source}, {draws.repeats} draws per ε",
         )
-        writers[folder / f"{SWEEP_FIGURE_STEM}.{figure_format}"] = figure_writer(
-            figure, figure_format
-        )
-    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
-    _summary_writer(writers, folder, result)
-    write_set(writers)
-    return result
+    return _written(result, folder, draws_writers(draws, folder), figure, figure_format)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 REPR_LIMIT = 200
 """Longest repr of a result, in characters."""
@@ -40,7 +40,7 @@ def jsonable(value):
     return value
 
 
-def params_json(quality=None, eps: float | None = None, **asked) -> dict:
+def params_json(quality=None, eps: float | Sequence[float] | None = None, **asked) -> dict:
     """The ``params`` object: ε (if given), the quality parameters (σ, δ/ε, ρ_f, L_i, λ, target)
     and whatever else the command was asked (mode, ...), in one order for every command."""
     out = {} if eps is None else {"eps": eps}
@@ -101,7 +101,7 @@ class Result:
 
     def __repr__(self) -> str:
         parts = []
-        for field in dataclasses.fields(self):
+        for field in dataclasses.fields(self):  # type: ignore[arg-type]  # subclasses are
             if field.name.startswith("_") or not field.repr:
                 continue
             value = getattr(self, field.name)
@@ -120,8 +120,25 @@ def _short(value) -> str:
     return text if len(text) <= 40 else text[:37] + "...'"
 
 
-FIGURE_FORMATS = ("png", "pdf", "svg")
-"""File formats of the figures (``figure_format``)."""
+class FigureFormat(str, enum.Enum):
+    """File formats of the figures (``figure_format``)."""
+
+    png = "png"
+    pdf = "pdf"
+    svg = "svg"
+
+
+FIGURE_FORMATS = tuple(f.value for f in FigureFormat)
+"""File formats of the figures (``figure_format``), by name."""
+
+
+class TableFormat(str, enum.Enum):
+    """How a check's output folder holds the per-triangle rows (``table``)."""
+
+    parquet = "parquet"
+    npz = "npz"
+    csv = "csv"
+    none = "none"
 
 
 def checked_outputs(out, figure_format: str) -> None:

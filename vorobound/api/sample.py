@@ -6,6 +6,7 @@ import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
@@ -13,6 +14,9 @@ from ..errors import InputError, LatticeTooLarge
 from ..progress import Progress
 from .arguments import checked_arguments
 from .result import Result, params_json, sample_lfs
+
+if TYPE_CHECKING:
+    from ..reports.sample import SampleReport
 
 
 @dataclass(frozen=True, repr=False)
@@ -36,7 +40,7 @@ class SampleResult(Result):
     reach_ratio: float = field(repr=False)
     coverage_probes: int = field(repr=False)
     quality: QualityParams = field(repr=False)
-    report: object = field(repr=False)
+    report: SampleReport = field(repr=False)
     """:class:`vorobound.reports.sample.SampleReport`."""
 
     @property
@@ -102,16 +106,14 @@ def sample(
     from ..checks import checked_seed
     from ..reports.sample import sample_report
     from ..sampling.io.balls import checked_output, write_balls
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
-    output = checked_output(output)
+    output = checked_output(os.fspath(output))
     seed = checked_seed(seed)
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
     start = time.perf_counter()
-    shape = sample_shape(
-        sphere=sphere, torus=torus, mesh=mesh, lfs=lfs, sizing=sizing, progress=progress
-    )
+    shape = Surface(sphere, torus, mesh, lfs, sizing).shape(progress=progress)
     try:
         report = sample_report(shape, params, seed, progress)
     except LatticeTooLarge as err:

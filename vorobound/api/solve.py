@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..bounds.eps_star import EpsStar
-from ..bounds.params import Mode, QualityParams, Target
+from ..bounds.params import Mode, QualityParams, Target, checked_target
 from ..bounds.targets import H3_STATUS, STATEMENT, H3Route
 from ..constants import BASELINE_EPS, PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
@@ -37,23 +37,39 @@ class SolveResult(Result):
     def quality(self) -> QualityParams:
         return self.detail.quality
 
+    @property
+    def target_statement(self) -> str:
+        return STATEMENT[Target(self.target)]
+
+    @property
+    def eps_star_over_baseline(self) -> float:
+        return self.eps_star / BASELINE_EPS
+
+    @property
+    def ball_radius(self) -> float:
+        """δ·L_i at ε*."""
+        return self.detail.params.delta * self.quality.lfs
+
+    premise = H3_STATUS
+    """What every answer rests on (property H3)."""
+
     def payload(self) -> dict:
         star = self.detail
         out = {
             "params": params_json(self.quality, mode=self.mode),
             "mode": self.mode,
             "target": self.target,
-            "target_statement": STATEMENT[Target(self.target)],
+            "target_statement": self.target_statement,
             "eps_star": self.eps_star,
             "claim": self.claim,
             "method": self.method,
             "proven_lower_bound": self.proven_lower_bound,
-            "eps_star_over_baseline": self.eps_star / BASELINE_EPS,
-            "ball_radius": star.params.delta * self.quality.lfs,
+            "eps_star_over_baseline": self.eps_star_over_baseline,
+            "ball_radius": self.ball_radius,
             "residual": star.residual,
             "iterations": star.iterations,
             "bracket": list(star.bracket),
-            "premise": H3_STATUS,
+            "premise": self.premise,
             "h3_route": {
                 "eps_star": self.h3.eps_star,
                 "claim": self.h3.claim,
@@ -110,7 +126,7 @@ def solve(
     from ..bounds.guarantee import eps_star
     from ..bounds.targets import h3_route
 
-    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target)
+    quality = QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, checked_target(target))
     star = eps_star(quality, mode, method, progress)
     h3 = h3_route(quality)
     return SolveResult(

@@ -5,8 +5,10 @@ or ``sizing`` (a per-vertex file), and for the advisor ``area`` with ``lfs``.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 from ..checks import LFS_RANGE, checked_length, checked_number
 from ..errors import InputError
@@ -47,16 +49,29 @@ def _one_surface(**given) -> None:
         raise InputError("give one surface: " + ", ".join(given) + f" (got {', '.join(named)})")
 
 
+@dataclass(frozen=True)
+class Surface:
+    """The surface a command is asked about, as every command and API function takes it: one
+    of ``sphere``, ``torus``, ``mesh``, with ``lfs`` or ``sizing`` for a mesh (the advisor also
+    takes ``lfs`` with an area). Checked where it is turned into a shape."""
+
+    sphere: float | None = None
+    torus: Sequence[float] | str | None = None
+    mesh: str | os.PathLike | None = None
+    lfs: float | None = None
+    sizing: str | os.PathLike | None = None
+
+    def shape(self, *, required: bool = True, instead: tuple[str, ...] = (), progress=None):
+        """This surface as a shape (:func:`sample_shape`)."""
+        return sample_shape(self, required=required, instead=instead, progress=progress)
+
+
+SURFACE_FIELDS = tuple(f.name for f in dataclasses.fields(Surface))
+"""sphere, torus, mesh, lfs, sizing: the surface keywords every command takes."""
+
+
 def sample_shape(
-    *,
-    sphere: float | None = None,
-    torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
-    lfs: float | None = None,
-    sizing: str | os.PathLike | None = None,
-    required: bool = True,
-    instead: tuple[str, ...] = (),
-    progress=None,
+    surface: Surface, *, required: bool = True, instead: tuple[str, ...] = (), progress=None
 ):
     """The surface to sample or measure against (None if none is given and none is
     required): a sphere, a torus, or a mesh with L constant (``lfs``), per vertex
@@ -64,6 +79,7 @@ def sample_shape(
     in :mod:`vorobound.sampling.surfaces.base`. ``instead`` names the inputs that may replace a
     surface, for the message when none is given. ``torus`` may name its axis, (R, r, "y"),
     where the surface only measures (not ``required``, the sampling commands' case)."""
+    sphere, torus, mesh, lfs, sizing = (getattr(surface, k) for k in SURFACE_FIELDS)
     from ..sampling.surfaces.analytic import SphereShape, TorusShape
 
     _one_surface(sphere=sphere, torus=torus, mesh=mesh)
@@ -124,20 +140,16 @@ ESTIMATED = (
 
 
 def count_surface(
-    *,
-    area: float | None = None,
-    lfs: float | None = None,
-    sphere: float | None = None,
-    torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
-    sizing: str | os.PathLike | None = None,
-    progress=None,
+    surface: Surface | None = None, *, area: float | None = None, progress=None, **fields
 ):
-    """The advisor's view of the surface, its :class:`~vorobound.sampling.surfaces.base.
-    SurfaceCounts` (area and ∫ dA/L²), and where its L comes from ("exact", "given", "sizing
-    file", "estimated ..."); (None, None) when no surface is given."""
+    """The advisor's view of the surface (a :class:`Surface`, or its ``fields`` as keywords),
+    its :class:`~vorobound.sampling.surfaces.base.SurfaceCounts` (area and ∫ dA/L²), and where
+    its L comes from ("exact", "given", "sizing file", "estimated ..."); (None, None) when no
+    surface is given."""
     from ..sampling.surfaces.base import planar_area
 
+    surface = Surface(**fields) if surface is None else surface
+    sphere, torus, mesh, lfs, sizing = (getattr(surface, k) for k in SURFACE_FIELDS)
     _one_surface(area=area, sphere=sphere, torus=torus, mesh=mesh)
     if sizing is not None and mesh is None:
         raise InputError("sizing goes with mesh")
@@ -148,15 +160,7 @@ def count_surface(
         return counts, "given (lfs)"
     if lfs is not None and mesh is None:
         raise InputError("lfs describes a surface: use it with area or mesh")
-    shape = sample_shape(
-        sphere=sphere,
-        torus=torus,
-        mesh=mesh,
-        lfs=lfs,
-        sizing=sizing,
-        required=False,
-        progress=progress,
-    )
+    shape = surface.shape(required=False, progress=progress)
     if shape is None:
         return None, None
     if mesh is None:

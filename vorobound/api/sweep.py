@@ -16,6 +16,7 @@ from numbers import Number
 
 from ..bounds.params import checked_modes, checked_targets
 from ..checks import parse_values
+from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
 from ..reports.sweep import MAX_GRID_ROWS, SweepRow, SweepSpec
@@ -41,18 +42,10 @@ def _axis(value, name: str, allow_none: bool = False) -> tuple:
 
 
 def sweep_spec(
-    *,
-    eps=None,
-    sigma=0.75,
-    rho_f=1.38,
-    delta_ratio=2.0,
-    lipschitz=None,
-    mode="rigorous,tight",
-    target="additive,ratio",
-    lfs: float = 1.0,
-    method: str = "auto",
+    *, eps, sigma, rho_f, delta_ratio, lipschitz, mode, target, lfs, method
 ) -> SweepSpec:
-    """The validated axes of a sweep (each argument a value or a sequence of values)."""
+    """The validated axes of a sweep (each argument a value or a sequence of values; the
+    keywords and defaults are :func:`sweep`'s)."""
     return SweepSpec(
         sigma=_axis(sigma, "sigma"),
         rho_f=_axis(rho_f, "rho_f"),
@@ -150,9 +143,9 @@ def write_sweep(rows: Iterable[SweepRow], spec: SweepSpec, handle, fmt: str) -> 
 def sweep(
     *,
     eps=None,
-    sigma=0.75,
-    rho_f=1.38,
-    delta_ratio=2.0,
+    sigma=PAPER_SIGMA,
+    rho_f=PAPER_RHO_F,
+    delta_ratio=PAPER_DELTA_RATIO,
     lipschitz=None,
     mode="rigorous,tight",
     target="additive,ratio",

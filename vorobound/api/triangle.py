@@ -166,7 +166,7 @@ def triangle(
         radius_gap_unshifted=as_float(result.radius_gap_unshifted),
         paper_literal=float(result.paper_literal),
         k=float(result.k),
-        edges=tuple(float(x) for x in result.edges),
+        edges=_triple(result.edges),
         sin_theta=float(result.sin_theta),
         min_weight_vertex=int(result.min_weight_vertex),
         assumption1_holds=bool(result.assumption1_holds),
@@ -176,6 +176,12 @@ def triangle(
         orthocenter=None
         if result.orthocenter is None
         else tuple(float(x) for x in result.orthocenter),
-        weights=tuple(w),
+        weights=_triple(w),
         points=None if coords is None else tuple(tuple(c) for c in coords),
     )
+
+
+def _triple(values) -> tuple[float, float, float]:
+    """Three numbers as a tuple of plain floats."""
+    a, b, c = (float(x) for x in values)
+    return a, b, c

@@ -15,13 +15,13 @@ SMOOTH = "surface"
 
 def run_shape(run, surface: dict, progress):
     """The surface to measure a run against: the one given, else the run's input mesh."""
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     if any(surface.get(k) is not None for k in ("sphere", "torus", "mesh")):
-        return sample_shape(**surface, required=False, progress=progress)
+        return Surface(**surface).shape(required=False, progress=progress)
     if surface.get("lfs") is not None or surface.get("sizing") is not None:
-        return sample_shape(mesh=run.mesh, **_mesh_l(surface), progress=progress)
-    return sample_shape(mesh=run.mesh, progress=progress)
+        return Surface(mesh=run.mesh, **_mesh_l(surface)).shape(progress=progress)
+    return Surface(mesh=run.mesh).shape(progress=progress)
 
 
 def _mesh_l(surface: dict) -> dict:
@@ -85,9 +85,9 @@ def check_run(
         }
     else:
         from ..sampling.io.balls import read_balls
-        from .surfaces import sample_shape
+        from .surfaces import Surface
 
-        shape = sample_shape(**surface, required=False, progress=progress)
+        shape = Surface(**surface).shape(required=False, progress=progress)
         target_balls = read_balls(balls)
         source = os.path.basename(os.fspath(balls))
         strata = {"balls": len(target_balls)}
@@ -120,7 +120,7 @@ def check_run(
     warn_off_surface(realization.measured, target_balls, source)
     target = "ratio"
     check_eps, check_quality = realization.eps, realization.quality
-    if check_quality is None:
+    if check_quality is None or check_eps is None:
         raise _not_realized(realization, source)
     proven = realization.rho_f_ratio
     check_rho = proven if proven is not None and proven > 1 else rho_f
@@ -248,7 +248,7 @@ def sizing_rows(shape, lam: float, seed: int = 0):
     return points, np.maximum(values - lam * reach, 0.5 * values)
 
 
-def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> dict:
+def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> tuple[dict, dict]:
     """The files of a VoroCrust run directory that samples the part at the advised ε: the
     part as OBJ, ``sizing.csv`` (r = ε·L/β at the mesh's vertices and face centroids) and
     ``vc.in``; returns the writers by path and what was chosen (docs/vorocrust.md)."""
@@ -257,14 +257,14 @@ def deck_files(advice, *, mesh, lfs, sizing, lipschitz, vorocrust, progress) -> 
     from ..files import ensure_folder
     from ..sampling.io.vorocrust import deck_text, obj_writer, sizing_writer
     from ..sampling.lfs.estimate import SHARP_ANGLE
-    from .surfaces import sample_shape
+    from .surfaces import Surface
 
     if mesh is None:
         raise InputError("vorocrust writes a deck for a part: give mesh too")
     if advice.eps is None:
         raise InputError("no proven or certified eps to hand to vc_mesh (see the table)")
     folder = ensure_folder(vorocrust)
-    shape = sample_shape(mesh=mesh, lfs=lfs, sizing=sizing, required=False, progress=progress)
+    shape = Surface(mesh=mesh, lfs=lfs, sizing=sizing).shape(required=False, progress=progress)
     beta = math.sqrt(1 - VC_COVERAGE_RATIO**2)
     eps = advice.eps
     lam = 1.0 if lipschitz is None else float(lipschitz)

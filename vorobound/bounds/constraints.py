@@ -33,6 +33,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 
@@ -152,19 +153,19 @@ class ScaledConfiguration:
     of the angle θ at p_i. Fields may be numpy arrays, floats or intervals.
     """
 
-    edge_b: object
+    edge_b: Any
     """b/(εL_i), b = |p_i p_k|, eq. (8)."""
-    edge_c: object
+    edge_c: Any
     """c/(εL_i), c = |p_i p_j|, eq. (9)."""
-    edge_a: object
+    edge_a: Any
     """a/(εL_i), a = |p_j p_k|, eq. (7)."""
-    sin_theta: object
+    sin_theta: Any
     """sin θ, θ the angle at p_i, eq. (10)."""
-    excess_j: object
+    excess_j: Any
     """(L_j/L_i − 1)/ε."""
-    excess_k: object
+    excess_k: Any
     """(L_k/L_i − 1)/ε."""
-    excess_resolution: object = 0.0
+    excess_resolution: Any = 0.0
     """Rounding error of ``excess_*`` when they were computed from absolute L values (L − L_i
     cancels when ε is small); numeric feasibility tests allow it on the L conditions."""
 
@@ -173,9 +174,10 @@ class ScaledConfiguration:
 class ConstraintParams:
     """What the constraint set depends on: ε, σ and the optional Lipschitz constant λ."""
 
-    eps: object
-    sigma: float
-    lipschitz: float | None = None
+    eps: Any
+    """A float, an array or an interval (the checkers evaluate the constraints in each)."""
+    sigma: Any
+    lipschitz: Any = None
 
 
 Sides = Callable[[ScaledConfiguration, ConstraintParams, ModuleType], tuple]

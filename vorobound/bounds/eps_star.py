@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import EPS_RANGE
-from ..errors import InputError, NoAdmissibleEps, NoCrossing
+from ..errors import EmptyConstraintSet, InputError, NoAdmissibleEps, NoCrossing
 from . import constraints
 from .chain import chain_arrays
 from .claims import CHAIN_CLAIM
@@ -78,7 +78,7 @@ def feasible_start(quality: QualityParams, mode: str) -> float:
     """
     start = constraints.empty_below(quality.sigma)
     if start * (1 + EMPTY_START_RTOL) >= EPS_RANGE[1]:
-        raise NoAdmissibleEps(
+        raise EmptyConstraintSet(
             f"sigma = {quality.sigma:g}: no guide triangle satisfies the sparsity conditions "
             f"(34)-(36) together with H3 for any supported eps, so the {mode} bound has no eps*"
         )
@@ -229,19 +229,18 @@ BATCH_SCAN_GRID = np.geomspace(EPS_RANGE[0], EPS_RANGE[1], 200)
 """Coarser scan for the batched solver; bound/target rises monotonically in ε for the chains,
 so the first crossing is the same (checked against :func:`solve_eps_star` in the tests)."""
 
+NO_EPS_STAR: tuple[type[NoAdmissibleEps], ...] = (NoAdmissibleEps, NoCrossing, EmptyConstraintSet)
+"""The batch solver's status codes: 0 is an ε*, code k > 0 is the error NO_EPS_STAR[k − 1] that
+:func:`solve_eps_star` raises for such a row (the one representation of "no ε*")."""
 STATUS_OK = 0
-STATUS_EXCEEDS_AT_START = 1
+STATUS_EXCEEDS_AT_START = 1 + NO_EPS_STAR.index(NoAdmissibleEps)
 """The bound exceeds the target at the smallest supported ε."""
-STATUS_NO_CROSSING = 2
+STATUS_NO_CROSSING = 1 + NO_EPS_STAR.index(NoCrossing)
 """The bound stays within the target wherever it is defined."""
-STATUS_EMPTY = 3
+STATUS_EMPTY = 1 + NO_EPS_STAR.index(EmptyConstraintSet)
 """No feasible guide triangle at any supported ε (σ(1 − ε) > √3 up to ε = 0.999)."""
-STATUS_REASONS = {
-    STATUS_EXCEEDS_AT_START: "bound exceeds the target at the smallest eps with guide triangles",
-    STATUS_NO_CROSSING: "bound never reaches the target where it is defined",
-    STATUS_EMPTY: "no feasible guide triangle at any supported eps",
-}
-"""Why a batch row has no ε* (for the empty cells of a sweep)."""
+STATUS_REASONS = {code: error.reason for code, error in enumerate(NO_EPS_STAR, start=1)}
+"""Why a batch row has no ε* (for the empty cells of a sweep): the error's reason."""
 
 
 def solve_eps_star_batch(
@@ -278,7 +277,7 @@ def solve_eps_star_batch(
     )
     shape = sigma.shape
     s, r, q = (x.reshape(-1, 1) for x in (sigma, ratio, rho_f))
-    start = np.maximum(0.0, 1 - constraints.SQRT3 / s)  # constraints.empty_below, per row
+    start = np.vectorize(constraints.empty_below, otypes=[float])(s)
     first_eps = np.where(start > 0, start * (1 + EMPTY_START_RTOL), grid[0])
 
     def gap_rows(eps, index):

@@ -48,6 +48,15 @@ class Target(str, Enum):
     """R ≤ ρ_f·R̂, eq. (54) (VoroCrust's Lemma 9 as the paper quotes it)."""
 
 
+class TightMethod(str, Enum):
+    """How to evaluate the tight bound."""
+
+    auto = "auto"
+    """The closed form where it is proven exact, the optimizer elsewhere."""
+    optimize = "optimize"
+    """Always the numerical optimizer."""
+
+
 def checked_mode(mode) -> Mode:
     """``mode`` as a :class:`Mode` (InputError names the choices)."""
     try:

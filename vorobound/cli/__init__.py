@@ -197,7 +197,7 @@ def _tolerant_streams() -> None:
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (for the life of the process)
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(AttributeError, ValueError, OSError):
-            stream.reconfigure(errors="replace")
+            stream.reconfigure(errors="replace")  # type: ignore[union-attr]
     from .notation import ascii_stream  # ε, R̂, ≤ spelt eps, R_hat, <= where they cannot show
 
     sys.stdout, sys.stderr = ascii_stream(sys.stdout), ascii_stream(sys.stderr)
@@ -254,7 +254,8 @@ def main(argv: list[str] | None = None) -> int:
             return _bug(exc.__context__)
         return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
     except _usage_errors() as exc:
-        return _fail(exc.format_message(), getattr(exc, "exit_code", EXIT_ERROR) or EXIT_ERROR)
+        message = exc.format_message()  # type: ignore[attr-defined]
+        return _fail(message, getattr(exc, "exit_code", EXIT_ERROR) or EXIT_ERROR)
     except OSError as exc:
         if exc.errno is None:
             return _bug(exc)

@@ -3,77 +3,52 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down
+from .command import grouped, invoke
 from .options import (
+    CountedSurfaceOptions,
     DeltaRatio,
     Json,
     Lipschitz,
+    ModesOpt,
     RhoF,
     Sigma,
     TargetsOpt,
     parse_modes,
     parse_targets,
-    surface_args,
 )
-from .progress import progress_bar
-from .render import emit, print_footer, print_table
+
+if TYPE_CHECKING:
+    from ..api.advise import AdviseResult
+from .render import print_footer, print_table
+
+DECK = (
+    "With --mesh: write DIR/vc.in, DIR/sizing.csv and the part as OBJ, so that "
+    "`vc_mesh -vc vc.in` run in DIR samples at the recommended ε (radii ε·L/β, β = "
+    "VoroCrust's coverage factor; LIP_CONST, R_MAX, VC_ANGLE from L; docs/vorocrust.md "
+    "says what vc_mesh promises and what to check after)."
+)
+"""--vorocrust of advise: the deck for vc_mesh."""
 
 
+@grouped
 def advise(
     rho_f: RhoF = PAPER_RHO_F,
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     lipschitz: Lipschitz = None,
-    mode: Annotated[
-        str,
-        typer.Option(
-            "--mode", metavar="MODES", help="Comma list of modes: paper, rigorous, tight."
-        ),
-    ] = "rigorous,tight",
+    mode: ModesOpt = "rigorous,tight",
     target: TargetsOpt = "additive,ratio",
     area: Annotated[
         float | None, typer.Option("--area", metavar="AREA", help="Surface area (with --lfs).")
     ] = None,
-    lfs: Annotated[
-        float | None, typer.Option("--lfs", metavar="L", help="Constant local feature size L.")
-    ] = None,
-    sphere: Annotated[
-        float | None, typer.Option("--sphere", metavar="R", help="Sphere of radius R.")
-    ] = None,
-    torus: Annotated[
-        str | None, typer.Option("--torus", metavar="R,r", help="Ring torus, radii R > r.")
-    ] = None,
-    mesh: Annotated[
-        Path | None,
-        typer.Option(
-            "--mesh",
-            metavar="FILE",
-            help="Triangle mesh file (any format meshio reads). Without --lfs or --sizing its "
-            "local feature size is estimated (as by `vorobound lfs`), and the output says so.",
-        ),
-    ] = None,
-    sizing: Annotated[
-        Path | None,
-        typer.Option(
-            "--sizing", metavar="FILE", help="CSV with the local feature size per vertex."
-        ),
-    ] = None,
-    vorocrust: Annotated[
-        Path | None,
-        typer.Option(
-            "--vorocrust",
-            metavar="DIR",
-            help="With --mesh: write DIR/vc.in, DIR/sizing.csv and the part as OBJ, so that "
-            "`vc_mesh -vc vc.in` run in DIR samples at the recommended ε (radii ε·L/β, β = "
-            "VoroCrust's coverage factor; LIP_CONST, R_MAX, VC_ANGLE from L; docs/vorocrust.md "
-            "says what vc_mesh promises and what to check after).",
-        ),
-    ] = None,
+    surface: CountedSurfaceOptions = CountedSurfaceOptions(),
+    vorocrust: Annotated[Path | None, typer.Option("--vorocrust", metavar="DIR", help=DECK)] = None,
     max_samples: Annotated[
         float | None,
         typer.Option(
@@ -96,23 +71,7 @@ def advise(
     Exit code 1 when `vorobound sample` cannot build the recommended ε; the last line then
     names the smallest ε it can and what that guarantees. Python: vorobound.advise(...).
     """
-    from ..api.advise import advise as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            rho_f=rho_f,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lipschitz=lipschitz,
-            mode=parse_modes(mode),
-            target=parse_targets(target),
-            area=area,
-            max_samples=max_samples,
-            **surface_args(sphere, torus, mesh, lfs, sizing),
-            vorocrust=vorocrust,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("advise", _show, locals(), mode=parse_modes(mode), target=parse_targets(target))
 
 
 def _show(result) -> None:
@@ -128,25 +87,24 @@ def _show(result) -> None:
             print(f"wrote {path}")
 
 
-def _show_advice(result) -> None:
+def _show_advice(result: AdviseResult) -> None:
     from ..reports.advisor import GUARANTEE, guarantee_words, versus_baseline
 
-    data = result.to_dict()
-    entries, surface, h3 = data["modes"], result.surface, result.advice.h3_route
+    entries, surface, h3 = result.advice.rows, result.surface, result.advice.h3_route
     rec = result.advice.recommendation
     title = "Sampling advice" + (f" for {surface.name}" if surface else " (lengths per unit L)")
     table = [
         (
-            e["mode"],
-            e["target"],
-            format_down(e["eps_star"]),
-            e["claim"],
-            format_down(e["ball_radius"]),
-            format_down(e["min_spacing"]),
+            e.mode,
+            e.target,
+            format_down(e.eps_star),
+            e.claim,
+            format_down(e.ball_radius),
+            format_down(e.min_spacing),
             "—"
-            if e["samples_low"] is None
-            else f"{e['samples_low']:,.0f} – {e['samples_high']:,.0f}",
-            versus_baseline(e["reduction_vs_1_500"]),
+            if surface is None or e.samples_low is None
+            else f"{e.samples_low:,.0f} – {e.samples_high:,.0f}",
+            versus_baseline(e.reduction_vs_1_500),
         )
         for e in entries
     ]
@@ -167,8 +125,8 @@ def _show_advice(result) -> None:
     )
     _budget_table(result)
     for e in entries:
-        if e["note"]:
-            print_footer(f"no ε* for {e['mode']}, target {e['target']}: {e['note']}")
+        if e.note:
+            print_footer(f"no ε* for {e.mode}, target {e.target}: {e.note}")
     if rec is None:
         print("recommended ε: none (no target asked for has a proven or certified ε*)")
     else:

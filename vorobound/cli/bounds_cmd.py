@@ -2,37 +2,27 @@
 
 from __future__ import annotations
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from typing import TYPE_CHECKING
+
 from ..rounding import format_up
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
+    BoundOptions,
     Eps,
     Json,
-    Lfs,
-    Lipschitz,
-    MethodChoice,
     ModeChoice,
-    ModeOpt,
-    RhoF,
-    Sigma,
     TargetChoice,
-    TargetOpt,
-    TightMethodOpt,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+
+if TYPE_CHECKING:
+    from ..api.bound import BoundResult
+from .render import fmt, print_footer, print_table
 
 
+@grouped
 def bounds(
     eps: Eps,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
-    mode: ModeOpt = ModeChoice.tight,
-    target: TargetOpt = TargetChoice.ratio,
-    lipschitz: Lipschitz = None,
-    method: TightMethodOpt = MethodChoice.auto,
+    question: BoundOptions = BoundOptions(),
     as_json: Json = False,
 ) -> int:
     """A mode's bound at one ε, against a target: every quantity of the chain (33)–(53), or the
@@ -42,38 +32,23 @@ def bounds(
     R̂ ≤ δ·L_i gives R ≤ ρ_f·δ·L_i (eq. (55)). Every bound rests on property H3 (an assumption
     from the VoroCrust literature). Python: vorobound.bound(eps=...).
     """
-    from ..api.bound import bound
-
-    with progress_bar(not as_json and mode is ModeChoice.tight) as progress:
-        if mode is ModeChoice.tight:
-            progress("tight supremum", 0, None)
-        result = bound(
-            eps=eps,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            mode=mode.value,
-            target=target.value,
-            lipschitz=lipschitz,
-            method=method.value,
-        )
-    return emit(result, as_json, _show)
+    return invoke(
+        "bound", _show, locals(), bar=question.mode is ModeChoice.tight, task="tight supremum"
+    )
 
 
-def _show(result) -> None:
+def _show(result: BoundResult) -> None:
     from ..api.bound import UNBOUNDED
 
-    data = result.to_dict()
     ratio = result.target == TargetChoice.ratio.value
     quantity = "R/R̂" if ratio else "R − R̂"
     limit = "ρ_f" if ratio else "(ρ_f − 1)·δ·L_i"
     if result.mode == ModeChoice.tight.value:
-        _show_tight(result, data, quantity)
+        _show_tight(result, quantity)
     else:
         rows = [
-            (name, q["equation"], format_up(q["value"], 10), q["description"])
-            for name, q in data["quantities"].items()
+            (name, equation, format_up(float(value), 10), text)
+            for name, equation, text, value in result.chain.rows()
         ]
         print_table(
             f"Chain (33)–(53), mode {result.mode} ({result.claim}), ε = {result.eps:g}",
@@ -108,11 +83,11 @@ def _show(result) -> None:
                 "fails at this ε, only that this chain cannot prove it (mode tight gives the "
                 "supremum)"
             )
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"premise: {result.premise}")
 
 
-def _show_tight(result, data: dict, quantity: str) -> None:
-    tight = result.detail.detail
+def _show_tight(result: BoundResult, quantity: str) -> None:
+    tight = result.tight
     rows = [
         (f"sup {quantity} (tight bound)", format_up(result.value, 10)),
         ("method, claim", f"{result.method}, {result.claim}"),

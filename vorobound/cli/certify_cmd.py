@@ -9,9 +9,9 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_down, format_up
+from .command import invoke
 from .options import LAMBDA_HELP, DeltaRatio, Json, RhoF, Sigma, TargetChoice, TargetOpt
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+from .render import fmt, print_footer, print_table
 
 CertLipschitz = Annotated[
     float | None,
@@ -91,45 +91,26 @@ def certify(
     itself is an assumption from the VoroCrust literature. Python: vorobound.certify(...),
     vorobound.check_certificate(FILE).
     """
-    if check is not None:
-        from ..api.certify import check_certificate
-
-        with progress_bar(not as_json) as progress:
-            checked = check_certificate(check, progress)
-        return emit(checked, as_json, _show_check)
-    from ..api.certify import certify as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            rho_f=rho_f,
-            lipschitz=lipschitz,
-            target=target.value,
-            eps=eps,
-            fraction=fraction,
-            output=output,
-            max_depth=max_depth,
-            max_boxes=max_boxes,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    options = dict(locals())
+    if options.pop("check") is not None:
+        return invoke("check_certificate", _show_check, {"as_json": as_json}, path=check)
+    return invoke("certify", _show, options)
 
 
 def _show(result) -> None:
     if not result.certified:
         _show_failure(result)
         return
-    data = result.to_dict()
-    q = result.quality
+    q, search = result.quality, result.certification.search
+    status = result.certification.request.eps_star_status
     rows = [
-        ("target", data["statement"].split(": ", 1)[-1].split(", with R^")[0]),
+        ("target", result.statement.split(": ", 1)[-1].split(", with R^")[0]),
         ("certified: every ε ≤", format_down(result.eps_certified, 12)),
-        ("tight ε*", f"{format_down(result.eps_star_tight, 12)} ({data['eps_star_tight_status']})"),
+        ("tight ε*", f"{format_down(result.eps_star_tight, 12)} ({status})"),
         ("certified / tight", fmt(result.ratio, 8)),
-        ("boxes", str(data["boxes"])),
-        ("deepest bisection", str(data["max_depth"])),
-        ("seconds", fmt(data["seconds"], 3)),
+        ("boxes", str(search.boxes)),
+        ("deepest bisection", str(search.max_depth)),
+        ("seconds", fmt(search.seconds, 3)),
         (
             "certificate",
             "not written (use -o FILE)" if result.certificate is None else result.certificate,
@@ -142,7 +123,7 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"premise: {result.premise}")
 
 
 def _show_check(checked) -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from enum import Enum
 from pathlib import Path
 from typing import Annotated
 
@@ -10,6 +9,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_up
+from .command import grouped, invoke
 from .options import (
     LAMBDA_HELP,
     EngineChoice,
@@ -17,26 +17,15 @@ from .options import (
     FigureFormat,
     FigureFormatOpt,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     RhoF,
     Seed,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
-    surface_args,
+    SurfaceOptions,
+    TableChoice,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
-class TableChoice(str, Enum):
-    parquet = "parquet"
-    npz = "npz"
-    csv = "csv"
-    none = "none"
-
-
+@grouped
 def check(
     eps: Annotated[
         float | None,
@@ -48,11 +37,7 @@ def check(
             "with the guarantee they give (docs/vorocrust.md).",
         ),
     ] = None,
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     balls: Annotated[
         Path | None,
         typer.Option(
@@ -155,35 +140,9 @@ def check(
     Exit code 1 when anything checked fails (the last line counts it). Python:
     vorobound.check(eps=..., torus=(3, 1)).
     """
-    from ..api.check import check as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            **surface_args(
-                sphere,
-                torus,
-                mesh,
-                lfs,
-                sizing,
-                instead={"--balls FILE": balls, "--vorocrust DIR": vorocrust},
-            ),
-            balls=balls,
-            vorocrust=vorocrust,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            rho_f=rho_f,
-            seed=seed,
-            lipschitz=lipschitz,
-            engine=engine.value,
-            out=out,
-            figure_format=figure_format.value,
-            workers=workers,
-            scheduler=scheduler,
-            table=None if table is None else table.value,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke(
+        "check", _show, locals(), instead={"--balls FILE": balls, "--vorocrust DIR": vorocrust}
+    )
 
 
 def _show(result) -> None:
@@ -290,39 +249,9 @@ def _print_summary(s: dict) -> None:
             ),
         ],
     )
-    print_table(
-        "Bounds on (R − R̂)/(εL_i) at this ε",
-        ("mode", "claim", "bound", "realized max / bound", "triangles above"),
-        [
-            (
-                mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
-                b["claim"],
-                format_up(b["gap_ratio"], 6),
-                "n/a"
-                if not b["gap_ratio"] or s["gap_ratio_max"] is None
-                else fmt(s["gap_ratio_max"] / b["gap_ratio"], 4),
-                "n/a (not defined)"
-                if s["violations"][mode] is None
-                else f"{s['violations'][mode]:,}",
-            )
-            for mode, b in s["bound"].items()
-        ],
-    )
-    print_table(
-        "Bounds on R/R̂ at this ε (ratio target, eq. (54))",
-        ("mode", "claim", "bound", "realized max / bound", "triangles above"),
-        [
-            (
-                mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
-                b["claim"],
-                "none (∞)" if b["value"] is None else format_up(b["value"], 6),
-                "n/a"
-                if b["value"] is None or s["ratio_max"] is None
-                else fmt(s["ratio_max"] / b["value"], 4),
-                f"{s['ratio_bound_violations'].get(mode, 0):,}",
-            )
-            for mode, b in s["ratio_bound"].items()
-        ],
+    _bounds_table("Bounds on (R − R̂)/(εL_i) at this ε", s["bound"], "gap_ratio", s, "n/a")
+    _bounds_table(
+        "Bounds on R/R̂ at this ε (ratio target, eq. (54))", s["ratio_bound"], "value", s, "none (∞)"
     )
     _print_classes(s)
     for name, key in (("sparsity", "sparsity_worst"), ("Lipschitz", "lipschitz_worst")):
@@ -341,6 +270,34 @@ def _print_summary(s: dict) -> None:
                     for r in rows
                 ],
             )
+
+
+BOUND_TABLE = {
+    "gap_ratio": ("gap_ratio_max", "violations"),
+    "value": ("ratio_max", "ratio_bound_violations"),
+}
+"""Per kind of bound: the realized maximum it is compared with and the counts above it."""
+
+
+def _bounds_table(title: str, bounds: dict, key: str, s: dict, unbounded: str) -> None:
+    """Every mode's bound at this ε (``key`` of each entry of ``bounds``) against the realized
+    maximum, and how many triangles exceed it."""
+    realized_key, above_key = BOUND_TABLE[key]
+    realized, above = s[realized_key], s[above_key]
+    rows = []
+    for mode, b in bounds.items():
+        value, count = b[key], above.get(mode, 0)
+        rows.append(
+            (
+                mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
+                b["claim"],
+                unbounded if value is None else format_up(value, 6),
+                "n/a" if not value or realized is None else fmt(realized / value, 4),
+                "n/a (not defined)" if count is None else f"{count:,}",
+            )
+        )
+    columns = ("mode", "claim", "bound", "realized max / bound", "triangles above")
+    print_table(title, columns, rows)
 
 
 def _print_realized(s: dict) -> None:

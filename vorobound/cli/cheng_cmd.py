@@ -6,9 +6,9 @@ from typing import Annotated
 
 import typer
 
+from .command import invoke
 from .options import Json, Seed
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
 def cheng(
@@ -26,11 +26,7 @@ def cheng(
 ) -> int:
     """R/R̂ for weights in [0, α²N(s)²]: c_rad = 1/sqrt(1−4α²), the conjectured 1/sqrt(1−3α²),
     and the numerically maximized ratio (docs/cheng.md)."""
-    from ..api.cheng import cheng as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(alpha=alpha, dim=dim, seed=seed, progress=progress)
-    return emit(result, as_json, _show)
+    return invoke("cheng", _show, locals())
 
 
 def _show(result) -> None:

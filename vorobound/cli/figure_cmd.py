@@ -4,29 +4,22 @@ the ratio target)."""
 from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
     FigureFormat,
     FigureFormatOpt,
     Json,
-    Lfs,
     NoTight,
     Out,
-    RhoF,
-    Sigma,
+    QualityOptions,
 )
-from .progress import progress_bar
-from .render import emit
 
 
+@grouped
 def figure(
     out: Out = DEFAULT_OUT,
     figure_format: FigureFormatOpt = FigureFormat.png,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: NoTight = False,
     as_json: Json = False,
 ) -> int:
@@ -36,20 +29,7 @@ def figure(
     The set is replaced as a whole: if anything fails, the previous files stay as they were.
     Python: vorobound.figure(out=...).
     """
-    from ..api.figures import figure as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            out=out,
-            figure_format=figure_format.value,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            tight=not no_tight,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("figure", _show, locals())
 
 
 def _show(result) -> None:

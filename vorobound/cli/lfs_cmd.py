@@ -4,14 +4,19 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from .command import invoke
 from .options import LAMBDA_HELP, Json, Seed
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
 
+if TYPE_CHECKING:
+    from ..api.lfs import LfsResult
+from .render import fmt, print_footer, print_table
+
+MESH = "Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
+"""--mesh of lfs."""
 POSITIONAL_MESH_NOTE = (
     "note: `vorobound lfs MESH` is deprecated and goes in the next release; "
     "use `vorobound lfs --mesh MESH`, as every command takes a mesh"
@@ -28,12 +33,7 @@ def lfs(
             "does).",
         ),
     ] = None,
-    mesh: Annotated[
-        Path | None,
-        typer.Option(
-            "--mesh", metavar="FILE", help="Triangle mesh (STL, OBJ, PLY, OFF, VTK, VTU, ...)."
-        ),
-    ] = None,
+    mesh: Annotated[Path | None, typer.Option("--mesh", metavar="FILE", help=MESH)] = None,
     output: Annotated[
         list[Path] | None,
         typer.Option(
@@ -90,52 +90,40 @@ def lfs(
     say where the two estimates disagree, and name an open or non-manifold mesh, degenerate
     faces or coarse curved patches. `sample --mesh` and `advise --mesh` use this same L.
     """
-    from ..api.lfs import lfs as run
+    options = {name: value for name, value in locals().items() if name != "mesh_file"}
     from ..errors import InputError
 
     if (mesh is None) == (mesh_file is None):
         raise InputError("give the mesh once: --mesh FILE")
-    with progress_bar(not as_json) as progress:
-        result = run(
-            mesh=mesh or mesh_file,
-            output=output or None,
-            samples=samples,
-            lipschitz=lipschitz,
-            sharp_angle=sharp_angle,
-            seed=seed,
-            progress=progress,
-        )
+    code = invoke("lfs", _show, options, mesh=mesh or mesh_file, output=output or None)
     if mesh_file is not None:  # after the run: a bad input keeps its one line of error
         print(POSITIONAL_MESH_NOTE, file=sys.stderr)
-    return emit(result, as_json, _show)
+    return code
 
 
-def _show(result) -> None:
+def _show(result: LfsResult) -> None:
     estimate = result.estimate
-    payload = result.to_dict()
     rows = [
-        ("vertices / triangles", f"{payload['vertices']:,} / {payload['triangles']:,}"),
+        ("vertices / triangles", f"{result.vertices:,} / {result.triangles:,}"),
         (
             "pole sample (curved patches)",
             f"{estimate.sample_count:,} ({estimate.added_samples:,} fitted edge midpoints)",
         ),
-        ("medial-axis points (poles)", f"{payload['medial_points']:,}"),
-        (
-            "face sites / refinement rounds",
-            f"{payload['face_sites']:,} / {payload['rounds']}",
-        ),
+        ("medial-axis points (poles)", f"{len(estimate.medial_points):,}"),
+        ("face sites / refinement rounds", f"{result.face_sites:,} / {estimate.rounds}"),
         (
             "smooth patches / feature edges / corners",
-            f"{estimate.patches:,} / {estimate.feature_edges:,} / {payload['feature_corners']:,}",
+            f"{estimate.patches:,} / {estimate.feature_edges:,} / "
+            f"{len(estimate.feature_corners):,}",
         ),
-        ("thinnest part (along normals)", fmt(payload["thickness_min"], 6)),
+        ("thinnest part (along normals)", fmt(result.thickness_min, 6)),
         ("estimates A vs B", _disagreement(estimate.disagreement)),
         (
             "L min / median / max",
-            " / ".join(fmt(payload[k], 6) for k in ("lfs_min", "lfs_median", "lfs_max")),
+            " / ".join(fmt(v, 6) for v in (result.lfs_min, result.lfs_median, result.lfs_max)),
         ),
         ("Lipschitz constant", fmt(estimate.lipschitz)),
-        (f"sharp edges (> {estimate.sharp_angle:g}°)", f"{payload['sharp_edges']:,}"),
+        (f"sharp edges (> {estimate.sharp_angle:g}°)", f"{len(estimate.sharp_edges):,}"),
         ("largest dihedral angle", f"{estimate.max_dihedral:.1f}°"),
         ("time", f"{result.seconds:.2f} s"),
     ]

@@ -8,31 +8,26 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from enum import Enum
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from ..api.result import FigureFormat, TableFormat
+from ..bounds.params import Mode, Target, TightMethod
 from ..checks import parse_values  # noqa: F401  (the CLI parses with it)
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..errors import InputError
+from ..sampling.guides.engines import Engine
 
-
-class ModeChoice(str, Enum):
-    paper = "paper"
-    rigorous = "rigorous"
-    tight = "tight"
-
-
-class MethodChoice(str, Enum):
-    auto = "auto"
-    optimize = "optimize"
-
-
-class TargetChoice(str, Enum):
-    additive = "additive"
-    ratio = "ratio"
+# The choices are the library's own enums (numpy-free modules: `vorobound --help` loads them);
+# the old names stay for code that imports them.
+ModeChoice = Mode
+MethodChoice = TightMethod
+TargetChoice = Target
+EngineChoice = Engine
+TableChoice = TableFormat
 
 
 TARGET_HELP = (
@@ -55,6 +50,11 @@ def parse_targets(text: str) -> list[str]:
     except InputError:
         raise InputError(f"--target: expected additive or ratio, got {text!r}") from None
 
+
+ModesOpt = Annotated[
+    str,
+    typer.Option("--mode", metavar="MODES", help="Comma list of modes: paper, rigorous, tight."),
+]
 
 TightMethodOpt = Annotated[
     MethodChoice,
@@ -156,6 +156,53 @@ NoTight = Annotated[
 ]
 
 
+@dataclass(frozen=True)
+class SurfaceOptions:
+    """The surface as the command line gives it (one of sphere, torus, mesh; L for a mesh):
+    declared once here, a command takes it as one parameter (:func:`~vorobound.cli.command.
+    grouped` spells out its options) and :func:`surface_args` turns it into the API's."""
+
+    sphere: SphereOpt = None
+    torus: TorusOpt = None
+    mesh: MeshOpt = None
+    lfs: MeshLfsOpt = None
+    sizing: SizingOpt = None
+
+
+AreaLfsOpt = Annotated[
+    float | None,
+    typer.Option("--lfs", metavar="L", help="Constant local feature size L (of --area or --mesh)."),
+]
+
+
+@dataclass(frozen=True)
+class CountedSurfaceOptions(SurfaceOptions):
+    """The surface whose samples the advisor counts: as :class:`SurfaceOptions`, and ``lfs``
+    also goes with ``--area``."""
+
+    lfs: AreaLfsOpt = None
+
+
+@dataclass(frozen=True)
+class QualityOptions:
+    """σ, δ/ε, L_i and ρ_f with the paper's defaults (the ε-free quality parameters)."""
+
+    sigma: Sigma = PAPER_SIGMA
+    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO
+    lfs: Lfs = 1.0
+    rho_f: RhoF = PAPER_RHO_F
+
+
+@dataclass(frozen=True)
+class BoundOptions(QualityOptions):
+    """The quality parameters and the question asked of a bound: mode, target, λ, method."""
+
+    mode: ModeOpt = Mode.tight
+    target: TargetOpt = Target.ratio
+    lipschitz: Lipschitz = None
+    method: TightMethodOpt = TightMethod.auto
+
+
 SURFACE_OPTIONS = "--sphere R, --torus R,r or --mesh FILE"
 """The ways to give a surface, as every message that asks for one names them."""
 
@@ -180,13 +227,6 @@ def surface_args(
     }
 
 
-class EngineChoice(str, Enum):
-    auto = "auto"
-    gudhi = "gudhi"
-    hull = "hull"
-    brute = "brute"
-
-
 EngineOpt = Annotated[
     EngineChoice,
     typer.Option(
@@ -196,12 +236,6 @@ EngineOpt = Annotated[
         "gudhi if installed, else brute).",
     ),
 ]
-
-
-class FigureFormat(str, Enum):
-    png = "png"
-    pdf = "pdf"
-    svg = "svg"
 
 
 FigureFormatOpt = Annotated[
@@ -215,30 +249,6 @@ Json = Annotated[
 Seed = Annotated[
     int, typer.Option("--seed", metavar="SEED", help="Random seed, 0 ≤ seed < 2⁶³ (deterministic).")
 ]
-
-
-def quality_params(
-    sigma: float,
-    delta_ratio: float,
-    rho_f: float,
-    lfs: float = 1.0,
-    lipschitz: float | None = None,
-    target: str = "ratio",
-):
-    """The validated ε-free parameters (InputError names the parameter and its range)."""
-    from ..bounds.params import QualityParams
-
-    return QualityParams(sigma, delta_ratio, rho_f, lfs, lipschitz, target)
-
-
-def params_dict(quality, eps: float | None = None, include_lfs: bool = True) -> dict:
-    """The parameters as JSON: σ, δ/ε, ρ_f (and L_i, and ε when given)."""
-    out = {} if eps is None else {"eps": eps}
-    out |= {"sigma": quality.sigma, "delta_ratio": quality.delta_ratio}
-    if include_lfs:
-        out["lfs"] = quality.lfs
-    out["rho_f"] = quality.rho_f
-    return out
 
 
 def parse_modes(text: str) -> list[str]:

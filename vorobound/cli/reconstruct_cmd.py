@@ -9,6 +9,7 @@ import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..rounding import format_down
+from .command import grouped, invoke
 from .options import (
     DeltaRatio,
     EngineChoice,
@@ -16,20 +17,15 @@ from .options import (
     FigureFormat,
     FigureFormatOpt,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     Seed,
     Sigma,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
+    SurfaceOptions,
     parse_values,
-    surface_args,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+from .render import fmt, print_footer, print_table
 
 
+@grouped
 def reconstruct(
     eps: Annotated[
         str | None,
@@ -41,11 +37,7 @@ def reconstruct(
             "ε·L.",
         ),
     ] = None,
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     balls: Annotated[
         Path | None,
         typer.Option(
@@ -134,38 +126,13 @@ def reconstruct(
     draw), 1 when it is measured to be wrong, 2 for bad input. Python:
     vorobound.reconstruct(...).
     """
-    from ..api.reconstruct import reconstruct as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=None if eps is None else parse_values(eps, "--eps"),
-            **surface_args(
-                sphere,
-                torus,
-                mesh,
-                lfs,
-                sizing,
-                instead={
-                    "--balls FILE": balls,
-                    "--seeds FILE": seeds,
-                    "--vorocrust DIR": vorocrust,
-                },
-            ),
-            balls=balls,
-            seeds=seeds,
-            vorocrust=vorocrust,
-            half_covered=half_covered,
-            compare_sheets=compare_sheets,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            seed=seed,
-            repeats=repeats,
-            engine=engine.value,
-            out=out,
-            figure_format=figure_format.value,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke(
+        "reconstruct",
+        _show,
+        locals(),
+        instead={"--balls FILE": balls, "--seeds FILE": seeds, "--vorocrust DIR": vorocrust},
+        eps=None if eps is None else parse_values(eps, "--eps"),
+    )
 
 
 def _show(result) -> None:

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from ..api.figures import DEFAULT_OUT
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..rounding import format_toward
-from .options import DeltaRatio, Json, Lfs, NoTight, Out, RhoF, Sigma
-from .progress import progress_bar
-from .render import emit, print_table
+from .command import grouped, invoke
+from .options import Json, NoTight, Out, QualityOptions
+from .render import print_table
 
 
 def _cell(value, rounding: str) -> str:
@@ -16,12 +15,10 @@ def _cell(value, rounding: str) -> str:
     return format_toward(value, rounding)
 
 
+@grouped
 def reproduce(
     out: Out = DEFAULT_OUT,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: NoTight = False,
     as_json: Json = False,
 ) -> int:
@@ -34,19 +31,7 @@ def reproduce(
     H3 alone gives (55). The tight modes are also certified by interval arithmetic up to
     0.999·ε* for both targets (`vorobound certify` writes the file).
     """
-    from ..api.figures import reproduce as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            out=out,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            tight=not no_tight,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("reproduce", _show, locals())
 
 
 def _show(result) -> None:

@@ -8,23 +8,19 @@ from typing import Annotated
 import typer
 
 from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
+from .command import grouped, invoke
 from .options import (
     DeltaRatio,
     Eps,
     Json,
-    MeshLfsOpt,
-    MeshOpt,
     Seed,
     Sigma,
-    SizingOpt,
-    SphereOpt,
-    TorusOpt,
-    surface_args,
+    SurfaceOptions,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
 
 
+@grouped
 def sample(
     eps: Eps,
     output: Annotated[
@@ -36,11 +32,7 @@ def sample(
             help="Sample file to write: .npz, .vtu or .csv (x, y, z, r, L), from the suffix.",
         ),
     ],
-    sphere: SphereOpt = None,
-    torus: TorusOpt = None,
-    mesh: MeshOpt = None,
-    lfs: MeshLfsOpt = None,
-    sizing: SizingOpt = None,
+    surface: SurfaceOptions = SurfaceOptions(),
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     seed: Seed = 0,
@@ -55,19 +47,7 @@ def sample(
     sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs, ≥ 1 required); exit code 1 if
     either fails. Python: vorobound.sample(eps=..., output=..., torus=(3, 1)).
     """
-    from ..api.sample import sample as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            output=output,
-            **surface_args(sphere, torus, mesh, lfs, sizing),
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            seed=seed,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("sample", _show, locals())
 
 
 def _show(result) -> None:

@@ -2,35 +2,24 @@
 
 from __future__ import annotations
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from typing import TYPE_CHECKING
+
 from ..rounding import format_down
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
+    BoundOptions,
     Json,
-    Lfs,
-    Lipschitz,
-    MethodChoice,
     ModeChoice,
-    ModeOpt,
-    RhoF,
-    Sigma,
-    TargetChoice,
-    TargetOpt,
-    TightMethodOpt,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_footer, print_table
+
+if TYPE_CHECKING:
+    from ..api.solve import SolveResult
+from .render import fmt, print_footer, print_table
 
 
+@grouped
 def solve(
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
-    mode: ModeOpt = ModeChoice.tight,
-    target: TargetOpt = TargetChoice.ratio,
-    lipschitz: Lipschitz = None,
-    method: TightMethodOpt = MethodChoice.auto,
+    question: BoundOptions = BoundOptions(),
     as_json: Json = False,
 ) -> int:
     """The largest ε at which a bound meets a quality target, and how strong that is.
@@ -41,26 +30,11 @@ def solve(
     assumption from the VoroCrust literature; the output also says up to which ε H3 alone
     gives R ≤ ρ_f·δ·L_i (eq. (55)). Python: vorobound.solve(...).
     """
-    from ..api.solve import solve as run
-
-    with progress_bar(not as_json and mode is ModeChoice.tight) as progress:
-        result = run(
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            mode=mode.value,
-            target=target.value,
-            lipschitz=lipschitz,
-            method=method.value,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("solve", _show, locals(), bar=question.mode is ModeChoice.tight)
 
 
-def _show(result) -> None:
-    data = result.to_dict()
-    q = result.quality
+def _show(result: SolveResult) -> None:
+    star, q = result.detail, result.quality
     rows = [
         ("ε*", format_down(result.eps_star, 12)),
         ("claim", result.claim),
@@ -71,11 +45,11 @@ def _show(result) -> None:
             ("proven lower bound on ε* (closed form)", format_down(result.proven_lower_bound, 12))
         )
     rows += [
-        ("ε* / (1/500)", format_down(data["eps_star_over_baseline"], 6)),
-        ("ball radius δ·L_i at ε*", format_down(data["ball_radius"], 10)),
-        ("relative residual", fmt(data["residual"], 3)),
-        ("root-finder iterations", str(data["iterations"])),
-        ("bracket", f"[{fmt(data['bracket'][0])}, {fmt(data['bracket'][1])}]"),
+        ("ε* / (1/500)", format_down(result.eps_star_over_baseline, 6)),
+        ("ball radius δ·L_i at ε*", format_down(result.ball_radius, 10)),
+        ("relative residual", fmt(star.residual, 3)),
+        ("root-finder iterations", str(star.iterations)),
+        ("bracket", f"[{fmt(star.bracket[0])}, {fmt(star.bracket[1])}]"),
         ("H3 alone gives (55) up to ε", f"{format_down(result.h3_eps_star, 6)} (given H3)"),
     ]
     lam = "" if q.lipschitz is None else f", λ = {q.lipschitz:g}"
@@ -85,5 +59,5 @@ def _show(result) -> None:
         ("quantity", "value"),
         rows,
     )
-    print_footer(f"target: {data['target_statement']}")
-    print_footer(f"premise: {data['premise']}")
+    print_footer(f"target: {result.target_statement}")
+    print_footer(f"premise: {result.premise}")

@@ -19,6 +19,7 @@ from ..rounding import format_toward
 from .options import (
     Json,
     MethodChoice,
+    ModesOpt,
     TargetsOpt,
     TightMethodOpt,
     parse_modes,
@@ -53,12 +54,7 @@ def sweep(
         str | None,
         _opt("lipschitz", "λ values, tight mode only; 'none' means no Lipschitz condition."),
     ] = None,
-    mode: Annotated[
-        str,
-        typer.Option(
-            "--mode", metavar="MODES", help="Comma list of modes: paper, rigorous, tight."
-        ),
-    ] = "rigorous,tight",
+    mode: ModesOpt = "rigorous,tight",
     target: TargetsOpt = "additive,ratio",
     lfs: Annotated[float, typer.Option("--lfs", metavar="L", help="Local feature size L_i.")] = 1.0,
     format: Annotated[

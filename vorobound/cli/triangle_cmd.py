@@ -56,7 +56,7 @@ def triangle(
             raise InputError(f"a triangle needs exactly three --point/-p, got {len(point)}")
         result = run(points=[parse_numbers(p, "--point", (2, 3)) for p in point], weights=w)
     else:
-        result = run(edges=parse_numbers(edges, "--edges", 3), weights=w)
+        result = run(edges=parse_numbers(str(edges), "--edges", 3), weights=w)
     return emit(result, as_json, _show)
 
 

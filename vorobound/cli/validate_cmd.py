@@ -6,35 +6,27 @@ from typing import Annotated
 
 import typer
 
-from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
+from .command import grouped, invoke
 from .options import (
-    DeltaRatio,
     Eps,
     Json,
-    Lfs,
     Lipschitz,
-    RhoF,
+    QualityOptions,
     Seed,
-    Sigma,
 )
-from .progress import progress_bar
-from .render import emit, fmt, print_table
+from .render import fmt, print_table
+
+SAMPLES = "Feasible configurations to draw (at most 2,000,000)."
+"""--samples of validate."""
 
 
+@grouped
 def validate(
     eps: Eps,
-    samples: Annotated[
-        int,
-        typer.Option(
-            "--samples", metavar="N", help="Feasible configurations to draw (at most 2,000,000)."
-        ),
-    ] = 20000,
+    samples: Annotated[int, typer.Option("--samples", metavar="N", help=SAMPLES)] = 20000,
     seed: Seed = 0,
     lipschitz: Lipschitz = None,
-    sigma: Sigma = PAPER_SIGMA,
-    delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
-    lfs: Lfs = 1.0,
-    rho_f: RhoF = PAPER_RHO_F,
+    quality: QualityOptions = QualityOptions(),
     no_tight: Annotated[
         bool, typer.Option("--no-tight", metavar="", help="Do not compare with the tight supremum.")
     ] = False,
@@ -46,22 +38,7 @@ def validate(
     violations is wrong (docs/errata.md); a rigorous or tight ratio above 1 would be a bug (exit
     code 1). Python: vorobound.validate(eps=...).
     """
-    from ..api.validate import validate as run
-
-    with progress_bar(not as_json) as progress:
-        result = run(
-            eps=eps,
-            samples=samples,
-            seed=seed,
-            lipschitz=lipschitz,
-            sigma=sigma,
-            delta_ratio=delta_ratio,
-            lfs=lfs,
-            rho_f=rho_f,
-            tight=not no_tight,
-            progress=progress,
-        )
-    return emit(result, as_json, _show)
+    return invoke("validate", _show, locals())
 
 
 def _show(result) -> None:

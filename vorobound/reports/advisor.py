@@ -27,7 +27,7 @@ from ..bounds.params import Mode, QualityParams
 from ..bounds.targets import H3Route, Target, h3_route
 from ..checks import EPS_RANGE
 from ..constants import BASELINE_EPS
-from ..errors import InputError, NoAdmissibleEps
+from ..errors import EmptyConstraintSet, InputError, NoAdmissibleEps
 from ..progress import Progress
 from ..rounding import format_down, format_up, round_down, round_up
 from ..sampling.surfaces.base import SurfaceCounts
@@ -226,7 +226,7 @@ def what_eps_guarantees(quality: QualityParams, eps: float) -> GuaranteeAt | Non
     """The smallest proven ρ_f per target at ``eps`` (None where no guide triangle exists)."""
     try:
         return guarantee_at(eps, quality)
-    except InputError:
+    except (InputError, EmptyConstraintSet):
         return None
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from flint import arb
 
-from ...errors import InputError, NotCertified
+from ...errors import EmptyConstraintSet, InputError, NotCertified
 from ...progress import Progress, silent
 from . import interval
 from .interval import Box, Setting, nearest_float
@@ -179,7 +179,7 @@ def worst_vertex(setting: Setting) -> tuple[float, ...] | None:
         vertex = tight_supremum_closed_form(
             eps, sigma, nearest_float(setting.delta_ratio), 1.0, lam
         )
-    except InputError:
+    except (InputError, EmptyConstraintSet):
         return None
     edge = sigma * (1 + NUDGE)
     half_cos = min(1.0, (1 + NUDGE) * edge * (1 - eps) / 2)

@@ -36,7 +36,8 @@ from ...checks import (
     checked_lipschitz,
     checked_number,
 )
-from ...errors import InputError, NoAdmissibleEps, NoCrossing
+from ...errors import NoAdmissibleEps, NoCrossing
+from .. import constraints
 from ..configurations import GuideConfiguration
 from ..roots import largest_root
 
@@ -141,7 +142,7 @@ def closed_form_is_exact(
     :data:`VERTEX_MARGIN_RTOL`). Elsewhere the closed form is a proven upper bound.
     """
     eps, sigma, delta_ratio, _, lipschitz = _checked(eps, sigma, delta_ratio, 1.0, lipschitz)
-    if sigma * (1 - eps) > math.sqrt(3):
+    if constraints.is_empty(eps, sigma):
         return False
     return _vertex_feasible(eps, sigma, delta_ratio, lipschitz)
 
@@ -180,7 +181,7 @@ def tight_supremum_closed_form(
     Eq. (16), (25)–(26), (33)–(37), (48), property H3; the proof is in docs/tight.md.
     """
     eps, sigma, delta_ratio, lfs, lipschitz = _checked(eps, sigma, delta_ratio, lfs, lipschitz)
-    _require_triangles(eps, sigma)
+    constraints.require_guide_triangles(eps, sigma)
     k_sin = sigma * (1 - eps) / 2
     mu = float(weight_ratio(eps, sigma, delta_ratio, lipschitz))
     excess, plateau = _vertex_excess(eps, sigma, delta_ratio, lipschitz)
@@ -258,7 +259,7 @@ def tight_eps_star_closed_form(
             "no crossing, so no eps* in the supported range"
         )
     root, _ = largest_root(gap, low, high)  # gap(root) ≤ 0: the ε* printed meets the target
-    _require_triangles(root, sigma)
+    constraints.require_guide_triangles(root, sigma)
     supremum = tight_supremum_closed_form(root, sigma, delta_ratio, 1.0, lipschitz)
     ratio = float(tight_ratio_closed_form(root, sigma, delta_ratio, rho_f, lipschitz))
     return ClosedFormEpsStar(
@@ -268,19 +269,6 @@ def tight_eps_star_closed_form(
         residual=ratio - 1,
         rho_f=rho_f,
     )
-
-
-def _require_triangles(eps: float, sigma: float) -> None:
-    """Raise InputError if the constraint set is empty: σ(1−ε) > √3.
-
-    Every triangle has an angle of at most 60°, whose opposite edge is at most 2R·sin 60° =
-    √3·R ≤ √3·ε/(1−ε)·L_i (H3); every edge is at least σεL_i (34)–(36).
-    """
-    if sigma * (1 - eps) > math.sqrt(3):
-        raise InputError(
-            f"no feasible guide triangle at eps={eps:g}, sigma={sigma:g}: sigma*(1-eps) exceeds "
-            "sqrt(3) (the shortest edge of a triangle is at most sqrt(3) times its circumradius)"
-        )
 
 
 def _checked_quality(sigma, delta_ratio, lfs, lipschitz):

@@ -12,7 +12,6 @@ closed form's proven lower bound when there is one.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from enum import Enum
 
 from ...checks import EPS_RANGE, brief
 from ...errors import InputError, NoCrossing, VoroboundError
@@ -21,7 +20,7 @@ from ..claims import NUMERICAL, PROVEN
 from ..configurations import GuideConfiguration
 from ..constraints import require_guide_triangles
 from ..eps_star import EpsStar, feasible_start
-from ..params import QualityParams, SamplingParams, Target
+from ..params import QualityParams, SamplingParams, Target, TightMethod
 from .closed_form import (
     ClosedFormStatus,
     tight_eps_star_closed_form,
@@ -32,15 +31,6 @@ from .scan import TightResult, solve_tight, tight_supremum
 
 CLOSED_FORM = "closed form"
 OPTIMIZER = "optimizer"
-
-
-class TightMethod(str, Enum):
-    """How to evaluate the tight bound."""
-
-    auto = "auto"
-    """The closed form where it is proven exact, the optimizer elsewhere."""
-    optimize = "optimize"
-    """Always the numerical optimizer."""
 
 
 def checked_method(method) -> TightMethod:

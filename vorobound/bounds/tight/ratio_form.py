@@ -142,14 +142,7 @@ def ratio_eps_star_closed_form(
         root,
         lambda eps: ratio_supremum_closed_form(eps, sigma, delta_ratio, lipschitz).value <= rho_f,
     )
-    if constraints.is_empty(root, sigma):
-        from ...errors import InputError
-
-        raise InputError(
-            f"no feasible guide triangle at eps={root:g}, sigma={sigma:g}: sigma*(1-eps) "
-            "exceeds sqrt(3) (the shortest edge of a triangle is at most sqrt(3) times its "
-            "circumradius)"
-        )
+    constraints.require_guide_triangles(root, sigma)
     supremum = ratio_supremum_closed_form(root, sigma, delta_ratio, lipschitz)
     exact = _vertex_feasible(root, sigma, delta_ratio, lipschitz)
     return RatioEpsStar(

@@ -32,7 +32,6 @@ from __future__ import annotations
 import importlib.util
 import math
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
 
@@ -41,6 +40,7 @@ from ...errors import InputError
 from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from ..balls import Balls
+from .engines import Engine
 from .seeds import SeededTriangles, classify
 
 SLAB_POINTS = 200_000
@@ -63,15 +63,6 @@ FILLER_MAX_NODES_PER_CENTER = 64
 :func:`filler_points`)."""
 BRUTE_MAX_TRIPLES = 5_000_000
 """Most triples the ``brute`` engine examines (balls that all overlap give n³/6)."""
-
-
-class Engine(str, Enum):
-    """Where candidate triples come from."""
-
-    auto = "auto"
-    gudhi = "gudhi"
-    hull = "hull"
-    brute = "brute"
 
 
 @dataclass(frozen=True)
