@@ -160,7 +160,7 @@ def _not_realized(realization, source):
 def _seed_count(run) -> int | None:
     if run.seeds is None:
         return None
-    with open(run.seeds, encoding="utf-8") as handle:
+    with open(run.seeds, "rb") as handle:  # a count only: bytes that are not UTF-8 do not matter
         return max(sum(1 for line in handle if line.strip()) - 1, 0)
 
 
@@ -204,6 +204,7 @@ def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
     run = read(vorocrust)
     if run.seeds is None:
         raise InputError(f"VoroCrust run {vorocrust}: no seeds.csv (M̂ is built from the seeds)")
+    seeds = read_seed_file(run.seeds)  # refused before the surface's work
     shape = run_shape(run, surface, progress)
     import numpy as np
 
@@ -212,7 +213,7 @@ def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
     radii = np.concatenate([b.radii for b in on_surface])
     units = BallRadiusUnits(shape, centers, radii, UNIT_EPS)
     params = QualityParams().at(UNIT_EPS)
-    report = workflow.reconstruct_seeds(read_seed_file(run.seeds), units, params, seed, progress)
+    report = workflow.reconstruct_seeds(seeds, units, params, seed, progress)
     return dataclasses.replace(report, eps=None, params=None)
 
 
