@@ -37,7 +37,23 @@ def read(vorocrust):
             f"VoroCrust run {vorocrust}: fewer than 4 surface balls (surface_spheres.csv); the "
             "smooth verdict needs them"
         )
+    _warn_above_r_max(run)
     return run
+
+
+def _warn_above_r_max(run) -> None:
+    """Warn when a ball is larger than the deck's R_MAX (vc_mesh caps every radius by it):
+    the deck read is then not the one that made the balls."""
+    from ..errors import warn_once
+
+    r_max = run.deck.values["R_MAX"]
+    largest = max(float(b.radii.max()) for b in run.strata.values() if b is not None)
+    if largest > r_max * (1 + 1e-9):
+        warn_once(
+            f"VoroCrust run {run.folder}: balls up to radius {largest:.6g} exceed the deck's "
+            f"R_MAX = {r_max:g} (vc_mesh caps every radius by it): is {run.deck.path.name} "
+            "the deck of this run?"
+        )
 
 
 def check_run(
