@@ -493,3 +493,24 @@ def test_forged_files_are_rejected_by_each_checker_alone(tmp_path, certificate_t
         check_certificate(read_certificate(path))
     with pytest.raises(VoroboundError):
         check_file_independently(path)
+
+
+def _open_cube(tmp_path) -> Path:
+    rows = (DATA / "cube" / "cube.obj").read_text().splitlines()
+    faces = [r for r in rows if r.startswith("f ")]
+    path = tmp_path / "open_cube.obj"
+    path.write_text("\n".join([r for r in rows if r.startswith("v ")] + faces[2:]) + "\n")
+    return path
+
+
+@pytest.mark.slow
+def test_repeats_on_an_open_mesh_is_refused(run_cli, tmp_path):
+    """Found: on a cube with one side open (no reference topology, every draw's
+    topology_correct None) the draws that happened to be closed counted as correct:
+    "share_correct": 0.5, "correct": 1 (an open surface has no closed M̂ to be right)."""
+    mesh = str(_open_cube(tmp_path))
+    code, out, err = run_cli(
+        "reconstruct", "--mesh", mesh, "--eps", "0.3", "--repeats", "2", "--json"
+    )
+    assert code == 2 and out == "", err
+    assert err.strip().splitlines()[-1].startswith("error: ") and "repeats" in err
