@@ -135,6 +135,55 @@ def test_seed_count_survives_bytes_that_are_not_utf8(tmp_path):
     assert _seed_count(read_run(folder)) == rows
 
 
+@pytest.mark.parametrize("header", [True, False])
+def test_seed_count_with_and_without_a_header(tmp_path, header):
+    """Found: seeds.csv without its header line was counted one short (strata.seeds)."""
+    from vorobound.api.vorocrust import _seed_count
+    from vorobound.sampling.io.vorocrust import read_run
+
+    folder = _run(tmp_path)
+    seeds = folder / "seeds.csv"
+    rows = _lines(seeds)
+    seeds.write_text("".join((rows if header else rows[1:]) + ["\n", "  \n"]))
+    assert _seed_count(read_run(folder)) == len(rows) - 1
+
+
+SAME_BALLS = {
+    "byte-order mark": lambda b: b"\xef\xbb\xbf" + b,
+    "CRLF": lambda b: b.replace(b"\n", b"\r\n"),
+    "semicolons": lambda b: b.replace(b",", b";"),
+    "blank lines": lambda b: b.replace(b"\n", b"\n\n"),
+    "no header": lambda b: b.split(b"\n", 1)[1],
+    "nan in an unused normal": lambda b: b.replace(b", 0, 0, 0, 2,", b", nan, 0, 0, 2,", 1),
+}
+
+
+@pytest.mark.parametrize("edit", SAME_BALLS, ids=str)
+def test_harmless_variants_read_the_same_balls(tmp_path, edit):
+    import numpy as np
+
+    from vorobound.sampling.io.vorocrust import read_run
+
+    base = read_run(DATA / "cube").strata["surface"]
+    folder = _run(tmp_path)
+    path = folder / "surface_spheres.csv"
+    path.write_bytes(SAME_BALLS[edit](path.read_bytes()))
+    got = read_run(folder).strata["surface"]
+    assert np.array_equal(got.centers, base.centers) and np.array_equal(got.radii, base.radii)
+
+
+@pytest.mark.parametrize("cell", ["1e-400", "0x1p-3", "1_0", "Infinity", ""])
+def test_odd_radius_cells_are_refused(tmp_path, cell):
+    from vorobound.errors import VoroboundError
+    from vorobound.sampling.io.vorocrust import read_run
+
+    folder = _run(tmp_path)
+    path = folder / "surface_spheres.csv"
+    path.write_text(path.read_text().replace("0.1445426998011292", cell, 1))
+    with pytest.raises(VoroboundError):
+        read_run(folder)
+
+
 def test_reconstruct_refuses_seeds_that_are_not_utf8(run_cli, tmp_path):
     folder = _run(tmp_path)
     seeds = folder / "seeds.csv"
@@ -234,7 +283,7 @@ def test_check_counts_seeds_that_are_not_utf8(run_cli, tmp_path):
     seeds.write_bytes(seeds.read_bytes() + b"\xff\xfe\n")
     code, out, err = run_cli("check", "--vorocrust", str(folder), "--json")
     assert code == 0, err
-    assert json.loads(out)["strata"]["seeds"] == 1227
+    assert json.loads(out)["strata"]["seeds"] == 1226  # the bytes line is no seed
 
 
 @pytest.mark.slow

@@ -4,6 +4,7 @@ ball set realizes and the guarantee they give (vorobound.reports.vorocrust, docs
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from pathlib import Path
 
@@ -177,7 +178,16 @@ def _seed_count(run) -> int | None:
     if run.seeds is None:
         return None
     with open(run.seeds, "rb") as handle:  # a count only: bytes that are not UTF-8 do not matter
-        return max(sum(1 for line in handle if line.strip()) - 1, 0)
+        return sum(_numeric_row(line) for line in handle)
+
+
+def _numeric_row(line: bytes) -> bool:
+    """A row of numbers (not blank, not a header): its first cell is a number."""
+    first = line.replace(b";", b",").replace(b"\t", b",").split(b",")[0].split()
+    try:
+        return bool(first) and math.isfinite(float(first[0]))
+    except ValueError:
+        return False
 
 
 def _smooth_part(run, shape):
