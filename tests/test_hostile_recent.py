@@ -460,6 +460,11 @@ FORGERIES = {
     "NaN eps": lambda t: t.replace('"eps_max": ', '"eps_max": NaN, "x": ', 1),
     "Infinity bound": lambda t: t.replace('"nodes": [', '"nodes": [Infinity, ', 1),
     "empty": lambda t: "",
+    "eps_max 1e400": lambda t: re.sub(r'("eps_max": )[0-9.e+-]+', r"\g<1>1e400", t, count=1),
+    "eps_max -0.0": lambda t: re.sub(r'("eps_max": )[0-9.e+-]+', r"\g<1>-0.0", t, count=1),
+    "nested 100000 deep": lambda t: "[" * 100_000 + "]" * 100_000,
+    "a NUL byte": lambda t: t[:50] + "\x00" + t[50:],
+    "target ratio": lambda t: t.replace('"target": "additive"', '"target": "ratio"', 1),
     "duplicate eps_max, genuine last": lambda t: t.replace(
         '"eps_max": ', '"eps_max": 0.9, "eps_max": ', 1
     ),
