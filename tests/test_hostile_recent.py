@@ -568,3 +568,26 @@ def test_repeats_on_an_open_mesh_is_refused(run_cli, tmp_path):
     )
     assert code == 2 and out == "", err
     assert err.strip().splitlines()[-1].startswith("error: ") and "repeats" in err
+
+
+@pytest.mark.slow
+def test_realized_spacing_and_lipschitz_match_brute_force(run_cli):
+    """S and Λ of the cube run's surface balls over every pair (brute force) are the ones
+    measured, and the realized σ and λ are safe for every pair (σ ≤ (δ/ε)·S, λ ≥ Λ/δ)."""
+    import numpy as np
+
+    from vorobound.sampling.io.vorocrust import read_run
+
+    real, _ = _realized(run_cli, DATA / "cube")
+    balls = read_run(DATA / "cube").strata["surface"]
+    c, r = balls.centers, balls.radii
+    distance = np.linalg.norm(c[:, None] - c[None], axis=2)
+    np.fill_diagonal(distance, np.inf)
+    spacing = float((distance / np.minimum(r[:, None], r[None])).min())
+    slope = float((np.abs(r[:, None] - r[None]) / distance).max())
+    measured = real["measured"]
+    assert measured["spacing_over_radius_min"] == pytest.approx(spacing, rel=1e-12)
+    assert measured["radius_lipschitz"] == pytest.approx(slope, rel=1e-12)
+    delta = real["delta_ratio"] * real["eps"]
+    assert real["sigma"] <= real["delta_ratio"] * spacing
+    assert real["lipschitz"] >= slope / delta
