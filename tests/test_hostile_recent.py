@@ -358,13 +358,11 @@ def test_torus_axis_does_not_change_the_advice(run_cli, axis):
     assert json.loads(out)["recommendation"] == json.loads(out_axis)["recommendation"]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="'--torus 1,0.4,w' says 'needs 2 comma-separated numbers' (AXIS is not named)",
-)
-def test_bad_torus_axis_names_the_axis(run_cli):
-    code, out, err = run_cli("advise", "--torus", "1,0.4,w", "--json")
-    assert "x, y or z" in err
+@pytest.mark.parametrize("torus", ["1,0.4,w", "1,0.4,z,", "1,0.4,1"])
+def test_bad_torus_axis_names_the_axis(run_cli, torus):
+    """Found: '--torus 1,0.4,w' said 'needs 2 comma-separated numbers' (AXIS not named)."""
+    code, out, err = run_cli("advise", "--torus", torus, "--json")
+    assert code == 2 and "x, y or z" in err
 
 
 def test_deck_into_a_file_is_refused_before_any_work(run_cli, tmp_path):
