@@ -115,6 +115,18 @@ def test_run_folder_missing_or_a_file(run_cli, tmp_path, how):
         _one_error(*run_cli(command, "--vorocrust", str(target), "--json"))
 
 
+@pytest.mark.parametrize("name", ["surface_spheres.csv", "edges_spheres.csv"])
+def test_a_ball_file_that_is_a_folder_is_named(run_cli, tmp_path, name):
+    """Found: surface_spheres.csv as a folder read as 'fewer than 4 surface balls', and
+    edges_spheres.csv as a folder as a run without edge balls (exit 0)."""
+    folder = _run(tmp_path)
+    (folder / name).unlink()
+    (folder / name).mkdir()
+    code, out, err = run_cli("check", "--vorocrust", str(folder), "--json")
+    _one_error(code, out, err)
+    assert "not a regular file" in err
+
+
 def test_too_few_surface_balls_is_one_line(run_cli, tmp_path):
     folder = _run(tmp_path)
     path = folder / "surface_spheres.csv"
