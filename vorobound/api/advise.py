@@ -189,6 +189,8 @@ def advise(
 
     if max_samples is not None:
         max_samples = checked_number(max_samples, "max_samples", 1.0, MAX_SAMPLES_LIMIT)
+    if vorocrust is not None:
+        _checked_deck_folder(vorocrust, mesh)
     modes = tuple(m.value for m in checked_modes(mode))
     targets = tuple(t.value for t in checked_targets(target))
     quality = QualityParams(sigma, delta_ratio, rho_f, lipschitz=lipschitz)
@@ -240,6 +242,19 @@ def advise(
     write_set(writers)
     chosen["written"] = [os.fspath(p) for p in writers]
     return dataclasses.replace(result, extra={"vorocrust": chosen})
+
+
+def _checked_deck_folder(vorocrust, mesh) -> None:
+    """Refuse, before any work, a deck folder that cannot receive the run directory's files."""
+    from ..files import checked_destination, checked_folder
+    from .vorocrust import DECK_NAME, SIZING_NAME
+
+    if mesh is None:
+        raise InputError("vorocrust writes a deck for a part: give mesh too")
+    folder = checked_folder(vorocrust)
+    if folder.is_dir():
+        for name in (DECK_NAME, SIZING_NAME):
+            checked_destination(folder / name)
 
 
 def guarantee_json(guarantee) -> dict | None:

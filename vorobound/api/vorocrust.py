@@ -4,6 +4,7 @@ ball set realizes and the guarantee they give (vorobound.reports.vorocrust, docs
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from pathlib import Path
 
@@ -37,7 +38,23 @@ def read(vorocrust):
             f"VoroCrust run {vorocrust}: fewer than 4 surface balls (surface_spheres.csv); the "
             "smooth verdict needs them"
         )
+    _warn_above_r_max(run)
     return run
+
+
+def _warn_above_r_max(run) -> None:
+    """Warn when a ball is larger than the deck's R_MAX (vc_mesh caps every radius by it):
+    the deck read is then not the one that made the balls."""
+    from ..errors import warn_once
+
+    r_max = run.deck.values["R_MAX"]
+    largest = max(float(b.radii.max()) for b in run.strata.values() if b is not None)
+    if largest > r_max * (1 + 1e-9):
+        warn_once(
+            f"VoroCrust run {run.folder}: balls up to radius {largest:.6g} exceed the deck's "
+            f"R_MAX = {r_max:g} (vc_mesh caps every radius by it): is {run.deck.path.name} "
+            "the deck of this run?"
+        )
 
 
 def check_run(
@@ -160,8 +177,17 @@ def _not_realized(realization, source):
 def _seed_count(run) -> int | None:
     if run.seeds is None:
         return None
-    with open(run.seeds, encoding="utf-8") as handle:
-        return max(sum(1 for line in handle if line.strip()) - 1, 0)
+    with open(run.seeds, "rb") as handle:  # a count only: bytes that are not UTF-8 do not matter
+        return sum(_numeric_row(line) for line in handle)
+
+
+def _numeric_row(line: bytes) -> bool:
+    """A row of numbers (not blank, not a header): its first cell is a number."""
+    first = line.replace(b";", b",").replace(b"\t", b",").split(b",")[0].split()
+    try:
+        return bool(first) and math.isfinite(float(first[0]))
+    except ValueError:
+        return False
 
 
 def _smooth_part(run, shape):
@@ -204,6 +230,7 @@ def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
     run = read(vorocrust)
     if run.seeds is None:
         raise InputError(f"VoroCrust run {vorocrust}: no seeds.csv (M̂ is built from the seeds)")
+    seeds = read_seed_file(run.seeds)  # refused before the surface's work
     shape = run_shape(run, surface, progress)
     import numpy as np
 
@@ -212,7 +239,7 @@ def reconstruct_run(*, vorocrust, surface: dict, seed: int, progress):
     radii = np.concatenate([b.radii for b in on_surface])
     units = BallRadiusUnits(shape, centers, radii, UNIT_EPS)
     params = QualityParams().at(UNIT_EPS)
-    report = workflow.reconstruct_seeds(read_seed_file(run.seeds), units, params, seed, progress)
+    report = workflow.reconstruct_seeds(seeds, units, params, seed, progress)
     return dataclasses.replace(report, eps=None, params=None)
 
 

@@ -266,6 +266,11 @@ def parse_torus(text: str) -> list:
     parts = [p.strip() for p in text.split(",")]
     if len(parts) == 3 and parts[2].lower() in ("x", "y", "z"):
         return [*parse_numbers(",".join(parts[:2]), "--torus", 2), parts[2].lower()]
+    if len(parts) != 2:
+        raise InputError(
+            "--torus needs 2 comma-separated numbers R,r or R,r,AXIS (AXIS x, y or z), "
+            f"got {text!r}"
+        )
     return parse_numbers(text, "--torus", 2)
 
 

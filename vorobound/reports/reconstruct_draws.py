@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bounds.params import QualityParams
+from ..errors import InputError
 from ..progress import Counter, Progress
 from ..sampling.guides.triangles import Engine
 from ..sampling.surfaces.base import ExpectedTopology
@@ -162,6 +163,12 @@ def reconstruct_draws(
     ----------
     Section 4.1 (the sampling conditions); eq. (33)–(55) (the marked ε*).
     """
+    if shape.expected_topology is None:
+        raise InputError(
+            f"{shape.name}: repeats counts the draws whose M̂ has the surface's topology, and "
+            "this surface gives none to compare with (a mesh that is not closed); run without "
+            "repeats"
+        )
     counter = Counter(progress, "draws × ε values", repeats * len(eps_values))
     seeds = tuple(seed + k for k in range(repeats))
     per_eps: list[list[SweepRow]] = [[] for _ in eps_values]

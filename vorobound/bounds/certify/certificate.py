@@ -155,7 +155,7 @@ def read_certificate(path) -> dict:
         if path.stat().st_size > MAX_CERTIFICATE_BYTES:
             raise ReadError(f"{path} is larger than {MAX_CERTIFICATE_BYTES >> 30} GiB")
         with open(path, encoding="utf-8") as handle:
-            payload = json.load(handle)
+            payload = json.load(handle, object_pairs_hook=_unique_keys)
     except OSError as exc:
         raise ReadError(f"cannot read {path}: {exc.strerror or exc}") from None
     except (UnicodeDecodeError, json.JSONDecodeError, RecursionError, ValueError) as exc:
@@ -354,3 +354,14 @@ def _setting(payload: dict) -> Setting:
     if quality.sigma * (1 - eps_max) >= 2:
         raise CertificateError("certificate parameters: sigma*(1 - eps_max) must be below 2")
     return Setting.of(quality, eps_max)
+
+
+def _unique_keys(pairs: list) -> dict:
+    """A JSON object whose keys are all different (a repeated key would make the file say two
+    things: ``json`` keeps the last, a reader may see the first)."""
+    out = dict(pairs)
+    if len(out) != len(pairs):
+        seen: set = set()
+        key = next(k for k, _ in pairs if k in seen or seen.add(k))
+        raise ValueError(f"key {key!r} appears twice in one object")
+    return out

@@ -209,7 +209,7 @@ def check_file_independently(path, progress: Progress | None = None) -> Independ
         if not path.is_file():
             raise CertificateError(f"cannot read {path}: not a regular file")
         with open(path, encoding="utf-8") as handle:
-            payload = json.load(handle)
+            payload = json.load(handle, object_pairs_hook=_unique_keys)
     except (OSError, ValueError, RecursionError) as exc:
         raise CertificateError(f"cannot read {path} as JSON ({type(exc).__name__})") from None
     return check_independently(payload, progress)
@@ -342,3 +342,14 @@ def _precision(bits: int):
         yield
     finally:
         ctx.prec = saved
+
+
+def _unique_keys(pairs: list) -> dict:
+    """A JSON object whose keys are all different (a repeated key would make the file say two
+    things: ``json`` keeps the last, a reader may see the first)."""
+    out = dict(pairs)
+    if len(out) != len(pairs):
+        seen: set = set()
+        key = next(k for k, _ in pairs if k in seen or seen.add(k))
+        raise ValueError(f"key {key!r} appears twice in one object")
+    return out

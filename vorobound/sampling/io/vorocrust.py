@@ -252,6 +252,8 @@ def read_run(folder: str | os.PathLike, deck: str = DECK) -> Run:
     for name, file in STRATA_FILES.items():
         path = folder / file
         if not path.is_file():
+            if path.exists():
+                raise ReadError(f"VoroCrust run {folder}: {file} is not a regular file")
             strata[name] = None
             continue
         centers, radii, attrib = read_sphere_file(path)
