@@ -13,14 +13,14 @@ import pytest
 
 from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.reports.check import check_balls, triangle_columns
+from vorobound.reports.check_outputs import CheckOutputs
 from vorobound.reports.check_tiled import check_ball_file
-from vorobound.reports.tiled_outputs import TiledOutputs
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.guides import tiles
 from vorobound.sampling.io.balls import pyarrow_available, read_balls, write_balls
 from vorobound.sampling.sampler.maximal import sample_surface
 from vorobound.sampling.sampler.torus_rows import torus_rows
 from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+from vorobound.tiling import plan as tiles
 
 pytest.importorskip("gudhi")
 
@@ -81,7 +81,7 @@ def _compare(path, eps, tmp_path, quality=None, lipschitz=1.0, **tiled):
     params = SamplingParams(eps, (quality or QualityParams()).but(lipschitz=lipschitz))
     untiled = check_balls(read_balls(path), params, source=path.name)
     table = "parquet" if pyarrow_available() else "csv"
-    with TiledOutputs(tmp_path / "out", table) as outputs:
+    with CheckOutputs(tmp_path / "out", table, tiled=True) as outputs:
         report = check_ball_file(path, params, outputs=outputs, **tiled)
         got = _tiled_rows(outputs.parts)
     want = _rows(triangle_columns(untiled))
@@ -180,8 +180,9 @@ def test_dask_local_cluster_gives_the_same_summary(tmp_path):
 MEMORY_PROBE = """
 import resource, sys
 from vorobound.bounds.params import QualityParams, SamplingParams
+from vorobound.reports.check_outputs import CheckOutputs
 from vorobound.reports.check_tiled import check_ball_file
-from vorobound.sampling.guides import tiles
+from vorobound.tiling import plan as tiles
 tiles.MAX_SUBSAMPLE = 2000
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 check_ball_file(sys.argv[1], SamplingParams(float(sys.argv[2]), QualityParams(lipschitz=1.0)),

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
-from ..reports.check import TABLES
+from ..reports.check import checked_table
 from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
@@ -256,6 +256,7 @@ def check(
             progress,
             features,
         )
+    table = checked_table(table)
     shape = sample_shape(
         sphere=sphere,
         torus=torus,
@@ -282,12 +283,8 @@ def check(
             raise InputError("lipschitz goes with balls (a surface's L has a known λ)")
         report = check_surface(shape, params.eps, quality, seed, engine, progress)
         asked = {"seed": seed, "engine": engine}
-    table = _checked_table(table, TABLES, out)
     asked["table"] = table if out is not None else None
-    result = _result(report, asked)
-    if out is not None:
-        result = write_outputs(result, out, figure_format, table)
-    return result
+    return _finish(report, asked, {}, out, figure_format, table)
 
 
 def _result(report, asked: dict) -> CheckResult:
@@ -309,50 +306,55 @@ def _result(report, asked: dict) -> CheckResult:
 
 def _finish_with(report, asked: dict, extra: dict, out, figure_format: str) -> CheckResult:
     """The result of a check report with more JSON (``extra``), written to ``out`` if given."""
-    import dataclasses
-
-    table = _checked_table(None, TABLES, out)
+    table = checked_table(None)
     asked["table"] = table if out is not None else None
-    result = dataclasses.replace(_result(report, asked), extra=extra)
-    if out is not None:
-        result = write_outputs(result, out, figure_format, table)
-    return result
+    return _finish(report, asked, extra, out, figure_format, table)
 
 
-def _checked_table(table: str | None, allowed: tuple[str, ...], out) -> str:
-    """The per-triangle table format asked for, or the compact default."""
-    from ..errors import InputError
-    from ..reports.check import default_table
-
-    table = table or default_table()
-    if table not in allowed:
-        raise InputError(f"table: expected {', '.join(allowed)}, got {table!r}")
-    return table
-
-
-def write_outputs(result: CheckResult, out, figure_format: str, table: str) -> CheckResult:
-    """The per-triangle rows (``table``), summary.json (the result's JSON), sample.vtu and the
-    gap histogram, written as one set; the result names them."""
+def _finish(report, asked: dict, extra: dict, out, figure_format: str, table: str) -> CheckResult:
+    """The result of a whole check, written to ``out`` if given."""
     import dataclasses
 
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_gap_histogram
-    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks, output_writers
+    result = dataclasses.replace(_result(report, asked), extra=extra)
+    if out is None:
+        return result
+    from ..reports.check_outputs import CheckOutputs
+
+    with CheckOutputs(out, table) as outputs:
+        return write_outputs(result, outputs, figure_format)
+
+
+def write_outputs(result: CheckResult, outputs, figure_format: str) -> CheckResult:
+    """The per-triangle rows, summary.json (the result's JSON), sample.vtu and the gap
+    histogram of a check, whole or tiled, written into ``outputs``
+    (:class:`vorobound.reports.check_outputs.CheckOutputs`) as one set; the result names
+    them."""
+    import dataclasses
+
+    from ..plotting import figure_writer, plot_gap_counts, plot_gap_histogram
+    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks
 
     report = result.report
-    folder = ensure_folder(out)
-    writers = output_writers(report, folder, table)
-    figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
-    writers[folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
-    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
+    marks = histogram_marks(report)
+    if outputs.tiled:
+        g = report.guides
+        span = (g.gap_min, g.maxima.get("gap_ratio", 0.0))
+        figure = plot_gap_counts(report.gap_edges, g.histogram, span, marks, report.source)
+    else:
+        figure = plot_gap_histogram(report.guides.gap_ratio, marks, report.source)
+    writers = outputs.writers(report)
+    writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(
+        figure, figure_format
+    )
+    result = dataclasses.replace(
+        result,
+        written=tuple(os.fspath(p) for p in outputs.listed(writers)),
+        extra=result.extra | outputs.extra(report),
+    )
     text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
-    writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
-    write_set(writers)
+    writers[outputs.folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
+    outputs.publish(writers)
     return result
-
-
-TILED_TABLES = ("parquet", "csv", "none")
-"""How a tiled check's ``out`` holds the per-triangle rows (one file per tile)."""
 
 
 def _check_tiled(
@@ -369,61 +371,31 @@ def _check_tiled(
     features=None,
 ) -> CheckResult:
     """``balls`` checked in tiles (vorobound.reports.check_tiled), outputs as one set."""
-    import dataclasses
     from contextlib import nullcontext
 
     from ..checks import checked_count, checked_lipschitz
-    from ..plotting import figure_writer, plot_gap_counts
-    from ..reports.check import GAP_HISTOGRAM_STEM
+    from ..reports.check_outputs import CheckOutputs
     from ..reports.check_tiled import check_ball_file
-    from ..reports.tiled_outputs import TiledOutputs
-    from ..reports.tiled_report import histogram_marks
-    from ..sampling.io.balls import pyarrow_available
 
     if workers is not None:
         workers = checked_count(workers, "workers", 1, 1 << 16)
-    if table is None and not pyarrow_available():
-        table = "none"
-    table = _checked_table(table, TILED_TABLES, out)
+    table = checked_table(table, tiled=True)
     lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
     params = params.but(lipschitz=lam)
-    staging = TiledOutputs(out, table) if out is not None else nullcontext()
+    staging = CheckOutputs(out, table, tiled=True) if out is not None else nullcontext()
     with staging as outputs:
         report = check_ball_file(
             balls, params, engine, workers or 1, scheduler, outputs, progress, features=features
         )
-        result = _result(
-            report,
-            {
-                "seed": None,
-                "engine": engine,
-                "balls": os.fspath(balls),
-                "workers": workers,
-                "scheduler": scheduler,
-                "table": table,
-            },
-        )
+        asked = {
+            "seed": None,
+            "engine": engine,
+            "balls": os.fspath(balls),
+            "workers": workers,
+            "scheduler": scheduler,
+            "table": table,
+        }
+        result = _result(report, asked)
         if outputs is not None:
-            g = report.guides
-            figure = plot_gap_counts(
-                report.gap_edges,
-                g.histogram,
-                (g.gap_min, g.maxima.get("gap_ratio", 0.0)),
-                histogram_marks(report),
-                report.source,
-            )
-            writers = outputs.writers(report)
-            writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(
-                figure, figure_format
-            )
-            folders = ["triangles"] if table == "parquet" else []
-            written = [*map(os.fspath, writers), *(os.fspath(outputs.folder / f) for f in folders)]
-            result = dataclasses.replace(
-                result, written=tuple(written), extra={"rows": outputs.rows(report)}
-            )
-            text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
-            writers[outputs.folder / "summary.json"] = lambda path: path.write_text(
-                text, encoding="utf-8"
-            )
-            outputs.publish(writers)
+            result = write_outputs(result, outputs, figure_format)
     return result
