@@ -156,7 +156,7 @@ def test_unreachable_scheduler_is_one_line(run_cli, torus_file, monkeypatch):
 
 
 def test_parquet_without_pyarrow_is_refused(run_cli, torus_file, tmp_path, monkeypatch):
-    import vorobound.reports.tiled_outputs as tiled
+    import vorobound.sampling.io.balls as tiled
 
     monkeypatch.setattr(tiled, "pyarrow_available", lambda: False)
     code, _, err = run_cli(
