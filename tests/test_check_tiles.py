@@ -8,6 +8,8 @@ tiles down to smaller than one ball. Plus the tile plan itself (ownership is a p
 halo rule equals its definition), a dask LocalCluster, and memory that does not grow with N.
 """
 
+import json
+
 import numpy as np
 import pytest
 
@@ -261,3 +263,28 @@ def test_a_local_pool_never_starts_more_processes_than_cpus():
         assert slots == 64
         assert executor._max_workers == min(64, os.cpu_count() or 1)
         assert sorted(executor.map(abs, [-3, -1, -2])) == [1, 2, 3]
+
+
+@pytest.mark.parametrize("workers", [None, 1], ids=["whole", "tiled"])
+def test_the_summary_is_built_once_per_run(workers, tmp_path, monkeypatch):
+    """One check with outputs, its JSON, verdict and frame: the summary is assembled once
+    (the whole and the tiled check share one builder, and the report caches it)."""
+    import vorobound
+    import vorobound.reports.check as whole
+    import vorobound.reports.check_tiled as tiled
+
+    built = []
+
+    def counted(*args, **kwargs):
+        built.append(1)
+        return whole_fields(*args, **kwargs)
+
+    whole_fields = whole.summary_fields
+    monkeypatch.setattr(whole, "summary_fields", counted)
+    monkeypatch.setattr(tiled, "summary_fields", counted)
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.3, tmp_path / "t.npz")
+    result = vorobound.check(balls=path, eps=0.3, workers=workers, out=tmp_path / "out")
+    result.to_dict(), result.verdict, result.ok, result.failures
+    saved = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert saved["n_guide_triangles"] == result.n_guide_triangles > 0
+    assert len(built) == 1

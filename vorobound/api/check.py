@@ -7,6 +7,9 @@ import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
@@ -14,6 +17,11 @@ from ..progress import Progress
 from ..reports.check import checked_table
 from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json, sample_lfs
+
+if TYPE_CHECKING:
+    from ..reports.check import CheckReport
+    from ..reports.check_outputs import CheckOutputs
+    from ..reports.check_tiled import TiledCheckReport
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -89,8 +97,8 @@ class CheckResult(Result):
     coverage_max: float | None
     n_failures: int
     """Sum of :attr:`failures` (0: everything checked holds)."""
-    report: object = field(repr=False)
-    """:class:`vorobound.reports.check.CheckReport`."""
+    report: CheckReport | TiledCheckReport = field(repr=False)
+    """What the check measured, whole or in tiles."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
     extra: dict = field(repr=False, default_factory=dict)
@@ -115,8 +123,9 @@ class CheckResult(Result):
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
         )
-        if getattr(self.report, "lfs", None) is not None:  # a whole check (tiles keep no L)
-            summary |= sample_lfs(summary["params"], self.report.lfs)
+        lfs = getattr(self.report, "lfs", None)
+        if lfs is not None:  # a whole check (tiles keep no L)
+            summary |= sample_lfs(summary["params"], lfs)
         return summary | {
             "ok": not any(found.values()),
             "failures": found,
@@ -273,9 +282,10 @@ def check(
 
         lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
         name = os.path.basename(os.fspath(balls))
-        given = read_balls(balls)
-        if shape is not None:
-            warn_off_surface(off_surface(given, shape), given, name)
+        given = read_balls(os.fspath(balls))
+        measured = off_surface(given, shape)
+        if measured is not None:
+            warn_off_surface(measured, given, name)
         report = check_balls(given, params.but(lipschitz=lam), engine, shape, name, progress)
         asked = {"seed": None, "engine": engine, "balls": os.fspath(balls)}
     else:
@@ -324,7 +334,7 @@ def _finish(report, asked: dict, extra: dict, out, figure_format: str, table: st
         return write_outputs(result, outputs, figure_format)
 
 
-def write_outputs(result: CheckResult, outputs, figure_format: str) -> CheckResult:
+def write_outputs(result: CheckResult, outputs: CheckOutputs, figure_format: str) -> CheckResult:
     """The per-triangle rows, summary.json (the result's JSON), sample.vtu and the gap
     histogram of a check, whole or tiled, written into ``outputs``
     (:class:`vorobound.reports.check_outputs.CheckOutputs`) as one set; the result names
@@ -333,10 +343,11 @@ def write_outputs(result: CheckResult, outputs, figure_format: str) -> CheckResu
 
     from ..plotting import figure_writer, plot_gap_counts, plot_gap_histogram
     from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks
+    from ..reports.check_tiled import TiledCheckReport
 
     report = result.report
     marks = histogram_marks(report)
-    if outputs.tiled:
+    if isinstance(report, TiledCheckReport):
         g = report.guides
         span = (g.gap_min, g.maxima.get("gap_ratio", 0.0))
         figure = plot_gap_counts(report.gap_edges, g.histogram, span, marks, report.source)
@@ -352,9 +363,13 @@ def write_outputs(result: CheckResult, outputs, figure_format: str) -> CheckResu
         extra=result.extra | outputs.extra(report),
     )
     text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
-    writers[outputs.folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
+    writers[outputs.folder / "summary.json"] = partial(_write_text, text=text)
     outputs.publish(writers)
     return result
+
+
+def _write_text(path: Path, text: str) -> None:
+    path.write_text(text, encoding="utf-8")
 
 
 def _check_tiled(

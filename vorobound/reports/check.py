@@ -272,7 +272,8 @@ class _Stages:
     """Wall time per stage, and a progress line for the stages without their own counter."""
 
     def __init__(self, progress: Progress | None):
-        self.progress, self.seconds = progress, {}
+        self.progress = progress
+        self.seconds: dict[str, float] = {}
 
     @contextmanager
     def __call__(self, name: str, announce: bool = False):

@@ -230,7 +230,16 @@ def _core_radii(spill: _Spill, plan: tiles.TilePlan, chunk_rows: int) -> np.ndar
 class _Rounds:
     """Routes and runs tiles, again with wider halos where a tile asks for one."""
 
-    def __init__(self, executor, slots, plan, spill, settings, chunk_rows, progress):
+    def __init__(
+        self,
+        executor: concurrent.futures.Executor,
+        slots: int,
+        plan: tiles.TilePlan,
+        spill: _Spill,
+        settings: TileSettings,
+        chunk_rows: int,
+        progress: Progress | None,
+    ) -> None:
         self.executor, self.slots, self.plan, self.spill = executor, slots, plan, spill
         self.settings, self.chunk_rows, self.progress = settings, chunk_rows, progress
         self.seconds = {"route": 0.0, "tiles": 0.0}

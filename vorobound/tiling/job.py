@@ -194,7 +194,7 @@ def _run(job: TileJob) -> TileOutcome:
 class _Clock:
     """Thread CPU seconds per stage."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.seconds: dict[str, float] = {}
 
     @contextlib.contextmanager

@@ -162,7 +162,12 @@ def plan_tiles(
     if tile_balls < 1:
         raise InputError(f"tile_balls must be at least 1, got {tile_balls}")
     scale = total / max(len(sample), 1)
-    axis, split, left, right, lows, highs = [], [], [], [], [], []
+    axis: list[int] = []
+    split: list[float] = []
+    left: list[int] = []
+    right: list[int] = []
+    lows: list[np.ndarray] = []
+    highs: list[np.ndarray] = []
 
     def build(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> int:
         parts = math.ceil(len(points) * scale / tile_balls)
@@ -224,7 +229,8 @@ class Subsample:
 
     def __init__(self, limit: int | None = None):
         self.limit = MAX_SUBSAMPLE if limit is None else limit
-        self.stride, self.parts, self.kept = 1, [], 0
+        self.stride, self.kept = 1, 0
+        self.parts: list[tuple[np.ndarray, np.ndarray]] = []
 
     def add(self, first_row: int, centers: np.ndarray) -> None:
         """Offer the rows ``first_row, first_row + 1, ...`` of the stream."""

@@ -106,10 +106,9 @@ class GuideTally:
                 if len(finite):
                     at = int(finite[np.argmax(rows[finite])])
                     triple = g.triples[at]
-                    where[name] = Where(
-                        tuple(int(i) for i in ids[triple]),
-                        tuple(float(x) for x in centers[triple].mean(axis=0)),
-                    )
+                    a, b, c = (int(i) for i in ids[triple])
+                    x, y, z = (float(v) for v in centers[triple].mean(axis=0))
+                    where[name] = Where((a, b, c), (x, y, z))
         gap = g.gap_ratio
         inner = np.histogram(gap[(gap >= edges[0]) & (gap < edges[-1])], bins=edges)[0]
         histogram = np.concatenate(
@@ -191,15 +190,10 @@ class PairTally:
 
     @classmethod
     def of(cls, report: conditions.PairReport, ids: np.ndarray, centers: np.ndarray) -> PairTally:
-        worst = [
-            (
-                int(ids[i]),
-                int(ids[j]),
-                float(value),
-                tuple(float(x) for x in 0.5 * (centers[i] + centers[j])),
-            )
-            for (i, j), value in zip(report.worst, report.worst_values, strict=True)
-        ]
+        worst = []
+        for (i, j), value in zip(report.worst, report.worst_values, strict=True):
+            x, y, z = (float(v) for v in 0.5 * (centers[i] + centers[j]))
+            worst.append((int(ids[i]), int(ids[j]), float(value), (x, y, z)))
         return cls(float(report.extreme), int(report.violations), worst)
 
     @classmethod
