@@ -196,7 +196,8 @@ def check(
     ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
     halos (docs/scale.md): the same guide triangles and summary, memory bounded by the tile.
     ``table`` then says how ``out`` holds the per-triangle rows: a Parquet dataset
-    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``. ``mesh``
+    ``triangles/`` (default, needs pyarrow), one ``triangles.csv`` or ``triangles.npz`` joined
+    from the tiles', or ``none`` (the default without pyarrow). ``mesh``
     (with ``lfs`` or ``sizing`` if given) is then read for its sharp features only.
     """
     from ..checks import checked_lipschitz, checked_seed
