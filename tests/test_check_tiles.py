@@ -112,7 +112,7 @@ def test_tiled_check_equals_the_untiled_one(case, tmp_path):
     make, eps = CASES[case]
     path = make(tmp_path / f"{case}.npz")
     report = _compare(path, eps, tmp_path, tile_balls=max(200, len(read_balls(path)) // 6))
-    assert report.tiling.tiles >= 4
+    assert report.run.tiling.tiles >= 4
 
 
 def test_violations_and_worst_pairs_are_counted_once(tmp_path):
@@ -130,7 +130,7 @@ def test_violations_and_worst_pairs_are_counted_once(tmp_path):
 def test_tiles_smaller_than_a_ball(tmp_path):
     path = _surface_balls(TorusShape(1.5, 1.0), 0.3, tmp_path / "t.npz")
     report = _compare(path, 0.3, tmp_path, tile_balls=8, chunk_rows=100)
-    assert report.tiling.tiles >= len(read_balls(path)) / 8
+    assert report.run.tiling.tiles >= len(read_balls(path)) / 8
     # Boxes of about two balls each, halos of several radii: every ball is in many halos.
     assert report.summary()["tiles"]["halo_share"] > 10
 

@@ -35,6 +35,7 @@ from ..sampling.guides.measure import (
 )
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
 from ..sampling.sampler import conditions
+from ..tiling.job import Tallies
 from ..tiling.rows import TABLES, guide_columns
 from ..tiling.tally import CLASSES, GuideTally, PairTally, gap_edges
 
@@ -106,14 +107,16 @@ class CheckReport:
     @cached_property
     def _summary(self) -> dict:
         ids, centers = np.arange(len(self.balls)), self.balls.centers
-        out = summary_fields(
-            self,
-            n_samples=len(self.balls),
+        tallies = Tallies(
+            candidates=self.proposed,
+            with_seeds=self.with_seeds,
+            half_covered=self.half_covered,
             guides=self.tally,
             sparsity=PairTally.of(self.sparsity, ids, centers),
-            lipschitz_pairs=PairTally.of(self.lipschitz_pairs, ids, centers),
-            coverage=(self.coverage_max, self.coverage_where, self.coverage_probes),
+            lipschitz=PairTally.of(self.lipschitz_pairs, ids, centers),
         )
+        coverage = (self.coverage_max, self.coverage_where, self.coverage_probes)
+        out = summary_fields(self, tallies, len(self.balls), coverage)
         out["by_class"] = class_entries(self.tally, self.feature_rule)
         if self.coverage_max is None:
             out["coverage_note"] = COVERAGE_NOTE
@@ -127,20 +130,13 @@ class CheckReport:
 COVERAGE_NOTE = "coverage needs the surface: only the balls were given"
 
 
-def summary_fields(
-    report,
-    *,
-    n_samples: int,
-    guides: GuideTally,
-    sparsity: PairTally,
-    lipschitz_pairs: PairTally,
-    coverage: tuple,
-) -> dict:
-    """The fields every check's summary has (docs/samples.md), from the tallies of its guide
-    triangles and pair conditions (a whole check's, or the merge of its tiles'); ``report``
-    gives the source, parameters, seed, engine, candidate counts, λ, bounds and timings."""
-    g, eps = guides, report.params.eps
-    seeded = g.count + report.half_covered
+def summary_fields(report, tallies: Tallies, n_samples: int, coverage: tuple) -> dict:
+    """The fields every check's summary has (docs/samples.md), from its ``tallies`` (a whole
+    check's, as of one tile, or the merge of its tiles'); ``report`` gives the source,
+    parameters, seed, engine, λ, bounds and timings; ``coverage`` is (max, where, probes)."""
+    g, eps = tallies.guides, report.params.eps
+    sparsity, lipschitz_pairs = tallies.sparsity, tallies.lipschitz
+    seeded = g.count + tallies.half_covered
     bounds = {b.mode: b.value for b in report.bounds}
     coverage_max, coverage_where, probes = coverage
     return {
@@ -154,11 +150,11 @@ def summary_fields(
         "seed": report.seed,
         "engine": report.engine,
         "n_samples": n_samples,
-        "n_candidate_triples": report.proposed,
-        "n_with_seeds": report.with_seeds,
+        "n_candidate_triples": tallies.candidates,
+        "n_with_seeds": tallies.with_seeds,
         "n_guide_triangles": g.count,
-        "n_half_covered": report.half_covered,
-        "half_covered_share": report.half_covered / seeded if seeded else None,
+        "n_half_covered": tallies.half_covered,
+        "half_covered_share": tallies.half_covered / seeded if seeded else None,
         "coverage_max": coverage_max,
         "coverage_where": None if coverage_where is None else coverage_where.tolist(),
         "coverage_probes": probes,

@@ -58,7 +58,8 @@ class CheckOutputs:
         out: Writers = {}
         if self.tiled:
             out[self.folder / SUMMARY] = None
-            if report.vtu is not None and len(report.vtu.triples):
+            vtu = report.run.vtu
+            if vtu is not None and len(vtu.triples):
                 out[self.folder / "sample.vtu"] = partial(_picked_vtu, report=report)
             if self.table in ("csv", "npz"):
                 assert self.parts is not None
@@ -86,7 +87,8 @@ class CheckOutputs:
         them the VTU shows."""
         if not self.tiled:
             return {}
-        shown = 0 if report.vtu is None else len(report.vtu.triples)
+        vtu = report.run.vtu
+        shown = 0 if vtu is None else len(vtu.triples)
         return {
             "rows": {
                 "table": self.table,
@@ -130,7 +132,7 @@ def _whole_vtu(path: Path, report) -> None:
 def _picked_vtu(path: Path, report) -> None:
     """sample.vtu of a tiled check: the guide triangles its tiles picked, with the balls they
     use and their indices in the whole set."""
-    vtu = report.vtu
+    vtu = report.run.vtu
     ids, first = np.unique(vtu.triples.ravel(), return_index=True)
     radii = vtu.radii.ravel()[first]
     point_data = {

@@ -30,9 +30,9 @@ from ..sampling.guides.features import FEATURE_RULE
 from ..sampling.guides.measure import ModeBound, mode_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
 from ..sampling.io.stream import CHUNK_ROWS
-from ..tiling.engine import TiledRun, Tiling, run_tiles
-from ..tiling.job import TileSettings, VtuRows
-from ..tiling.tally import gap_edges
+from ..tiling.engine import TiledRun, run_tiles
+from ..tiling.job import TileSettings
+from ..tiling.tally import GuideTally, gap_edges
 from .check import (
     COVERAGE_NOTE,
     LIPSCHITZ_SOURCES,
@@ -65,40 +65,14 @@ class TiledCheckReport:
     """Wall seconds per driver stage."""
 
     @property
-    def guides(self):
+    def guides(self) -> GuideTally:
+        """The merged tally of the guide triangles."""
         return self.run.guides
-
-    @property
-    def tiling(self) -> Tiling:
-        return self.run.tiling
-
-    @property
-    def vtu(self) -> VtuRows | None:
-        return self.run.vtu
-
-    @property
-    def proposed(self) -> int:
-        return self.run.candidates
-
-    @property
-    def with_seeds(self) -> int:
-        return self.run.with_seeds
-
-    @property
-    def half_covered(self) -> int:
-        return self.run.half_covered
 
     @cached_property
     def _summary(self) -> dict:
         g = self.run.guides
-        out = summary_fields(
-            self,
-            n_samples=self.run.balls,
-            guides=g,
-            sparsity=self.run.sparsity,
-            lipschitz_pairs=self.run.lipschitz,
-            coverage=(None, None, 0),
-        )
+        out = summary_fields(self, self.run, self.run.balls, (None, None, 0))
         out["coverage_note"] = COVERAGE_NOTE
         out["worst"] = {
             name: {"triangle": list(w.triple), "centroid": list(w.centroid)}
@@ -119,7 +93,7 @@ class TiledCheckReport:
         return dict(self._summary)
 
     def _tiles(self) -> dict:
-        t = self.tiling
+        t = self.run.tiling
         return {
             "count": t.tiles,
             "halo_share": t.halo_balls / self.run.balls,

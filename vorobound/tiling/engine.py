@@ -46,7 +46,7 @@ from ..progress import Counter, Progress
 from ..sampling.balls import MIN_BALLS
 from ..sampling.io.stream import CHUNK_ROWS, ball_chunks
 from . import plan as tiles
-from .job import TileJob, TileOutcome, TileSettings, VtuRows, run_tile
+from .job import Tallies, TileJob, TileOutcome, TileSettings, VtuRows, run_tile
 from .tally import GuideTally, PairTally
 
 TILE_BALLS = 150_000
@@ -104,16 +104,10 @@ class Tiling:
 
 
 @dataclass(frozen=True)
-class TiledRun:
+class TiledRun(Tallies):
     """The merged outcomes of every tile of one run."""
 
     balls: int
-    candidates: int
-    with_seeds: int
-    half_covered: int
-    guides: GuideTally
-    sparsity: PairTally
-    lipschitz: PairTally
     sparsity_exact: bool
     """False when the smallest sparsity ratio is only known to be at least the value found
     (the tiles' certainty, :mod:`vorobound.tiling.plan`)."""

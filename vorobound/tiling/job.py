@@ -98,7 +98,21 @@ class VtuRows:
 
 
 @dataclass(frozen=True)
-class TileOutcome:
+class Tallies:
+    """What the tiles of a check add up (and what a whole check's summary is built from):
+    candidate triples, those with seeds, the half-covered ones, and the tallies of the guide
+    triangles and of the pair conditions."""
+
+    candidates: int
+    with_seeds: int
+    half_covered: int
+    guides: GuideTally
+    sparsity: PairTally
+    lipschitz: PairTally
+
+
+@dataclass(frozen=True)
+class TileOutcome(Tallies):
     """What a tile sends back."""
 
     tile: int
@@ -106,12 +120,6 @@ class TileOutcome:
     """Balls in the core."""
     halo: int
     """Balls in the halo."""
-    candidates: int
-    with_seeds: int
-    half_covered: int
-    guides: GuideTally
-    sparsity: PairTally
-    lipschitz: PairTally
     core_radius: float
     needed_beta: float
     """The β the tile needed (above its own: recompute it with a wider halo)."""
