@@ -2,9 +2,15 @@
 
 :func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler.maximal`) and checks the
 sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both measure every
-guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`, whose
-:meth:`CheckReport.summary` is the JSON summary and which :func:`output_writers` writes as
-triangles.csv, summary.json, a VTU for ParaView and a histogram of the realized gap.
+guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`.
+
+One pipeline serves this whole check and the tiled one (:mod:`vorobound.reports.check_tiled`,
+on the tile engine :mod:`vorobound.tiling`): a whole check's summary is built, once, by
+:func:`summary_fields` from the same :class:`~vorobound.tiling.job.Tallies` a tile sends back
+(its rows tallied as one tile), the table format is checked in :func:`checked_table` only,
+the error of a sample without guide triangles is :func:`no_guide_triangles`, and both write
+their files through :class:`~vorobound.reports.check_outputs.CheckOutputs` (per-triangle
+rows, summary.json, a VTU for ParaView and a histogram of the realized gap, as one set).
 
 References
 ----------
