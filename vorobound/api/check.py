@@ -253,19 +253,27 @@ def check(
             features = sharp_features(shape)
         elif lfs is not None or sizing is not None:
             raise InputError("lfs and sizing describe a mesh: use them with mesh")
-        return _check_tiled(
-            balls,
-            params,
-            lipschitz,
-            engine,
-            workers,
-            scheduler,
-            table,
-            out,
-            figure_format,
-            progress,
-            features,
-        )
+        from ..checks import checked_count
+        from ..reports.check_tiled import check_ball_file
+
+        if workers is not None:
+            workers = checked_count(workers, "workers", 1, 1 << 16)
+        table = checked_table(table, tiled=True)
+        lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
+        asked = {"seed": None, "engine": engine, "balls": os.fspath(balls), "workers": workers}
+        asked |= {"scheduler": scheduler, "table": table}
+        with _outputs(out, table, tiled=True) as outputs:
+            tiled_report = check_ball_file(
+                balls,
+                params.but(lipschitz=lam),
+                engine,
+                workers or 1,
+                scheduler,
+                outputs,
+                progress,
+                features=features,
+            )
+            return _finish(tiled_report, asked, {}, outputs, figure_format)
     table = checked_table(table)
     shape = sample_shape(
         sphere=sphere,
@@ -295,7 +303,8 @@ def check(
         report = check_surface(shape, params.eps, quality, seed, engine, progress)
         asked = {"seed": seed, "engine": engine}
     asked["table"] = table if out is not None else None
-    return _finish(report, asked, {}, out, figure_format, table)
+    with _outputs(out, table) as outputs:
+        return _finish(report, asked, {}, outputs, figure_format)
 
 
 def _result(report, asked: dict) -> CheckResult:
@@ -319,20 +328,29 @@ def _finish_with(report, asked: dict, extra: dict, out, figure_format: str) -> C
     """The result of a check report with more JSON (``extra``), written to ``out`` if given."""
     table = checked_table(None)
     asked["table"] = table if out is not None else None
-    return _finish(report, asked, extra, out, figure_format, table)
+    with _outputs(out, table) as outputs:
+        return _finish(report, asked, extra, outputs, figure_format)
 
 
-def _finish(report, asked: dict, extra: dict, out, figure_format: str, table: str) -> CheckResult:
-    """The result of a whole check, written to ``out`` if given."""
+def _outputs(out, table: str, tiled: bool = False):
+    """The output set of a check in ``out`` (a context manager; nothing without ``out``)."""
+    from contextlib import nullcontext
+
+    from ..reports.check_outputs import CheckOutputs
+
+    return nullcontext() if out is None else CheckOutputs(out, table, tiled)
+
+
+def _finish(
+    report, asked: dict, extra: dict, outputs: CheckOutputs | None, figure_format: str
+) -> CheckResult:
+    """The result of a check, whole or tiled, written into ``outputs`` if given."""
     import dataclasses
 
     result = dataclasses.replace(_result(report, asked), extra=extra)
-    if out is None:
+    if outputs is None:
         return result
-    from ..reports.check_outputs import CheckOutputs
-
-    with CheckOutputs(out, table) as outputs:
-        return write_outputs(result, outputs, figure_format)
+    return write_outputs(result, outputs, figure_format)
 
 
 def write_outputs(result: CheckResult, outputs: CheckOutputs, figure_format: str) -> CheckResult:
@@ -371,47 +389,3 @@ def write_outputs(result: CheckResult, outputs: CheckOutputs, figure_format: str
 
 def _write_text(path: Path, text: str) -> None:
     path.write_text(text, encoding="utf-8")
-
-
-def _check_tiled(
-    balls,
-    params,
-    lipschitz,
-    engine,
-    workers,
-    scheduler,
-    table,
-    out,
-    figure_format,
-    progress,
-    features=None,
-) -> CheckResult:
-    """``balls`` checked in tiles (vorobound.reports.check_tiled), outputs as one set."""
-    from contextlib import nullcontext
-
-    from ..checks import checked_count, checked_lipschitz
-    from ..reports.check_outputs import CheckOutputs
-    from ..reports.check_tiled import check_ball_file
-
-    if workers is not None:
-        workers = checked_count(workers, "workers", 1, 1 << 16)
-    table = checked_table(table, tiled=True)
-    lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
-    params = params.but(lipschitz=lam)
-    staging = CheckOutputs(out, table, tiled=True) if out is not None else nullcontext()
-    with staging as outputs:
-        report = check_ball_file(
-            balls, params, engine, workers or 1, scheduler, outputs, progress, features=features
-        )
-        asked = {
-            "seed": None,
-            "engine": engine,
-            "balls": os.fspath(balls),
-            "workers": workers,
-            "scheduler": scheduler,
-            "table": table,
-        }
-        result = _result(report, asked)
-        if outputs is not None:
-            result = write_outputs(result, outputs, figure_format)
-    return result

@@ -17,6 +17,7 @@ The guide triangles, sampling conditions and bounds of Section 4.1.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -120,7 +121,7 @@ class TiledCheckReport:
 
 
 def check_ball_file(
-    path: str | Path,
+    path: str | os.PathLike,
     params: SamplingParams,
     engine: Engine | str = Engine.auto,
     workers: int = 1,
