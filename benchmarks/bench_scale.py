@@ -176,7 +176,7 @@ def worker_start() -> float:
     """CPU seconds a fresh process takes to import what a tile needs."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(
-        [sys.executable, "-c", "import vorobound.reports.tile_job, gudhi, scipy.spatial"],
+        [sys.executable, "-c", "import vorobound.tiling.job, gudhi, scipy.spatial"],
         check=True,
     )
     after = resource.getrusage(resource.RUSAGE_CHILDREN)

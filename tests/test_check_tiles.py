@@ -8,19 +8,21 @@ tiles down to smaller than one ball. Plus the tile plan itself (ownership is a p
 halo rule equals its definition), a dask LocalCluster, and memory that does not grow with N.
 """
 
+import json
+
 import numpy as np
 import pytest
 
 from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.reports.check import check_balls, triangle_columns
+from vorobound.reports.check_outputs import CheckOutputs
 from vorobound.reports.check_tiled import check_ball_file
-from vorobound.reports.tiled_outputs import TiledOutputs
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.guides import tiles
 from vorobound.sampling.io.balls import pyarrow_available, read_balls, write_balls
 from vorobound.sampling.sampler.maximal import sample_surface
 from vorobound.sampling.sampler.torus_rows import torus_rows
 from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+from vorobound.tiling import plan as tiles
 
 pytest.importorskip("gudhi")
 
@@ -81,7 +83,7 @@ def _compare(path, eps, tmp_path, quality=None, lipschitz=1.0, **tiled):
     params = SamplingParams(eps, (quality or QualityParams()).but(lipschitz=lipschitz))
     untiled = check_balls(read_balls(path), params, source=path.name)
     table = "parquet" if pyarrow_available() else "csv"
-    with TiledOutputs(tmp_path / "out", table) as outputs:
+    with CheckOutputs(tmp_path / "out", table, tiled=True) as outputs:
         report = check_ball_file(path, params, outputs=outputs, **tiled)
         got = _tiled_rows(outputs.parts)
     want = _rows(triangle_columns(untiled))
@@ -110,7 +112,7 @@ def test_tiled_check_equals_the_untiled_one(case, tmp_path):
     make, eps = CASES[case]
     path = make(tmp_path / f"{case}.npz")
     report = _compare(path, eps, tmp_path, tile_balls=max(200, len(read_balls(path)) // 6))
-    assert report.tiling.tiles >= 4
+    assert report.run.tiling.tiles >= 4
 
 
 def test_violations_and_worst_pairs_are_counted_once(tmp_path):
@@ -128,7 +130,7 @@ def test_violations_and_worst_pairs_are_counted_once(tmp_path):
 def test_tiles_smaller_than_a_ball(tmp_path):
     path = _surface_balls(TorusShape(1.5, 1.0), 0.3, tmp_path / "t.npz")
     report = _compare(path, 0.3, tmp_path, tile_balls=8, chunk_rows=100)
-    assert report.tiling.tiles >= len(read_balls(path)) / 8
+    assert report.run.tiling.tiles >= len(read_balls(path)) / 8
     # Boxes of about two balls each, halos of several radii: every ball is in many halos.
     assert report.summary()["tiles"]["halo_share"] > 10
 
@@ -180,8 +182,9 @@ def test_dask_local_cluster_gives_the_same_summary(tmp_path):
 MEMORY_PROBE = """
 import resource, sys
 from vorobound.bounds.params import QualityParams, SamplingParams
+from vorobound.reports.check_outputs import CheckOutputs
 from vorobound.reports.check_tiled import check_ball_file
-from vorobound.sampling.guides import tiles
+from vorobound.tiling import plan as tiles
 tiles.MAX_SUBSAMPLE = 2000
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 check_ball_file(sys.argv[1], SamplingParams(float(sys.argv[2]), QualityParams(lipschitz=1.0)),
@@ -260,3 +263,28 @@ def test_a_local_pool_never_starts_more_processes_than_cpus():
         assert slots == 64
         assert executor._max_workers == min(64, os.cpu_count() or 1)
         assert sorted(executor.map(abs, [-3, -1, -2])) == [1, 2, 3]
+
+
+@pytest.mark.parametrize("workers", [None, 1], ids=["whole", "tiled"])
+def test_the_summary_is_built_once_per_run(workers, tmp_path, monkeypatch):
+    """One check with outputs, its JSON, verdict and frame: the summary is assembled once
+    (the whole and the tiled check share one builder, and the report caches it)."""
+    import vorobound
+    import vorobound.reports.check as whole
+    import vorobound.reports.check_tiled as tiled
+
+    built = []
+
+    def counted(*args, **kwargs):
+        built.append(1)
+        return whole_fields(*args, **kwargs)
+
+    whole_fields = whole.summary_fields
+    monkeypatch.setattr(whole, "summary_fields", counted)
+    monkeypatch.setattr(tiled, "summary_fields", counted)
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.3, tmp_path / "t.npz")
+    result = vorobound.check(balls=path, eps=0.3, workers=workers, out=tmp_path / "out")
+    result.to_dict(), result.verdict, result.ok, result.failures
+    saved = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert saved["n_guide_triangles"] == result.n_guide_triangles > 0
+    assert len(built) == 1

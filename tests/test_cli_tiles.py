@@ -106,6 +106,32 @@ def test_csv_outputs_are_one_set(run_cli, torus_file, tmp_path):
     _no_leftovers(out)
 
 
+def test_npz_rows_are_the_untiled_rows(run_cli, torus_file, tmp_path):
+    """``--table npz`` in tiles: one triangles.npz joined from the tiles' parts, with the rows
+    of the untiled check (the same triangles, exactly the same values)."""
+    base = ["--balls", str(torus_file), "--eps", str(EPS), "--table", "npz"]
+    s = _summary(run_cli, *base, "--workers", "2", "--out", str(tmp_path / "tiled"))
+    whole = _summary(run_cli, *base, "--out", str(tmp_path / "whole"))
+    assert s["rows"] == {
+        "table": "npz",
+        "triangles": "triangles.npz",
+        "vtu_triangles": s["n_guide_triangles"],
+        "vtu_selection": "all guide triangles",
+    }
+    assert str(tmp_path / "tiled" / "triangles.npz") in s["written"]
+    with (
+        np.load(tmp_path / "tiled" / "triangles.npz") as tiled,
+        np.load(tmp_path / "whole" / "triangles.npz") as untiled,
+    ):
+        assert tiled.files == untiled.files
+        assert len(tiled["a_index"]) == s["n_guide_triangles"] == whole["n_guide_triangles"]
+        order = np.lexsort([tiled[n] for n in ("c_index", "b_index", "a_index")])
+        want = np.lexsort([untiled[n] for n in ("c_index", "b_index", "a_index")])
+        for name in untiled.files:
+            assert np.array_equal(tiled[name][order], untiled[name][want], equal_nan=True), name
+    _no_leftovers(tmp_path / "tiled")
+
+
 def test_parquet_dataset_replaces_the_previous_one(run_cli, torus_file, tmp_path):
     pq = pytest.importorskip("pyarrow.parquet")
     out = tmp_path / "out"
@@ -155,24 +181,17 @@ def test_unreachable_scheduler_is_one_line(run_cli, torus_file, monkeypatch):
     assert len(err.strip().splitlines()) == 1
 
 
-def test_parquet_without_pyarrow_is_refused(run_cli, torus_file, tmp_path, monkeypatch):
-    import vorobound.reports.tiled_outputs as tiled
+@pytest.mark.parametrize("tiles", [["--workers", "1"], []], ids=["tiled", "whole"])
+def test_parquet_without_pyarrow_is_refused(run_cli, torus_file, tmp_path, monkeypatch, tiles):
+    """Checked in one place for either check, before any work: one line, no output."""
+    import vorobound.sampling.io.balls as balls_io
 
-    monkeypatch.setattr(tiled, "pyarrow_available", lambda: False)
-    code, _, err = run_cli(
-        "check",
-        "--balls",
-        str(torus_file),
-        "--eps",
-        str(EPS),
-        "--workers",
-        "1",
-        "--out",
-        str(tmp_path / "o"),
-        "--table",
-        "parquet",
-    )
+    monkeypatch.setattr(balls_io, "pyarrow_available", lambda: False)
+    out = tmp_path / "o"
+    args = ["--balls", str(torus_file), "--eps", str(EPS), *tiles, "--out", str(out)]
+    code, _, err = run_cli("check", *args, "--table", "parquet")
     assert code == 2 and "pip install 'vorobound[parquet]'" in err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
 
 
 # --- a killed worker, Ctrl-C --------------------------------------------------------------

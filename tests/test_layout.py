@@ -11,6 +11,7 @@ LAYERS = [
     {"geometry"},
     {"bounds"},
     {"sampling"},
+    {"tiling"},
     {"studies"},
     {"reports"},
     {"plotting"},

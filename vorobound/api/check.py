@@ -7,13 +7,21 @@ import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..bounds.params import QualityParams
 from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
-from ..reports.check import TABLES
+from ..reports.check import checked_table
 from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json, sample_lfs
+
+if TYPE_CHECKING:
+    from ..reports.check import CheckReport
+    from ..reports.check_outputs import CheckOutputs
+    from ..reports.check_tiled import TiledCheckReport
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -89,8 +97,8 @@ class CheckResult(Result):
     coverage_max: float | None
     n_failures: int
     """Sum of :attr:`failures` (0: everything checked holds)."""
-    report: object = field(repr=False)
-    """:class:`vorobound.reports.check.CheckReport`."""
+    report: CheckReport | TiledCheckReport = field(repr=False)
+    """What the check measured, whole or in tiles."""
     written: tuple[str, ...] = field(repr=False, default=())
     asked: dict = field(repr=False, default_factory=dict)
     extra: dict = field(repr=False, default_factory=dict)
@@ -115,8 +123,9 @@ class CheckResult(Result):
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
         )
-        if getattr(self.report, "lfs", None) is not None:  # a whole check (tiles keep no L)
-            summary |= sample_lfs(summary["params"], self.report.lfs)
+        lfs = getattr(self.report, "lfs", None)
+        if lfs is not None:  # a whole check (tiles keep no L)
+            summary |= sample_lfs(summary["params"], lfs)
         return summary | {
             "ok": not any(found.values()),
             "failures": found,
@@ -187,7 +196,8 @@ def check(
     ``scheduler`` (a dask.distributed address), ``balls`` is streamed and checked in tiles with
     halos (docs/scale.md): the same guide triangles and summary, memory bounded by the tile.
     ``table`` then says how ``out`` holds the per-triangle rows: a Parquet dataset
-    ``triangles/`` (default, needs pyarrow), one ``triangles.csv``, or ``none``. ``mesh``
+    ``triangles/`` (default, needs pyarrow), one ``triangles.csv`` or ``triangles.npz`` joined
+    from the tiles', or ``none`` (the default without pyarrow). ``mesh``
     (with ``lfs`` or ``sizing`` if given) is then read for its sharp features only.
     """
     from ..checks import checked_lipschitz, checked_seed
@@ -243,19 +253,28 @@ def check(
             features = sharp_features(shape)
         elif lfs is not None or sizing is not None:
             raise InputError("lfs and sizing describe a mesh: use them with mesh")
-        return _check_tiled(
-            balls,
-            params,
-            lipschitz,
-            engine,
-            workers,
-            scheduler,
-            table,
-            out,
-            figure_format,
-            progress,
-            features,
-        )
+        from ..checks import checked_count
+        from ..reports.check_tiled import check_ball_file
+
+        if workers is not None:
+            workers = checked_count(workers, "workers", 1, 1 << 16)
+        table = checked_table(table, tiled=True)
+        lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
+        asked = {"seed": None, "engine": engine, "balls": os.fspath(balls), "workers": workers}
+        asked |= {"scheduler": scheduler, "table": table}
+        with _outputs(out, table, tiled=True) as outputs:
+            tiled_report = check_ball_file(
+                balls,
+                params.but(lipschitz=lam),
+                engine,
+                workers or 1,
+                scheduler,
+                outputs,
+                progress,
+                features=features,
+            )
+            return _finish(tiled_report, asked, {}, outputs, figure_format)
+    table = checked_table(table)
     shape = Surface(sphere, torus, mesh, lfs, sizing).shape(
         required=balls is None, instead=("balls FILE",), progress=progress
     )
@@ -265,9 +284,10 @@ def check(
 
         lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
         name = os.path.basename(os.fspath(balls))
-        given = read_balls(balls)
-        if shape is not None:
-            warn_off_surface(off_surface(given, shape), given, name)
+        given = read_balls(os.fspath(balls))
+        measured = off_surface(given, shape)
+        if measured is not None:
+            warn_off_surface(measured, given, name)
         report = check_balls(given, params.but(lipschitz=lam), engine, shape, name, progress)
         asked = {"seed": None, "engine": engine, "balls": os.fspath(balls)}
     else:
@@ -275,12 +295,9 @@ def check(
             raise InputError("lipschitz goes with balls (a surface's L has a known λ)")
         report = check_surface(shape, params.eps, quality, seed, engine, progress)
         asked = {"seed": seed, "engine": engine}
-    table = _checked_table(table, TABLES, out)
     asked["table"] = table if out is not None else None
-    result = _result(report, asked)
-    if out is not None:
-        result = write_outputs(result, out, figure_format, table)
-    return result
+    with _outputs(out, table) as outputs:
+        return _finish(report, asked, {}, outputs, figure_format)
 
 
 def _result(report, asked: dict) -> CheckResult:
@@ -302,121 +319,66 @@ def _result(report, asked: dict) -> CheckResult:
 
 def _finish_with(report, asked: dict, extra: dict, out, figure_format: str) -> CheckResult:
     """The result of a check report with more JSON (``extra``), written to ``out`` if given."""
-    import dataclasses
-
-    table = _checked_table(None, TABLES, out)
+    table = checked_table(None)
     asked["table"] = table if out is not None else None
-    result = dataclasses.replace(_result(report, asked), extra=extra)
-    if out is not None:
-        result = write_outputs(result, out, figure_format, table)
-    return result
+    with _outputs(out, table) as outputs:
+        return _finish(report, asked, extra, outputs, figure_format)
 
 
-def _checked_table(table: str | None, allowed: tuple[str, ...], out) -> str:
-    """The per-triangle table format asked for, or the compact default."""
-    from ..errors import InputError
-    from ..reports.check import default_table
-
-    table = table or default_table()
-    if table not in allowed:
-        raise InputError(f"table: expected {', '.join(allowed)}, got {table!r}")
-    return table
-
-
-def write_outputs(result: CheckResult, out, figure_format: str, table: str) -> CheckResult:
-    """The per-triangle rows (``table``), summary.json (the result's JSON), sample.vtu and the
-    gap histogram, written as one set; the result names them."""
-    import dataclasses
-
-    from ..files import ensure_folder, write_set
-    from ..plotting import figure_writer, plot_gap_histogram
-    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks, output_writers
-
-    report = result.report
-    folder = ensure_folder(out)
-    writers = output_writers(report, folder, table)
-    figure = plot_gap_histogram(report.guides.gap_ratio, histogram_marks(report), report.source)
-    writers[folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(figure, figure_format)
-    result = dataclasses.replace(result, written=tuple(os.fspath(p) for p in writers))
-    text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
-    writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
-    write_set(writers)
-    return result
-
-
-TILED_TABLES = ("parquet", "csv", "none")
-"""How a tiled check's ``out`` holds the per-triangle rows (one file per tile)."""
-
-
-def _check_tiled(
-    balls,
-    params,
-    lipschitz,
-    engine,
-    workers,
-    scheduler,
-    table,
-    out,
-    figure_format,
-    progress,
-    features=None,
-) -> CheckResult:
-    """``balls`` checked in tiles (vorobound.reports.check_tiled), outputs as one set."""
-    import dataclasses
+def _outputs(out, table: str, tiled: bool = False):
+    """The output set of a check in ``out`` (a context manager; nothing without ``out``)."""
     from contextlib import nullcontext
 
-    from ..checks import checked_count, checked_lipschitz
-    from ..plotting import figure_writer, plot_gap_counts
-    from ..reports.check import GAP_HISTOGRAM_STEM
-    from ..reports.check_tiled import check_ball_file
-    from ..reports.tiled_outputs import TiledOutputs
-    from ..reports.tiled_report import histogram_marks
-    from ..sampling.io.balls import pyarrow_available
+    from ..reports.check_outputs import CheckOutputs
 
-    if workers is not None:
-        workers = checked_count(workers, "workers", 1, 1 << 16)
-    if table is None and not pyarrow_available():
-        table = "none"
-    table = _checked_table(table, TILED_TABLES, out)
-    lam = checked_lipschitz(1.0 if lipschitz is None else lipschitz)
-    params = params.but(lipschitz=lam)
-    staging = TiledOutputs(out, table) if out is not None else nullcontext()
-    with staging as outputs:
-        report = check_ball_file(
-            balls, params, engine, workers or 1, scheduler, outputs, progress, features=features
-        )
-        result = _result(
-            report,
-            {
-                "seed": None,
-                "engine": engine,
-                "balls": os.fspath(balls),
-                "workers": workers,
-                "scheduler": scheduler,
-                "table": table,
-            },
-        )
-        if outputs is not None:
-            g = report.guides
-            figure = plot_gap_counts(
-                report.gap_edges,
-                g.histogram,
-                (g.gap_min, g.maxima.get("gap_ratio", 0.0)),
-                histogram_marks(report),
-                report.source,
-            )
-            writers = outputs.writers(report)
-            writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(
-                figure, figure_format
-            )
-            folders = ["triangles"] if table == "parquet" else []
-            written = [*map(os.fspath, writers), *(os.fspath(outputs.folder / f) for f in folders)]
-            result = dataclasses.replace(
-                result, written=tuple(written), extra={"rows": outputs.rows(report)}
-            )
-            text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
-            writers[outputs.folder / "summary.json"] = lambda path: path.write_text(
-                text, encoding="utf-8"
-            )
-            outputs.publish(writers)
+    return nullcontext() if out is None else CheckOutputs(out, table, tiled)
+
+
+def _finish(
+    report, asked: dict, extra: dict, outputs: CheckOutputs | None, figure_format: str
+) -> CheckResult:
+    """The result of a check, whole or tiled, written into ``outputs`` if given."""
+    import dataclasses
+
+    result = dataclasses.replace(_result(report, asked), extra=extra)
+    if outputs is None:
+        return result
+    return write_outputs(result, outputs, figure_format)
+
+
+def write_outputs(result: CheckResult, outputs: CheckOutputs, figure_format: str) -> CheckResult:
+    """The per-triangle rows, summary.json (the result's JSON), sample.vtu and the gap
+    histogram of a check, whole or tiled, written into ``outputs``
+    (:class:`vorobound.reports.check_outputs.CheckOutputs`) as one set; the result names
+    them."""
+    import dataclasses
+
+    from ..plotting import figure_writer, plot_gap_counts, plot_gap_histogram
+    from ..reports.check import GAP_HISTOGRAM_STEM, histogram_marks
+    from ..reports.check_tiled import TiledCheckReport
+
+    report = result.report
+    marks = histogram_marks(report)
+    if isinstance(report, TiledCheckReport):
+        g = report.guides
+        span = (g.gap_min, g.maxima.get("gap_ratio", 0.0))
+        figure = plot_gap_counts(report.gap_edges, g.histogram, span, marks, report.source)
+    else:
+        figure = plot_gap_histogram(report.guides.gap_ratio, marks, report.source)
+    writers = outputs.writers(report)
+    writers[outputs.folder / f"{GAP_HISTOGRAM_STEM}.{figure_format}"] = figure_writer(
+        figure, figure_format
+    )
+    result = dataclasses.replace(
+        result,
+        written=tuple(os.fspath(p) for p in outputs.listed(writers)),
+        extra=result.extra | outputs.extra(report),
+    )
+    text = json.dumps(result.to_dict(), indent=2, allow_nan=False) + "\n"
+    writers[outputs.folder / "summary.json"] = partial(_write_text, text=text)
+    outputs.publish(writers)
     return result
+
+
+def _write_text(path: Path, text: str) -> None:
+    path.write_text(text, encoding="utf-8")

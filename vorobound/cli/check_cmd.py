@@ -125,8 +125,8 @@ def check(
             help="How --out holds the per-triangle rows: parquet (default where pyarrow is "
             "installed), npz (the default without it), csv (10 significant digits) or none. "
             "In tiles (--workers/--scheduler): a Parquet dataset triangles/, one "
-            "triangles.csv or none, and sample.vtu holds a share of the triangles "
-            "(docs/scale.md).",
+            "triangles.csv or triangles.npz joined from the tiles', or none (the default "
+            "without pyarrow), and sample.vtu holds a share of the triangles (docs/scale.md).",
         ),
     ] = None,
     as_json: Json = False,

@@ -2,9 +2,15 @@
 
 :func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler.maximal`) and checks the
 sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both measure every
-guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`, whose
-:meth:`CheckReport.summary` is the JSON summary and which :func:`output_writers` writes as
-triangles.csv, summary.json, a VTU for ParaView and a histogram of the realized gap.
+guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`.
+
+One pipeline serves this whole check and the tiled one (:mod:`vorobound.reports.check_tiled`,
+on the tile engine :mod:`vorobound.tiling`): a whole check's summary is built, once, by
+:func:`summary_fields` from the same :class:`~vorobound.tiling.job.Tallies` a tile sends back
+(its rows tallied as one tile), the table format is checked in :func:`checked_table` only,
+the error of a sample without guide triangles is :func:`no_guide_triangles`, and both write
+their files through :class:`~vorobound.reports.check_outputs.CheckOutputs` (per-triangle
+rows, summary.json, a VTU for ParaView and a histogram of the realized gap, as one set).
 
 References
 ----------
@@ -15,10 +21,9 @@ Section 4.1.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from pathlib import Path
+from functools import cached_property
 
 import numpy as np
 
@@ -35,9 +40,10 @@ from ..sampling.guides.measure import (
     mode_bounds,
 )
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
-from ..sampling.io.balls import fill_vtu
 from ..sampling.sampler import conditions
-from .check_tally import H3_RTOL, GuideTally, class_entries, gap_edges
+from ..tiling.job import Tallies
+from ..tiling.rows import TABLES, guide_columns
+from ..tiling.tally import CLASSES, GuideTally, PairTally, gap_edges
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
 UNDEFINED_BOUND = (
@@ -96,87 +102,143 @@ class CheckReport:
     """How guide triangles were split into smooth-patch and feature ones (None: no sharp
     features known, every triangle is smooth)."""
 
-    def summary(self) -> dict:
-        """The JSON summary (plain types; see docs/samples.md for the fields)."""
-        g, eps = self.guides, self.params.eps
-        count = len(g)
-        seeded = count + self.half_covered
-        bounds = {b.mode: b.value for b in self.bounds}
-        out = {
-            "source": self.source,
-            "params": {
-                "eps": eps,
-                "sigma": self.params.sigma,
-                "delta_ratio": self.params.delta_ratio,
-                "rho_f": self.params.rho_f,
-            },
-            "seed": self.seed,
-            "engine": self.engine,
-            "n_samples": len(self.balls),
-            "n_candidate_triples": self.proposed,
-            "n_with_seeds": self.with_seeds,
-            "n_guide_triangles": count,
-            "n_half_covered": self.half_covered,
-            "half_covered_share": self.half_covered / seeded if seeded else None,
-            "coverage_max": self.coverage_max,
-            "coverage_where": None if self.coverage_where is None else self.coverage_where.tolist(),
-            "coverage_probes": self.coverage_probes,
-            "sparsity_min": _finite(self.sparsity.extreme),
-            "sparsity_violations": self.sparsity.violations,
-            "sparsity_worst": self._pairs(self.sparsity),
-            "lipschitz": self.lipschitz,
-            "lipschitz_source": self.lipschitz_source,
-            "lipschitz_realized": _finite(self.lipschitz_pairs.extreme),
-            "lipschitz_violations": self.lipschitz_pairs.violations,
-            "lipschitz_worst": self._pairs(self.lipschitz_pairs),
-            "rho_max": _max(g.rho),
-            "quality_violations": int((g.rho > self.params.rho_f).sum()),
-            "ratio_max": _max(g.quality_ratio),
-            "ratio_violations": int((g.quality_ratio > self.params.rho_f).sum()),
-            "ratio_bound": ratio_bound_entries(self.ratio_bounds),
-            "ratio_bound_violations": {
-                mode: int(rows.sum()) for mode, rows in (g.exceeds_ratio or {}).items()
-            },
-            "h3_ratio_max": _max(g.h3_ratio),
-            "h3_violations": int((g.h3_ratio > 1 + H3_RTOL).sum()),
-            "h3_premise": H3_STATUS,
-            "gap_ratio_max": _max(g.gap_ratio),
-            "gap_ratio_min": None if count == 0 else _finite(g.gap_ratio.min()),
-            "orthoradius_sq_max": _max(g.orthoradius_sq / (self.params.delta * g.lfs[:, 0]) ** 2),
-            "bound": bound_entries(self.bounds, eps),
-            "violations": {
-                mode: int(rows.sum()) if _finite(bounds[mode]) is not None else None
-                for mode, rows in g.exceeds.items()
-            },
-            "outside_constraint_set": int((~g.inside).sum()),
-            "constraint_violations": {n: int(rows.sum()) for n, rows in g.violated.items()},
-            "timings": {k: round(v, 3) for k, v in self.timings.items()},
-        }
-        tally = GuideTally.of(
-            g,
-            np.arange(len(self.balls)),
-            self.balls.centers,
-            self.params,
-            gap_edges(self.params, []),
+    @cached_property
+    def tally(self) -> GuideTally:
+        """The guide triangles' counts and maxima, as one tile of a tiled check has them."""
+        ids = np.arange(len(self.balls))
+        return GuideTally.of(
+            self.guides, ids, self.balls.centers, self.params, gap_edges(self.params, [])
         )
-        out["by_class"] = class_entries(tally, self.feature_rule)
+
+    @cached_property
+    def _summary(self) -> dict:
+        ids, centers = np.arange(len(self.balls)), self.balls.centers
+        tallies = Tallies(
+            candidates=self.proposed,
+            with_seeds=self.with_seeds,
+            half_covered=self.half_covered,
+            guides=self.tally,
+            sparsity=PairTally.of(self.sparsity, ids, centers),
+            lipschitz=PairTally.of(self.lipschitz_pairs, ids, centers),
+        )
+        coverage = (self.coverage_max, self.coverage_where, self.coverage_probes)
+        out = summary_fields(self, tallies, len(self.balls), coverage)
+        out["by_class"] = class_entries(self.tally, self.feature_rule)
         if self.coverage_max is None:
-            out["coverage_note"] = "coverage needs the surface: only the balls were given"
-        if count == 0:
-            out["guide_note"] = "no guide triangles: no triple of balls has both seeds uncovered"
+            out["coverage_note"] = COVERAGE_NOTE
         return out
 
-    def _pairs(self, report: conditions.PairReport) -> list[dict]:
-        centers = self.balls.centers
-        return [
-            {
-                "i": int(i),
-                "j": int(j),
-                "ratio": float(value),
-                "where": (0.5 * (centers[i] + centers[j])).tolist(),
-            }
-            for (i, j), value in zip(report.worst, report.worst_values, strict=True)
-        ]
+    def summary(self) -> dict:
+        """The JSON summary (plain types; see docs/samples.md for the fields), computed once."""
+        return dict(self._summary)
+
+
+COVERAGE_NOTE = "coverage needs the surface: only the balls were given"
+
+
+def summary_fields(report, tallies: Tallies, n_samples: int, coverage: tuple) -> dict:
+    """The fields every check's summary has (docs/samples.md), from its ``tallies`` (a whole
+    check's, as of one tile, or the merge of its tiles'); ``report`` gives the source,
+    parameters, seed, engine, λ, bounds and timings; ``coverage`` is (max, where, probes)."""
+    g, eps = tallies.guides, report.params.eps
+    sparsity, lipschitz_pairs = tallies.sparsity, tallies.lipschitz
+    seeded = g.count + tallies.half_covered
+    bounds = {b.mode: b.value for b in report.bounds}
+    coverage_max, coverage_where, probes = coverage
+    return {
+        "source": report.source,
+        "params": {
+            "eps": eps,
+            "sigma": report.params.sigma,
+            "delta_ratio": report.params.delta_ratio,
+            "rho_f": report.params.rho_f,
+        },
+        "seed": report.seed,
+        "engine": report.engine,
+        "n_samples": n_samples,
+        "n_candidate_triples": tallies.candidates,
+        "n_with_seeds": tallies.with_seeds,
+        "n_guide_triangles": g.count,
+        "n_half_covered": tallies.half_covered,
+        "half_covered_share": tallies.half_covered / seeded if seeded else None,
+        "coverage_max": coverage_max,
+        "coverage_where": None if coverage_where is None else coverage_where.tolist(),
+        "coverage_probes": probes,
+        "sparsity_min": _finite(sparsity.extreme),
+        "sparsity_violations": sparsity.violations,
+        "sparsity_worst": _pairs(sparsity),
+        "lipschitz": report.lipschitz,
+        "lipschitz_source": report.lipschitz_source,
+        "lipschitz_realized": _finite(lipschitz_pairs.extreme),
+        "lipschitz_violations": lipschitz_pairs.violations,
+        "lipschitz_worst": _pairs(lipschitz_pairs),
+        "rho_max": _maximum(g, "rho"),
+        "quality_violations": g.counts["quality_violations"],
+        "ratio_max": _maximum(g, "quality_ratio"),
+        "ratio_violations": g.counts["ratio_violations"],
+        "ratio_bound": ratio_bound_entries(report.ratio_bounds),
+        "ratio_bound_violations": dict(g.ratio_bound_violations),
+        "h3_ratio_max": _maximum(g, "h3_ratio"),
+        "h3_violations": g.counts["h3_violations"],
+        "h3_premise": H3_STATUS,
+        "gap_ratio_max": _maximum(g, "gap_ratio"),
+        "gap_ratio_min": None if g.gap_min is None else _finite(g.gap_min),
+        "orthoradius_sq_max": _maximum(g, "orthoradius_sq"),
+        "bound": bound_entries(report.bounds, eps),
+        "violations": {
+            mode: rows if _finite(bounds[mode]) is not None else None
+            for mode, rows in g.violations.items()
+        },
+        "outside_constraint_set": g.counts["outside_constraint_set"],
+        "constraint_violations": dict(g.constraint_violations),
+        "timings": {k: round(v, 3) for k, v in report.timings.items()},
+    }
+
+
+def class_entries(tally: GuideTally, feature_rule: str | None) -> dict:
+    """The summary's split by where the guide triangles sit: ``feature_rule`` (None: no
+    features known) and per class its count, the counts of the checks on triangles, the
+    violations of each mode's bounds and where each maximum occurs (ball indices, centroid)."""
+    from ..sampling.guides.features import NO_FEATURES
+
+    out: dict = {"feature_rule": feature_rule or NO_FEATURES}
+    for name in CLASSES:
+        t = tally.classes.get(name)
+        if t is None:
+            out[name] = None
+            continue
+        out[name] = {
+            "n_guide_triangles": t.count,
+            **t.counts,
+            "violations": dict(t.violations),
+            "ratio_bound_violations": dict(t.ratio_bound_violations),
+            "maxima": {k: _finite(v) for k, v in t.maxima.items()},
+            "worst": {
+                k: {"triangle": list(w.triple), "centroid": list(w.centroid)}
+                for k, w in t.where.items()
+            },
+        }
+    return out
+
+
+def _maximum(g: GuideTally, name: str) -> float | None:
+    return _finite(g.maxima[name]) if name in g.maxima else None
+
+
+def _pairs(tally: PairTally) -> list[dict]:
+    return [
+        {"i": i, "j": j, "ratio": ratio, "where": list(where)} for i, j, ratio, where in tally.worst
+    ]
+
+
+def no_guide_triangles(source: str, with_seeds: int, half_covered: int) -> NoGuideTriangles:
+    """The error of a check that found no guide triangle (tiled or not)."""
+    return NoGuideTriangles(
+        f"{source}: no guide triangle to measure ({with_seeds:,} triples of balls "
+        f"meet in a seed pair, {half_covered:,} of them half-covered): a VoroCrust sample of a "
+        "closed surface has guide triangles all over it; are the radii δ·L too small for the "
+        "spacing of the centers?"
+    )
 
 
 def bound_entries(bounds: list[ModeBound], eps: float) -> dict:
@@ -202,10 +264,6 @@ def ratio_bound_entries(ratio_bounds: list[ModeBound]) -> dict:
     }
 
 
-def _max(values: np.ndarray) -> float | None:
-    return None if len(values) == 0 else _finite(values.max())
-
-
 def _finite(value) -> float | None:
     """A plain float, or None where it is NaN or infinite (JSON has neither)."""
     value = float(value)
@@ -216,7 +274,8 @@ class _Stages:
     """Wall time per stage, and a progress line for the stages without their own counter."""
 
     def __init__(self, progress: Progress | None):
-        self.progress, self.seconds = progress, {}
+        self.progress = progress
+        self.seconds: dict[str, float] = {}
 
     @contextmanager
     def __call__(self, name: str, announce: bool = False):
@@ -294,12 +353,7 @@ def _check(
     with stages("guide triangles"):
         search = find_guide_triangles(balls, engine, equal_on_sphere, progress)
     if len(search.guide.triples) == 0:
-        raise NoGuideTriangles(
-            f"{source}: no guide triangle to measure ({search.with_seeds:,} triples of balls "
-            f"meet in a seed pair, {search.half_covered:,} of them half-covered): a VoroCrust "
-            "sample of a closed surface has guide triangles all over it; are the radii δ·L too "
-            "small for the spacing of the centers?"
-        )
+        raise no_guide_triangles(source, search.with_seeds, search.half_covered)
     with stages("conditions", announce=True):
         near = conditions.neighbours(balls.centers)
         if lipschitz_kind == "measured":
@@ -372,89 +426,34 @@ def triangle_columns(report: CheckReport) -> dict[str, np.ndarray]:
     return guide_columns(report.guides)
 
 
-def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> dict:
-    """The columns of triangles.csv for measured guide triangles; ``triples`` replaces their
-    ball indices (a tile's rows carry the indices of the whole set)."""
-    triples = g.triples if triples is None else triples
-    columns = {
-        "a_index": triples[:, 0],
-        "b_index": triples[:, 1],
-        "c_index": triples[:, 2],
-        "lfs_i": g.lfs[:, 0],
-        "lfs_j": g.lfs[:, 1],
-        "lfs_k": g.lfs[:, 2],
-        "circumradius": g.circumradius,
-        "orthoradius_sq": g.orthoradius_sq,
-        "radius_gap": g.radius_gap,
-        "rho": g.rho,
-        "gap_ratio": g.gap_ratio,
-        "quality_ratio": g.quality_ratio,
-        "h3_ratio": g.h3_ratio,
-        "a_over_eps_lfs": g.edges[:, 0],
-        "b_over_eps_lfs": g.edges[:, 1],
-        "c_over_eps_lfs": g.edges[:, 2],
-        "sin_theta": g.sin_theta,
-        "inside": g.inside.astype(np.int64),
-        "feature_reach": np.full(len(g), np.inf) if g.feature_reach is None else g.feature_reach,
-        "at_feature": g.at_feature.astype(np.int64),
-    }
-    for name, rows in g.violated.items():
-        columns[f"breaks_{name}"] = rows.astype(np.int64)
-    for mode, rows in g.exceeds.items():
-        columns[f"exceeds_{mode}"] = rows.astype(np.int64)
-    for mode, rows in (g.exceeds_ratio or {}).items():
-        columns[f"exceeds_ratio_{mode}"] = rows.astype(np.int64)
-    return columns
-
-
-def _write_vtu(path: Path, report: CheckReport) -> None:
-    g = report.guides
-    count = len(report.balls)
-    vertices = np.arange(count).reshape(-1, 1)
-    blank = np.full(count, np.nan)
-    cells = [("vertex", vertices), ("triangle", g.triples)]
-    cell_data = {
-        "rho": [blank, g.rho],
-        "gap_ratio": [blank, g.gap_ratio],
-        "quality_ratio": [blank, np.where(np.isfinite(g.quality_ratio), g.quality_ratio, np.nan)],
-        "h3_ratio": [blank, g.h3_ratio],
-        "inside_constraint_set": [blank, g.inside.astype(float)],
-        "at_feature": [blank, g.at_feature.astype(float)],
-    }
-    point_data = {"radius": report.balls.radii, "lfs": report.lfs}
-    fill_vtu(path, report.balls.centers, cells, point_data, cell_data)
-
-
-TABLES = ("parquet", "npz", "csv", "none")
-"""How ``--out`` holds the per-triangle rows: triangles.parquet, triangles.npz (the compact
-default without pyarrow), triangles.csv (10 significant digits), or not at all."""
-
-
-def default_table() -> str:
-    """Parquet where pyarrow is installed, else NPZ."""
+def default_table(tiled: bool = False) -> str:
+    """Parquet where pyarrow is installed; else NPZ, or no rows for a tiled check (whose NPZ
+    would be assembled in one process)."""
     from ..sampling.io.balls import pyarrow_available
 
-    return "parquet" if pyarrow_available() else "npz"
+    if pyarrow_available():
+        return "parquet"
+    return "none" if tiled else "npz"
 
 
-def output_writers(report: CheckReport, out_dir: str | Path, table: str = "npz") -> dict:
-    """Writers of the per-triangle rows (``table``) and sample.vtu in ``out_dir`` (each takes
-    the temporary path to fill), for :func:`vorobound.files.write_set`.
+def checked_table(table: str | None, tiled: bool = False) -> str:
+    """How ``out`` holds the per-triangle rows (``TABLES``; None: :func:`default_table`): the
+    one place the format and pyarrow are checked."""
+    from ..errors import InputError
+    from ..sampling.io.balls import pyarrow_available
 
-    The summary (the command's JSON) and the gap histogram (``GAP_HISTOGRAM_STEM``, drawn by
-    the plotting layer from :func:`histogram_marks`) join the same set in the workflow.
-    """
-    from ..sampling.io.columns import READABLE_PRECISION, columns_writer
-
-    out = Path(out_dir)
-    writers: dict[Path, Callable] = {}
-    if table != "none":
-        path = out / f"triangles.{table}"
-        writers[path] = columns_writer(path, triangle_columns(report), READABLE_PRECISION)
-    writers[out / "sample.vtu"] = lambda path: _write_vtu(path, report)
-    return writers
+    table = table or default_table(tiled)
+    if table not in TABLES:
+        raise InputError(f"table: expected {', '.join(TABLES)}, got {table!r}")
+    if table == "parquet" and not pyarrow_available():
+        raise InputError(
+            "Parquet rows need pyarrow (pip install 'vorobound[parquet]'); "
+            "or write them as NPZ (--table npz), CSV (--table csv) or not at all (--table none)"
+        )
+    return table
 
 
-def histogram_marks(report: CheckReport) -> list[tuple[str, float, str]]:
-    """(mode, bound over εL_i, claim) for each mode: the lines of the gap histogram."""
+def histogram_marks(report) -> list[tuple[str, float, str]]:
+    """(mode, bound over εL_i, claim) for each mode: the lines of the gap histogram (of a
+    whole or a tiled check)."""
     return [(b.mode, b.value / report.params.eps, b.claim) for b in report.bounds]

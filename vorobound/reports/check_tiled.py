@@ -2,26 +2,13 @@
 
 :func:`check_ball_file` gives the numbers :func:`vorobound.reports.check.check_balls` gives
 (the same guide triangles bit for bit, and the same summary), without ever holding the whole
-sample, its triangles or their rows in one process:
-
-1. **Read** the file in chunks (:mod:`vorobound.sampling.io.stream`), check every row, copy
-   the balls to a temporary binary file (the spill) and keep the bounding box, the largest
-   weight W (the seeds' lifting) and a systematic subsample of the centers.
-2. **Plan** tiles by quantile splits of the subsample (:mod:`vorobound.sampling.guides.tiles`);
-   one pass over the spill gives each tile's core radius R_T, hence its first halo width.
-3. **Route** each ball to its own tile and to the halos it belongs to (one more pass), as one
-   shard file per tile, balls in increasing index.
-4. **Run** the tiles (:func:`vorobound.reports.tile_job.run_tile`) on a
-   ``concurrent.futures`` executor (:func:`vorobound.parallel.task_executor`: in process, a
-   local process pool, or a dask.distributed cluster), a few per worker at a time, and merge
-   their tallies (:mod:`vorobound.reports.check_tally`). Tiles whose halo turned out too thin
-   are routed and run again with the width they asked for.
-
-Memory: the driver holds chunks, the subsample and per-tile tallies (independent of the number
-of balls); a worker holds one tile. Outputs
-(:class:`~vorobound.reports.tiled_outputs.TiledOutputs`) are per-tile row files
-written by the workers into a hidden folder, published with summary.json, a decimated VTU and
-the gap histogram as one set when every tile is done, or removed on any failure.
+sample, its triangles or their rows in one process: the tile engine
+(:mod:`vorobound.tiling.engine`) reads, plans, routes and runs the tiles and merges their
+tallies; :class:`TiledCheckReport` is the check's report of that run, whose summary is built
+by the same :func:`~vorobound.reports.check.summary_fields` as a whole check's. Outputs
+(:class:`~vorobound.reports.check_outputs.CheckOutputs`) are per-tile row files written by the
+workers into a hidden folder, published with summary.json, a decimated VTU and the gap
+histogram as one set when every tile is done, or removed on any failure.
 
 References
 ----------
@@ -30,68 +17,116 @@ The guide triangles, sampling conditions and bounds of Section 4.1.
 
 from __future__ import annotations
 
-import concurrent.futures
 import os
-import resource
-import shutil
-import tempfile
-import time
-from collections.abc import Iterator
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
 from ..bounds.params import SamplingParams, Target
-from ..errors import InputError, NoGuideTriangles, VoroboundError
-from ..files import TEMP_PREFIX
-from ..parallel import task_executor, task_result
-from ..progress import Counter, Progress
-from ..sampling.balls import MIN_BALLS
-from ..sampling.guides import tiles
+from ..errors import InputError
+from ..progress import Progress
 from ..sampling.guides.features import FEATURE_RULE
-from ..sampling.guides.measure import mode_bounds
+from ..sampling.guides.measure import ModeBound, mode_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
-from ..sampling.io.stream import CHUNK_ROWS, ball_chunks
-from .check_tally import GuideTally, PairTally, gap_edges
-from .tile_job import TileJob, TileOutcome, TileSettings, VtuRows, run_tile
-from .tiled_outputs import TiledOutputs
-from .tiled_report import TiledCheckReport, Tiling
-
-TILE_BALLS = 150_000
-"""Most balls in a tile's core (a worker computing such tiles peaks at about 0.8 GB)."""
-TILES_PER_WORKER = 4
-"""Below ``TILE_BALLS`` per tile, at least this many tiles per worker (load balance)."""
-MIN_TILE_BALLS = 20_000
-"""...but no smaller tiles than this (their halos would cost more than balance gains)."""
-IN_FLIGHT = 2
-"""Tiles submitted per worker at a time (the driver holds at most this many tiles' balls)."""
-VTU_TRIANGLES = 200_000
-"""About this many guide triangles go to the decimated VTU (all of them below it)."""
-MAX_ROUNDS = 4
-"""Runs of a tile at most (the first, then with wider halos)."""
-HALO_GROWTH = 1.25
-"""A tile run again gets this much more than the width it asked for."""
-_RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
-"""A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
+from ..sampling.io.stream import CHUNK_ROWS
+from ..tiling.engine import TiledRun, run_tiles
+from ..tiling.job import TileSettings
+from ..tiling.tally import GuideTally, gap_edges
+from .check import (
+    COVERAGE_NOTE,
+    LIPSCHITZ_SOURCES,
+    class_entries,
+    no_guide_triangles,
+    summary_fields,
+)
 
 
-def tile_size(balls: int, workers: int) -> int:
-    """Balls per tile: ``TILE_BALLS``, or fewer so that each worker gets ``TILES_PER_WORKER``
-    tiles, but not below ``MIN_TILE_BALLS``."""
-    if workers <= 1:
-        return TILE_BALLS
-    share = -(-balls // (TILES_PER_WORKER * workers))
-    return int(min(TILE_BALLS, max(MIN_TILE_BALLS, share)))
+@dataclass(frozen=True)
+class TiledCheckReport:
+    """What a tiled check measured (the fields of :class:`~vorobound.reports.check.CheckReport`
+    that do not need the rows)."""
+
+    source: str
+    params: SamplingParams
+    lipschitz: float | None
+    engine: str
+    bounds: list[ModeBound]
+    ratio_bounds: list[ModeBound]
+    run: TiledRun
+    """The tiles' merged tallies and how they were cut and run."""
+    gap_edges: np.ndarray
+    """Bin edges of ``guides.histogram``."""
+    feature_rule: str | None = None
+    """How guide triangles were split (None: no sharp features known)."""
+    seed: None = None
+    lipschitz_source: str = LIPSCHITZ_SOURCES["required"]
+    timings: dict[str, float] = field(default_factory=dict)
+    """Wall seconds per driver stage."""
+
+    @property
+    def guides(self) -> GuideTally:
+        """The merged tally of the guide triangles."""
+        return self.run.guides
+
+    @cached_property
+    def _summary(self) -> dict:
+        g = self.run.guides
+        out = summary_fields(self, self.run, self.run.balls, (None, None, 0))
+        out["coverage_note"] = COVERAGE_NOTE
+        out["worst"] = {
+            name: {"triangle": list(w.triple), "centroid": list(w.centroid)}
+            for name, w in g.where.items()
+        }
+        out["tiles"] = self._tiles()
+        out["by_class"] = class_entries(g, self.feature_rule)
+        if not self.run.sparsity_exact:
+            out["sparsity_note"] = (
+                "the smallest ratio is at least this (no pair closer was seen; the tiles "
+                "could not see farther)"
+            )
+        return out
+
+    def summary(self) -> dict:
+        """The JSON summary: the fields of :meth:`CheckReport.summary` (docs/samples.md) with
+        the same values, plus ``tiles`` and ``worst`` (docs/scale.md); computed once."""
+        return dict(self._summary)
+
+    def _tiles(self) -> dict:
+        t = self.run.tiling
+        return {
+            "count": t.tiles,
+            "halo_share": t.halo_balls / self.run.balls,
+            "rounds": t.rounds,
+            "rerun": t.rerun,
+            "executor": t.executor,
+            "workers": t.workers,
+            "driver_peak_gb": round(t.driver_peak_bytes / 1e9, 3),
+            "worker_peak_gb": round(max(t.worker_peak_bytes.values(), default=0) / 1e9, 3),
+            "workers_peak_gb_total": round(sum(t.worker_peak_bytes.values()) / 1e9, 3),
+            "processes_peak_gb_total": round(
+                (
+                    t.driver_peak_bytes
+                    + sum(b for p, b in t.worker_peak_bytes.items() if p != t.driver_pid)
+                )
+                / 1e9,
+                3,
+            ),
+            "cpu_seconds": {k: round(v, 3) for k, v in t.cpu_seconds.items()},
+            "driver_cpu_seconds": {k: round(v, 3) for k, v in t.driver_cpu_seconds.items()},
+            "busiest_worker_cpu_seconds": round(max(t.worker_busy_seconds.values(), default=0), 3),
+            "spill_gb": round(t.spill_bytes / 1e9, 3),
+        }
 
 
 def check_ball_file(
-    path: str | Path,
+    path: str | os.PathLike,
     params: SamplingParams,
     engine: Engine | str = Engine.auto,
     workers: int = 1,
     scheduler: str | None = None,
-    outputs: TiledOutputs | None = None,
+    outputs=None,
     progress: Progress | None = None,
     tile_balls: int | None = None,
     chunk_rows: int = CHUNK_ROWS,
@@ -112,10 +147,11 @@ def check_ball_file(
         Processes of the local pool (1: tiles run in this process).
     scheduler : str, optional
         Address of a dask.distributed scheduler (then ``workers`` is ignored).
-    outputs : TiledOutputs, optional
-        Where the tiles write their rows (and what the summary says about them).
+    outputs : CheckOutputs, optional
+        Where the tiles write their rows (:class:`~vorobound.reports.check_outputs.CheckOutputs`,
+        entered).
     tile_balls : int, optional
-        Balls per tile (default :func:`tile_size`).
+        Balls per tile (default :func:`vorobound.tiling.engine.tile_size`).
     chunk_rows : int
         Rows read at a time.
     features : SharpFeatures, optional
@@ -136,293 +172,37 @@ def check_ball_file(
             "engine hull needs every ball at once (a sphere's convex hull): not in tiles"
         )
     path = Path(path)
-    lipschitz = params.lipschitz
     bounds = mode_bounds(params, Target.additive)
     ratios = mode_bounds(params, Target.ratio)
-    timings: dict[str, float] = {}
-    with tempfile.TemporaryDirectory(prefix=f"{TEMP_PREFIX}spill.") as spill_dir:
-        spill_dir = Path(spill_dir)
-        start, cpu = time.perf_counter(), time.process_time()
-        spill = _read(path, spill_dir / "balls.f8", chunk_rows, progress)
-        timings["read"] = time.perf_counter() - start
-        serial = {"read": time.process_time() - cpu}
-        if spill.count < MIN_BALLS:
-            raise InputError(
-                f"balls {path.name}: need at least {MIN_BALLS} balls, got {spill.count}"
-            )
-        with task_executor(workers, scheduler) as (executor, slots):
-            start, cpu = time.perf_counter(), time.process_time()
-            size = tile_balls or tile_size(spill.count, slots)
-            plan = tiles.plan_tiles(spill.subsample, spill.count, size, spill.low, spill.high)
-            core_radius = _core_radii(spill, plan, chunk_rows)
-            sparsity_reach = params.sigma / params.quality.delta_ratio
-            beta = tiles.first_halo(core_radius, sparsity_reach)
-            timings["plan"] = time.perf_counter() - start
-            serial["plan"] = time.process_time() - cpu
-            share = min(1.0, VTU_TRIANGLES / (2.2 * spill.count))
-            settings = TileSettings(
-                params=params,
-                lipschitz=lipschitz,
-                engine=engine.value,
-                top=spill.top,
-                bounds=tuple(bounds),
-                ratio_bounds=tuple(ratios),
-                edges=gap_edges(params, [b.value / params.eps for b in bounds]),
-                table="none" if outputs is None else outputs.table,
-                parts=None if outputs is None else str(outputs.parts),
-                vtu_share=0.0 if outputs is None else share,
-                what=f"balls {path.name}",
-                total=spill.count,
-                features=features,
-            )
-            run = _Rounds(executor, slots, plan, spill, settings, chunk_rows, progress)
-            outcomes = run.all(beta, sparsity_reach, core_radius)
-            timings.update(run.seconds)
-            serial["route"] = run.route_cpu
-        return _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings, serial)
-
-
-@dataclass
-class _Spill:
-    """The balls copied to a binary file, and what the first pass learned."""
-
-    file: Path
-    count: int = 0
-    low: np.ndarray = field(default_factory=lambda: np.full(3, np.inf))
-    high: np.ndarray = field(default_factory=lambda: np.full(3, -np.inf))
-    top: float = 0.0
-    subsample: np.ndarray | None = None
-
-    def chunks(self, rows: int) -> Iterator[tuple[int, np.ndarray]]:
-        """(first row, (m, 4) x, y, z, r) of consecutive rows (read, not mapped: a mapping
-        would count the whole file in this process's resident memory)."""
-        with open(self.file, "rb") as handle:
-            for first in range(0, self.count, rows):
-                block = np.fromfile(handle, dtype="<f8", count=4 * min(rows, self.count - first))
-                yield first, block.reshape(-1, 4)
-
-
-def _read(path: Path, file: Path, chunk_rows: int, progress: Progress | None) -> _Spill:
-    """Pass 1: check and copy every ball; bounding box, W, subsample."""
-    spill = _Spill(file)
-    sample = tiles.Subsample()
-    counter = Counter(progress, "reading balls", None)
-    with open(file, "wb") as handle:
-        for centers, radii in ball_chunks(path, chunk_rows):
-            np.column_stack([centers, radii]).astype("<f8").tofile(handle)
-            sample.add(spill.count, centers)
-            spill.count += len(radii)
-            spill.low = np.minimum(spill.low, centers.min(axis=0))
-            spill.high = np.maximum(spill.high, centers.max(axis=0))
-            spill.top = max(spill.top, float((radii * radii).max()))
-            counter.step(len(radii))
-    spill.subsample = sample.points()
-    return spill
-
-
-def _core_radii(spill: _Spill, plan: tiles.TilePlan, chunk_rows: int) -> np.ndarray:
-    """Pass 2: the largest radius among each tile's own balls (R_T)."""
-    radius = np.zeros(plan.count)
-    for _, block in spill.chunks(chunk_rows):
-        np.maximum.at(radius, plan.owner(block[:, :3]), block[:, 3])
-    return radius
-
-
-class _Rounds:
-    """Routes and runs tiles, again with wider halos where a tile asks for one."""
-
-    def __init__(self, executor, slots, plan, spill, settings, chunk_rows, progress):
-        self.executor, self.slots, self.plan, self.spill = executor, slots, plan, spill
-        self.settings, self.chunk_rows, self.progress = settings, chunk_rows, progress
-        self.seconds = {"route": 0.0, "tiles": 0.0}
-        self.route_cpu = 0.0
-        self.rounds, self.runs = 0, 0
-        self.busy: dict[int, float] = {}
-        """CPU seconds of tile work per process id, over every run."""
-
-    def all(self, beta: np.ndarray, sparsity_reach: float, core_radius: np.ndarray) -> dict:
-        outcomes: dict[int, TileOutcome] = {}
-        todo = np.arange(self.plan.count)
-        while len(todo):
-            if self.rounds == MAX_ROUNDS:
-                raise VoroboundError(
-                    f"{len(todo)} tiles still need wider halos after {MAX_ROUNDS} runs "
-                    "(balls far from all others?): use larger tiles (tile_balls)"
-                )
-            self.rounds += 1
-            for outcome in self._run(todo, beta):
-                outcomes[outcome.tile] = outcome
-            needed = np.array([outcomes[t].needed_beta for t in range(self.plan.count)])
-            smallest = min(o.sparsity.extreme for o in outcomes.values())
-            if np.isfinite(smallest):
-                # Every tile must have seen all its pairs below the smallest ratio found.
-                needed = np.maximum(
-                    needed, (1 + tiles.REACH_RTOL) * smallest * sparsity_reach * core_radius
-                )
-            short = needed > beta
-            beta = np.where(short, np.maximum(needed, beta) * HALO_GROWTH, beta)
-            todo = np.flatnonzero(short)
-        return outcomes
-
-    def _run(self, todo: np.ndarray, beta: np.ndarray) -> Iterator[TileOutcome]:
-        folder = Path(tempfile.mkdtemp(prefix="shards.", dir=self.spill.file.parent))
-        start, cpu = time.perf_counter(), time.process_time()
-        _route(self.spill, self.plan, beta, todo, folder, self.chunk_rows, self.progress)
-        self.seconds["route"] += time.perf_counter() - start
-        self.route_cpu += time.process_time() - cpu
-        start = time.perf_counter()
-        counter = Counter(self.progress, "tiles", len(todo))
-        waiting = iter(todo)
-        pending: dict[concurrent.futures.Future, int] = {}
-        try:
-            while True:
-                while len(pending) < IN_FLIGHT * self.slots:
-                    tile = next(waiting, None)
-                    if tile is None:
-                        break
-                    job = _job(int(tile), folder, self.plan, beta, self.settings)
-                    pending[self.executor.submit(run_tile, job)] = int(tile)
-                if not pending:
-                    break
-                done, _ = concurrent.futures.wait(
-                    pending, return_when=concurrent.futures.FIRST_COMPLETED
-                )
-                for future in done:
-                    tile = pending.pop(future)
-                    outcome = task_result(future, f"tile {tile}")
-                    self.runs += 1
-                    spent = sum(outcome.seconds.values())
-                    self.busy[outcome.pid] = self.busy.get(outcome.pid, 0.0) + spent
-                    counter.step()
-                    yield outcome
-        finally:
-            self.seconds["tiles"] += time.perf_counter() - start
-            shutil.rmtree(folder, ignore_errors=True)
-
-
-def _route(
-    spill: _Spill,
-    plan: tiles.TilePlan,
-    beta: np.ndarray,
-    todo: np.ndarray,
-    folder: Path,
-    chunk_rows: int,
-    progress: Progress | None,
-) -> None:
-    """Pass 3: append each ball to the shard file of its own tile and of every halo it is in
-    (only the tiles in ``todo``)."""
-    active = np.full(plan.count, -np.inf)
-    active[todo] = beta[todo]
-    counter = Counter(progress, "routing balls", spill.count)
-    for first, block in spill.chunks(chunk_rows):
-        centers, radii = block[:, :3], block[:, 3]
-        rows, tile, core = plan.members(centers, radii, active)
-        order = np.argsort(tile, kind="stable")
-        rows, tile = rows[order], tile[order]
-        records = np.empty(len(rows), dtype=_RECORD)
-        records["id"] = first + rows
-        records["ball"] = block[rows]
-        records["core"] = core[order]
-        cuts = np.flatnonzero(np.diff(tile)) + 1
-        for part, start in zip(np.split(records, cuts), np.concatenate([[0], cuts]), strict=True):
-            if len(part):
-                with open(folder / f"{tile[start]}.bin", "ab") as handle:
-                    part.tofile(handle)
-        counter.step(len(block))
-
-
-def _job(tile: int, folder: Path, plan, beta, settings) -> TileJob:
-    records = np.fromfile(folder / f"{tile}.bin", dtype=_RECORD)
-    (folder / f"{tile}.bin").unlink()
-    return TileJob(
-        tile=tile,
-        ids=records["id"].copy(),
-        centers=np.ascontiguousarray(records["ball"][:, :3]),
-        radii=np.ascontiguousarray(records["ball"][:, 3]),
-        core=records["core"].astype(bool),
-        lo=plan.lo[tile],
-        hi=plan.hi[tile],
-        beta=float(beta[tile]),
-        settings=settings,
+    edges = gap_edges(params, [b.value / params.eps for b in bounds])
+    table = "none" if outputs is None else outputs.table
+    settings = TileSettings(
+        params=params,
+        lipschitz=params.lipschitz,
+        engine=engine.value,
+        top=0.0,
+        bounds=tuple(bounds),
+        ratio_bounds=tuple(ratios),
+        edges=edges,
+        table=table,
+        parts=None if table == "none" else str(outputs.parts),
+        vtu_share=0.0 if outputs is None else 1.0,
+        what=f"balls {path.name}",
+        total=0,
+        features=features,
     )
-
-
-def _merge(outcomes, run, spill, settings, bounds, ratios, path, engine, timings, serial):
-    """The report of the tiles' outcomes (raises NoGuideTriangles as check_balls does)."""
-    done = [outcomes[t] for t in sorted(outcomes)]
-    guides = GuideTally.merge([o.guides for o in done])
-    half = sum(o.half_covered for o in done)
-    with_seeds = sum(o.with_seeds for o in done)
-    if guides.count == 0:
-        raise NoGuideTriangles(
-            f"{path.name}: no guide triangle to measure ({with_seeds:,} triples of balls "
-            f"meet in a seed pair, {half:,} of them half-covered): a VoroCrust sample of a "
-            "closed surface has guide triangles all over it; are the radii δ·L too small for "
-            "the spacing of the centers?"
-        )
-    sparsity = PairTally.merge([o.sparsity for o in done], smallest=True)
-    cpu: dict[str, float] = {}
-    peaks: dict[int, int] = {}
-    for o in done:
-        for stage, seconds in o.seconds.items():
-            cpu[stage] = cpu.get(stage, 0.0) + seconds
-        peaks[o.pid] = max(peaks.get(o.pid, 0), o.peak_rss)
-    vtu = None
-    if settings.vtu_share > 0:
-        vtu = _merge_vtu([o.vtu for o in done if o.vtu is not None])
-    tiling = Tiling(
-        tiles=len(done),
-        halo_balls=sum(o.halo for o in done),
-        rounds=run.rounds,
-        rerun=run.runs - len(done),
-        executor=_executor_name(run.executor),
-        workers=run.slots,
-        worker_peak_bytes=peaks,
-        driver_peak_bytes=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-        driver_pid=os.getpid(),
-        cpu_seconds=cpu,
-        driver_cpu_seconds=serial,
-        worker_busy_seconds=dict(run.busy),
-        spill_bytes=spill.count * 32,
-    )
+    run = run_tiles(path, settings, workers, scheduler, progress, tile_balls, chunk_rows)
+    if run.guides.count == 0:
+        raise no_guide_triangles(path.name, run.with_seeds, run.half_covered)
     return TiledCheckReport(
         source=path.name,
-        params=settings.params,
-        lipschitz=settings.lipschitz,
+        params=params,
+        lipschitz=params.lipschitz,
         engine=engine.value,
-        n_balls=spill.count,
-        candidates=sum(o.candidates for o in done),
-        with_seeds=with_seeds,
-        half_covered=half,
-        guides=guides,
         bounds=bounds,
         ratio_bounds=ratios,
-        sparsity=sparsity,
-        lipschitz_pairs=PairTally.merge([o.lipschitz for o in done], smallest=False),
-        sparsity_exact=all(o.sparsity_certain > sparsity.extreme for o in done),
-        tiling=tiling,
-        vtu=vtu,
-        gap_edges=settings.edges,
-        timings=timings,
-        feature_rule=None if settings.features is None else FEATURE_RULE,
-    )
-
-
-def _executor_name(executor) -> str:
-    name = type(executor).__name__
-    return {
-        "InlineExecutor": "in process",
-        "ProcessPoolExecutor": "local process pool",
-        "ClientExecutor": "dask.distributed",
-    }.get(name, name)
-
-
-def _merge_vtu(parts: list[VtuRows]) -> VtuRows | None:
-    if not parts:
-        return None
-    return VtuRows(
-        triples=np.concatenate([p.triples for p in parts]),
-        centers=np.concatenate([p.centers for p in parts]),
-        radii=np.concatenate([p.radii for p in parts]),
-        cells={k: np.concatenate([p.cells[k] for p in parts]) for k in parts[0].cells},
+        run=run,
+        gap_edges=edges,
+        feature_rule=None if features is None else FEATURE_RULE,
+        timings=run.timings,
     )

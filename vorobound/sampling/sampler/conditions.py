@@ -75,7 +75,7 @@ def neighbours(points: np.ndarray, owned: np.ndarray | None = None) -> Neighbour
     answers for the pair). Over a partition of the points into owned sets, each pair of the
     whole set is then answered for exactly once, provided every owned point's neighbours, and
     their neighbours up to the distance of the owned point, are among ``points`` (the tiles'
-    halo rule, :mod:`vorobound.sampling.guides.tiles`).
+    halo rule, :mod:`vorobound.tiling.plan`).
     """
     from scipy.spatial import cKDTree
 

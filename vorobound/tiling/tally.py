@@ -4,8 +4,8 @@ A :class:`GuideTally` holds, for a set of guide triangles, the counts, the maxim
 triangle where each occurs) and a histogram of the gap on fixed bins; a :class:`PairTally` the
 extreme, the count and the worst pairs of a pair condition (sparsity, Lipschitz). Tallies of
 disjoint sets merge into the tally of their union, so a tiled check assembles the same numbers
-as :meth:`vorobound.reports.check.CheckReport.summary` computes from all rows at once (maxima
-keep NaN as that does: a NaN anywhere makes the maximum NaN, reported as null).
+as one tally of all rows at once (maxima keep NaN: a NaN anywhere makes the maximum NaN,
+reported as null); a whole check's summary is built from such a tally too.
 
 References
 ----------
@@ -106,10 +106,9 @@ class GuideTally:
                 if len(finite):
                     at = int(finite[np.argmax(rows[finite])])
                     triple = g.triples[at]
-                    where[name] = Where(
-                        tuple(int(i) for i in ids[triple]),
-                        tuple(float(x) for x in centers[triple].mean(axis=0)),
-                    )
+                    a, b, c = (int(i) for i in ids[triple])
+                    x, y, z = (float(v) for v in centers[triple].mean(axis=0))
+                    where[name] = Where((a, b, c), (x, y, z))
         gap = g.gap_ratio
         inner = np.histogram(gap[(gap >= edges[0]) & (gap < edges[-1])], bins=edges)[0]
         histogram = np.concatenate(
@@ -191,15 +190,10 @@ class PairTally:
 
     @classmethod
     def of(cls, report: conditions.PairReport, ids: np.ndarray, centers: np.ndarray) -> PairTally:
-        worst = [
-            (
-                int(ids[i]),
-                int(ids[j]),
-                float(value),
-                tuple(float(x) for x in 0.5 * (centers[i] + centers[j])),
-            )
-            for (i, j), value in zip(report.worst, report.worst_values, strict=True)
-        ]
+        worst = []
+        for (i, j), value in zip(report.worst, report.worst_values, strict=True):
+            x, y, z = (float(v) for v in 0.5 * (centers[i] + centers[j]))
+            worst.append((int(ids[i]), int(ids[j]), float(value), (x, y, z)))
         return cls(float(report.extreme), int(report.violations), worst)
 
     @classmethod
@@ -216,29 +210,3 @@ class PairTally:
             sum(t.violations for t in tallies),
             worst[: conditions.WORST_LISTED],
         )
-
-
-def class_entries(tally: GuideTally, feature_rule: str | None) -> dict:
-    """The summary's split by where the guide triangles sit: ``feature_rule`` (None: no
-    features known) and per class its count, the counts of the checks on triangles, the
-    violations of each mode's bounds and where each maximum occurs (ball indices, centroid)."""
-    from ..sampling.guides.features import NO_FEATURES
-
-    out = {"feature_rule": feature_rule or NO_FEATURES}
-    for name in CLASSES:
-        t = tally.classes.get(name)
-        if t is None:
-            out[name] = None
-            continue
-        out[name] = {
-            "n_guide_triangles": t.count,
-            **t.counts,
-            "violations": dict(t.violations),
-            "ratio_bound_violations": dict(t.ratio_bound_violations),
-            "maxima": {k: (float(v) if np.isfinite(v) else None) for k, v in t.maxima.items()},
-            "worst": {
-                k: {"triangle": list(w.triple), "centroid": list(w.centroid)}
-                for k, w in t.where.items()
-            },
-        }
-    return out

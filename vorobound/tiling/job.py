@@ -5,7 +5,7 @@ halo width β; :func:`run_tile` finds the candidate triples of the tile's regula
 keeps those whose smallest vertex index is in the core, classifies their seeds with the whole
 set's lifting, measures the guide triangles, checks the pair conditions of the owned balls,
 writes the tile's rows if asked, and returns a :class:`TileOutcome` of mergeable tallies and
-the halo width the tile needed (:mod:`vorobound.sampling.guides.tiles`). It runs on one thread.
+the halo width the tile needed (:mod:`vorobound.tiling.plan`). It runs on one thread.
 
 References
 ----------
@@ -20,7 +20,6 @@ import os
 import resource
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -28,12 +27,13 @@ from ..bounds.params import SamplingParams
 from ..errors import InputError, WriteError
 from ..geometry.threads import limited_threads
 from ..sampling.balls import Balls
-from ..sampling.guides import tiles
 from ..sampling.guides.measure import GuideMeasurements, ModeBound, measure_guides
 from ..sampling.guides.seeds import COVER_RTOL, classify
 from ..sampling.guides.triangles import Engine, overlap_triples, regular_triangles
 from ..sampling.sampler import conditions
-from .check_tally import GuideTally, PairTally
+from . import plan as tiles
+from .rows import guide_columns, part_path, vtu_cells, write_part
+from .tally import GuideTally, PairTally
 
 VTU_FLAGGED = 1000
 """A tile adds at most this many triangles that break something to the decimated VTU."""
@@ -55,7 +55,8 @@ class TileSettings:
     edges: np.ndarray
     """Bin edges of the gap histogram."""
     table: str
-    """How the rows are written: ``parquet``, ``csv`` or ``none``."""
+    """How the rows are written: ``parquet``, ``npz``, ``csv`` or ``none``
+    (:data:`vorobound.tiling.rows.TABLES`)."""
     parts: str | None
     """Folder for the tiles' row files."""
     vtu_share: float
@@ -70,7 +71,7 @@ class TileSettings:
 
 @dataclass(frozen=True)
 class TileJob:
-    """A tile's balls and halo (see :mod:`vorobound.sampling.guides.tiles`)."""
+    """A tile's balls and halo (see :mod:`vorobound.tiling.plan`)."""
 
     tile: int
     ids: np.ndarray
@@ -97,7 +98,21 @@ class VtuRows:
 
 
 @dataclass(frozen=True)
-class TileOutcome:
+class Tallies:
+    """What the tiles of a check add up (and what a whole check's summary is built from):
+    candidate triples, those with seeds, the half-covered ones, and the tallies of the guide
+    triangles and of the pair conditions."""
+
+    candidates: int
+    with_seeds: int
+    half_covered: int
+    guides: GuideTally
+    sparsity: PairTally
+    lipschitz: PairTally
+
+
+@dataclass(frozen=True)
+class TileOutcome(Tallies):
     """What a tile sends back."""
 
     tile: int
@@ -105,12 +120,6 @@ class TileOutcome:
     """Balls in the core."""
     halo: int
     """Balls in the halo."""
-    candidates: int
-    with_seeds: int
-    half_covered: int
-    guides: GuideTally
-    sparsity: PairTally
-    lipschitz: PairTally
     core_radius: float
     needed_beta: float
     """The β the tile needed (above its own: recompute it with a wider halo)."""
@@ -193,7 +202,7 @@ def _run(job: TileJob) -> TileOutcome:
 class _Clock:
     """Thread CPU seconds per stage."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.seconds: dict[str, float] = {}
 
     @contextlib.contextmanager
@@ -236,31 +245,16 @@ def _seed_reach(seeded, has: np.ndarray, balls: Balls, job: TileJob) -> float:
 
 def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
     """The tile's rows (the columns of triangles.csv, global ball indices) as one part file."""
-    from .check import guide_columns
-
     s = job.settings
     columns = guide_columns(guides, job.ids[guides.triples])
-    path = Path(s.parts) / f"part-{job.tile:05d}.{'csv' if s.table == 'csv' else 'parquet'}"
     try:
-        if s.table == "parquet":
-            from ..sampling.io.columns import fill_parquet
-
-            fill_parquet(path, columns)
-        else:
-            write_csv_columns(path, columns)
+        write_part(part_path(str(s.parts), job.tile, s.table), columns)
     except OSError as exc:
         raise WriteError(
             f"cannot write the rows of tile {job.tile} into {s.parts}: "
             f"{exc.strerror or exc} (on a cluster the output folder must be on a file system "
             "its workers share)"
         ) from None
-
-
-def write_csv_columns(path: Path, columns: dict[str, np.ndarray]) -> None:
-    """The tile's rows as CSV, as an untiled check writes them."""
-    from ..sampling.io.columns import READABLE_PRECISION, fill_csv
-
-    fill_csv(path, columns, READABLE_PRECISION)
 
 
 def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:
@@ -283,14 +277,5 @@ def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:
         triples=triples[rows],
         centers=job.centers[local],
         radii=job.radii[local],
-        cells={
-            "rho": guides.rho[rows],
-            "gap_ratio": guides.gap_ratio[rows],
-            "quality_ratio": np.where(
-                np.isfinite(guides.quality_ratio[rows]), guides.quality_ratio[rows], np.nan
-            ),
-            "h3_ratio": guides.h3_ratio[rows],
-            "inside_constraint_set": guides.inside[rows].astype(float),
-            "at_feature": guides.at_feature[rows].astype(float),
-        },
+        cells=vtu_cells(guides, rows),
     )

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InputError
+from ..errors import InputError
 
 HALO_FACTOR = 3.0
 """First guess of β_T in units of R_T (surface samples need about 2.5–2.7: twice the distance to
