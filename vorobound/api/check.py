@@ -137,8 +137,14 @@ class CheckResult(Result):
     def to_frame(self):
         """One row per guide triangle: the columns of triangles.csv, then where the triangle
         is, the centers of its balls a, b, c (``a_x`` ... ``c_z``; pandas optional)."""
-        from ..reports.check import triangle_columns
+        from ..errors import InputError
+        from ..reports.check import CheckReport, triangle_columns
 
+        if not isinstance(self.report, CheckReport):
+            raise InputError(
+                "to_frame() needs the whole check's rows: a check in tiles keeps them in its "
+                "output folder (out=..., the triangles table), not in memory"
+            )
         columns = triangle_columns(self.report)
         centers = self.report.balls.centers
         for name in "abc":

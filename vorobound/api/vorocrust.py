@@ -33,7 +33,8 @@ def read(vorocrust):
     from ..sampling.io.vorocrust import read_run
 
     run = read_run(vorocrust)
-    if run.strata[SMOOTH] is None or len(run.strata[SMOOTH]) < 4:
+    surface = run.strata[SMOOTH]
+    if surface is None or len(surface) < 4:
         raise InputError(
             f"VoroCrust run {vorocrust}: fewer than 4 surface balls (surface_spheres.csv); the "
             "smooth verdict needs them"

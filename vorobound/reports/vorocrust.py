@@ -172,10 +172,10 @@ def measure(balls: Balls, shape, guides, seed: int | None = None) -> Measured:
     )
 
 
-def warn_off_surface(measured: Measured, balls: Balls, what: str) -> None:
+def warn_off_surface(measured: Measured | None, balls: Balls, what: str) -> None:
     """Warn when ball centres lie off the given surface by more than their sampling tolerance
-    (:data:`OFF_SURFACE_RTOL` of their radius)."""
-    if measured.off_surface is None or measured.off_surface <= OFF_SURFACE_RTOL:
+    (:data:`OFF_SURFACE_RTOL` of their radius); nothing without a measurement."""
+    if measured is None or measured.off_surface is None or measured.off_surface <= OFF_SURFACE_RTOL:
         return
     i = measured.off_surface_ball
     where = ", ".join(f"{v:.6g}" for v in balls.centers[i])

@@ -362,6 +362,10 @@ def _unique_keys(pairs: list) -> dict:
     out = dict(pairs)
     if len(out) != len(pairs):
         seen: set = set()
-        key = next(k for k, _ in pairs if k in seen or seen.add(k))
+        key = None
+        for key, _ in pairs:
+            if key in seen:
+                break
+            seen.add(key)
         raise ValueError(f"key {key!r} appears twice in one object")
     return out

@@ -241,7 +241,7 @@ def _sides(
 def _params(point: Scaled, setting: Setting) -> constraints.ConstraintParams:
     lam = None if setting.lipschitz is None else arb(setting.lipschitz)
     # ConstraintParams declares float fields; its constraints take any scalar of the backend
-    return constraints.ConstraintParams(point.eps, arb(setting.sigma), lam)  # type: ignore[arg-type]
+    return constraints.ConstraintParams(point.eps, arb(setting.sigma), lam)
 
 
 def _cap(value: arb, *limits: arb) -> arb:
