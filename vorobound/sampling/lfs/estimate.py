@@ -36,8 +36,8 @@ import numpy as np
 from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
 from ...errors import InputError, VoroboundError, warn_once
 from ...geometry.threads import thread_count
+from ...mesh import TriangleMesh, fingerprint
 from ...progress import Counter, Progress
-from ..io.meshes import TriangleMesh, fingerprint
 from ..surfaces.base import SurfaceCounts
 from .curved import edge_midpoints, tangent_basis
 from .face_sites import edge_sites, face_curvature_radius, face_sites, pn_points

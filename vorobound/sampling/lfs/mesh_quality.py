@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh, has_area
+from ...mesh import TriangleMesh, has_area
 
 
 @dataclass(frozen=True)

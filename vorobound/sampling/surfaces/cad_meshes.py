@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh
+from ...mesh import TriangleMesh
 
 
 def _checked_count(value: int, name: str, low: int, high: int) -> int:

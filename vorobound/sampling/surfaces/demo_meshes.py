@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh
+from ...mesh import TriangleMesh
 
 _ICOSAHEDRON_FACES = np.array(
     [

@@ -11,9 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError, warn_once
-from ..io.meshes import TriangleMesh, fingerprint, has_area, triangle_shapes
-from ..sampler.lattice import SPARSITY_SLACK
-from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
+from ...mesh import TriangleMesh, fingerprint, has_area, triangle_shapes
+from .base import SPARSITY_SLACK, ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
 WINDING_INSIDE = 0.5
 """A point is inside a mesh where its generalized winding number exceeds this."""
@@ -48,7 +47,7 @@ class _TriangleSurface:
     @property
     def expected_topology(self) -> ExpectedTopology | None:
         """The mesh's own topology, if it is a closed 2-manifold (else None)."""
-        from ..reconstruct.topology import triangle_topology
+        from ...mesh.topology import triangle_topology
 
         top = triangle_topology(self.vertices, self.triangles)
         if not top.closed_manifold:
