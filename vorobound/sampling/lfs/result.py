@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -85,16 +86,24 @@ class LfsEstimate:
             raise InputError(f"need finite points of shape (m, 3), got shape {points.shape}")
         return self._field(points)
 
+    @property
+    def _sites(self) -> Sites:
+        """The sites (an estimate made by :func:`~.estimate.estimate_lfs` always has them)."""
+        if self.sites is None:
+            raise InputError(f"mesh {self.mesh.name}: this estimate keeps no sites")
+        return self.sites
+
     @cached_property
     def _field(self) -> Envelope:
-        s = self.sites
+        s = self._sites
         return Envelope(s.points, s.values, self.lipschitz, s.radii, gradients=s.planes)
 
     def surface(self) -> SurfaceCounts:
         """Area and ∫ dA/L² from the face sites (:class:`SurfaceCounts`, what the advice
         needs)."""
-        face = self.sites.kind == 1
-        areas, lfs = self.sites.areas[face], self.sites.lfs[face]
+        sites = self._sites
+        face = sites.kind == 1
+        areas, lfs = sites.areas[face], sites.lfs[face]
         with np.errstate(all="ignore"):
             area = float(areas.sum())
             integral = float((areas / lfs**2).sum())
@@ -159,7 +168,7 @@ def build_result(
     face = sites.kind == 1
     both = face & np.isfinite(sites.medial) & np.isfinite(sites.bound)
     over = both & (sites.medial > DISAGREE_RATIO * sites.bound)
-    disagreement = {"face_sites": int(face.sum()), "compared": int(both.sum())}
+    disagreement: dict[str, Any] = {"face_sites": int(face.sum()), "compared": int(both.sum())}
     if both.any():
         ratio = sites.medial[both] / sites.bound[both]
         worst = int(np.flatnonzero(both)[np.argmax(ratio)])

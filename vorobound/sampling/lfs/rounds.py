@@ -211,6 +211,7 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
+    assert field is not None  # ROUNDS ≥ 1
     return Rounds(sites, poles, field, at_vertices, count)
 
 

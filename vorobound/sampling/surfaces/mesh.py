@@ -27,6 +27,10 @@ class _TriangleSurface:
 
     equal_radii_on_sphere = False
 
+    def lfs_on(self, triangle: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """L at points of the given triangles (each subclass says how)."""
+        raise NotImplementedError
+
     def _set_triangles(self, mesh: TriangleMesh) -> np.ndarray:
         """Keep the triangles with area; return which ones were kept."""
         corners, area2, longest, keep = _triangles_with_area(mesh)
