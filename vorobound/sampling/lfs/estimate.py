@@ -42,7 +42,7 @@ from ...progress import Counter, Progress
 from .face_sites import face_curvature_radius
 from .mesh_quality import prepare_mesh, vertex_normals
 from .patches import find_patches
-from .poles import AUTO_SAMPLES, fitted_midpoints, labelled_poles
+from .poles import AUTO_SAMPLES, fitted_midpoints, labelled_poles, rounding_error
 from .result import LfsEstimate, build_result
 from .rounds import _last_balls, _tangent_balls, round_state, run_rounds
 from .sites import Sites
@@ -191,14 +191,12 @@ def _estimate(
     poles = labelled_poles(
         prepared,
         patches,
-        vertex_sites,
-        vertex_patch,
         midpoints,
-        normals,
-        seed,
-        mesh.points,
-        progress,
-        caster,
+        sites=(vertex_sites, vertex_patch, normals),
+        seed=seed,
+        noise=rounding_error(mesh.points) / prepared.scale,
+        caster=caster,
+        progress=progress,
     )
     state = round_state(
         prepared,

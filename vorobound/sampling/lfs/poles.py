@@ -12,9 +12,12 @@ import numpy as np
 from ...errors import InputError
 from ...geometry.threads import thread_count
 from ...mesh.nearest import nearest_allowed
+from ...progress import Progress
 from .curved import edge_midpoints
 from .medial import vertex_poles
+from .mesh_quality import PreparedMesh
 from .patches import Patches
+from .thickness import RayCaster
 
 AUTO_SAMPLES = 60_000
 """Without a sample size, every eligible edge of a smooth patch gets a fitted midpoint if the
@@ -57,23 +60,24 @@ def fitted_midpoints(
 
 
 def labelled_poles(
-    prepared,
-    patches,
-    vertex_sites,
-    vertex_patch,
-    midpoints,
-    normals,
-    seed,
-    input_points,
-    progress,
-    caster,
-):
+    prepared: PreparedMesh,
+    patches: Patches,
+    midpoints: Midpoints,
+    *,
+    sites: tuple[np.ndarray, np.ndarray, np.ndarray],
+    seed: int,
+    noise: float,
+    caster: RayCaster,
+    progress: Progress | None,
+) -> tuple[np.ndarray, np.ndarray] | None:
     """(pole positions, owner patch) from the vertices of curved patches and the fitted
     midpoints, or None when there are too few points.
 
     Points interpolated inside coarse faces are not used: PN patches meet with small creases,
-    whose spurious poles would shrink L (docs/lfs.md).
+    whose spurious poles would shrink L (docs/lfs.md). ``sites``: the vertex sites, a patch
+    of each vertex and the vertex normals; ``noise``: the rounding error of the coordinates.
     """
+    vertex_sites, vertex_patch, normals = sites
     curved_vertex = vertex_sites[~patches.flat[vertex_patch[vertex_sites]]]
     pole_points = np.vstack([prepared.points[curved_vertex], midpoints.points])
     if len(pole_points) < 5:
@@ -84,7 +88,7 @@ def labelled_poles(
         poles = vertex_poles(
             pole_points,
             pole_normals,
-            noise=_rounding(input_points) / prepared.scale,
+            noise=noise,
             seed=seed,
             progress=progress,
             labels=labels,
@@ -92,9 +96,10 @@ def labelled_poles(
         )
     except InputError:
         return None  # a nearly planar sample of curved patches: no medial points
-    if poles.labelled_points is None or not len(poles.owner_labels):
+    labelled, owners = poles.labelled_points, poles.owner_labels
+    if labelled is None or owners is None or not len(owners):
         return None
-    return _checked_poles(poles.labelled_points, poles.owner_labels, pole_points, caster, patches)
+    return _checked_poles(labelled, owners, pole_points, caster, patches)
 
 
 def _checked_poles(centres, owners, sample, caster, patches):
@@ -140,7 +145,7 @@ def nearest_allowed_pole(pole_points, pole_labels, queries, query_labels, allowe
     return out
 
 
-def _rounding(points: np.ndarray) -> float:
+def rounding_error(points: np.ndarray) -> float:
     """The rounding error of the coordinates: single precision if every coordinate is a float32
     (as in STL files), else double."""
     points = np.asarray(points, dtype=float)
