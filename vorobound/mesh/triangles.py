@@ -36,7 +36,10 @@ def triangle_shapes(points: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
 def has_area(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """True for triangles with three distinct vertices and an area above MIN_AREA_RTOL·(longest
     edge)²: the one definition of a degenerate triangle."""
-    double_area, longest = triangle_shapes(points, faces)
+    return _with_area(faces, *triangle_shapes(points, faces))
+
+
+def _with_area(faces: np.ndarray, double_area: np.ndarray, longest: np.ndarray) -> np.ndarray:
     repeated = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2])
     repeated |= faces[:, 0] == faces[:, 2]
     return ~repeated & (double_area > MIN_AREA_RTOL * longest**2)
@@ -72,7 +75,17 @@ class TriangleMesh:
 
     def triangle_areas(self) -> np.ndarray:
         """Area of each triangle (cross product of two edges)."""
-        return 0.5 * triangle_shapes(self.points, self.triangles)[0]
+        return 0.5 * self.shapes[0]
+
+    @cached_property
+    def shapes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(twice the area, longest edge) of each triangle (:func:`triangle_shapes`)."""
+        return triangle_shapes(self.points, self.triangles)
+
+    @cached_property
+    def with_area(self) -> np.ndarray:
+        """(m,) True for the triangles with area (:func:`has_area`)."""
+        return _with_area(self.triangles, *self.shapes)
 
     @cached_property
     def edges(self) -> np.ndarray:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError, warn_once
-from ...mesh import TriangleMesh, fingerprint, has_area, triangle_shapes
+from ...mesh import TriangleMesh, fingerprint
 from .base import SPARSITY_SLACK, ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
 WINDING_INSIDE = 0.5
@@ -183,8 +183,8 @@ class FieldMeshShape(_TriangleSurface):
 def _triangles_with_area(mesh: TriangleMesh):
     """(corners, twice the areas, longest edges, mask of triangles with area) of a mesh;
     refuses a mesh whose every triangle is degenerate."""
-    area2, longest = triangle_shapes(mesh.points, mesh.triangles)
-    keep = has_area(mesh.points, mesh.triangles)
+    area2, longest = mesh.shapes
+    keep = mesh.with_area
     corners = mesh.points[mesh.triangles]
     if not keep.any():
         raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
