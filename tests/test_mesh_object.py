@@ -104,3 +104,14 @@ def test_a_mesh_is_frozen():
     mesh = TriangleMesh(np.eye(3), np.array([[0, 1, 2]]), "one")
     with pytest.raises(AttributeError):
         mesh.points = np.zeros((3, 3))
+
+
+def test_a_cached_estimate_warns_as_a_computed_one_at_the_callers_line():
+    from vorobound.errors import VoroboundWarning, forget_warnings
+
+    mesh = demo_meshes.cube_mesh(1.0, 2)
+    for _ in range(2):  # computed, then taken from the mesh object
+        forget_warnings()
+        with pytest.warns(VoroboundWarning, match="sharp edges") as caught:
+            estimate_module.estimate_lfs(mesh)
+        assert {w.filename for w in caught} == {__file__}

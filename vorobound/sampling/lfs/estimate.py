@@ -36,8 +36,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...checks import LIPSCHITZ_RANGE, checked_number, checked_seed
-from ...errors import InputError
-from ...mesh import TriangleMesh
+from ...errors import InputError, warn_once
+from ...mesh import TriangleMesh, fingerprint
 from ...progress import Counter, Progress
 from .face_sites import face_curvature_radius
 from .mesh_quality import prepare_mesh, vertex_normals
@@ -153,7 +153,11 @@ def estimate_lfs(
         return _estimate(mesh, *options, progress)
 
     cached = getattr(mesh, "cached", None)
-    return compute() if cached is None else cached(("lfs estimate", options), compute)
+    estimate = compute() if cached is None else cached(("lfs estimate", options), compute)
+    subject = fingerprint(mesh.points, mesh.triangles)
+    for note in estimate.warnings:  # once per mesh and process (as when it is computed again)
+        warn_once(f"mesh {mesh.name}: {note}", subject)
+    return estimate
 
 
 def _estimate(

@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from ...errors import InputError, VoroboundError, warn_once
-from ...mesh import TriangleMesh, fingerprint
+from ...errors import InputError, VoroboundError
+from ...mesh import TriangleMesh
 from ..surfaces.base import SurfaceCounts
 from .features import feature_integrals
 from .lipschitz import Envelope
@@ -135,8 +135,9 @@ def build_result(
     slope: float,
     rounds: Rounds,
 ) -> LfsEstimate:
-    """The :class:`LfsEstimate` in the input's units, with its warnings, from the last of
-    the ``rounds`` (its sites, poles, field and L at the vertices)."""
+    """The :class:`LfsEstimate` in the input's units, with its warnings (given by
+    :func:`~.estimate.estimate_lfs`), from the last of the ``rounds`` (its sites, poles, field
+    and L at the vertices)."""
     sites, poles, envelope = rounds.sites, rounds.poles, rounds.field
     scale, centre, points = prepared.scale, prepared.centre, prepared.points
     lfs_sites = Sites(
@@ -193,9 +194,6 @@ def build_result(
             "surface analysis does not cover the sharp features themselves"
         )
     notes += _coarse(prepared, patches, vertex_lfs)
-    subject = fingerprint(mesh.points, mesh.triangles)
-    for note in notes:
-        warn_once(f"mesh {mesh.name}: {note}", subject, stacklevel=3)
     feature_length, feature_inv = feature_integrals(
         prepared.points, patches.feature_edges, envelope
     )
