@@ -9,6 +9,7 @@ PACKAGE = Path(vorobound.__file__).parent
 LAYERS = [
     {"__init__", "errors", "constants", "rounding", "checks", "progress", "files", "parallel"},
     {"geometry"},
+    {"mesh"},
     {"bounds"},
     {"sampling"},
     {"tiling"},
@@ -80,8 +81,8 @@ def test_no_import_goes_up_a_layer():
     assert not upward, upward
 
 
-def test_the_import_graph_has_no_cycle():
-    graph = _graph()
+def _assert_no_cycle(graph: dict[str, set[str]]) -> None:
+    """Raise AssertionError naming the first cycle found in ``graph`` (depth first)."""
     state: dict[str, int] = {}
 
     def visit(node, path):
@@ -96,6 +97,37 @@ def test_the_import_graph_has_no_cycle():
     for node in sorted(graph):
         if node not in state:
             visit(node, [node])
+
+
+def test_the_import_graph_has_no_cycle():
+    _assert_no_cycle(_graph())
+
+
+SUB_PACKAGES = ("sampling", "mesh")
+"""Packages whose sub-packages (and top-level modules) must import one another without a
+cycle: each is one subsystem, and a cycle would tie two of them into one."""
+
+
+def _part(module: str) -> str:
+    """The sub-package (or top-level module) of SUB_PACKAGES that ``module`` belongs to, or
+    the layer's top name for modules elsewhere."""
+    parts = module.split(".")
+    if len(parts) > 2 and parts[1] in SUB_PACKAGES:
+        return ".".join(parts[:3])
+    return ".".join(parts[:2])
+
+
+def test_the_sub_packages_import_one_another_without_a_cycle():
+    graph: dict[str, set[str]] = {}
+    for src, targets in _graph().items():
+        graph.setdefault(_part(src), set()).update(_part(t) for t in targets)
+    graph = {
+        part: {t for t in targets if t != part and t.split(".")[1] in SUB_PACKAGES}
+        for part, targets in graph.items()
+        if part.split(".")[1:2] and part.split(".")[1] in SUB_PACKAGES
+    }
+    assert len(graph) > 5, sorted(graph)  # the sub-packages were found
+    _assert_no_cycle(graph)
 
 
 def test_every_k_d_tree_query_uses_the_one_thread_setting():

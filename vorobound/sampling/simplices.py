@@ -130,7 +130,7 @@ def delaunay_simplices(
     return *found, tree.num_vertices()
 
 
-def face_neighbours(tets: np.ndarray) -> np.ndarray:
+def face_neighbours(tets: np.ndarray) -> np.ndarray | None:
     """The tetrahedron sharing the face opposite each corner of ``tets`` (t, 4), −1 where none
     (scipy's ``Delaunay.neighbors`` layout); None when a face is shared by more than two
     tetrahedra (not a triangulation)."""
@@ -139,10 +139,10 @@ def face_neighbours(tets: np.ndarray) -> np.ndarray:
         return out
     presorted = bool((tets[:, :-1] < tets[:, 1:]).all())  # as a simplex tree gives them
     ordered = tets if presorted else np.sort(tets, axis=1)
-    faces = np.empty((4, len(tets), 3), dtype=np.int64)
+    by_corner = np.empty((4, len(tets), 3), dtype=np.int64)
     for corner, keep in enumerate(((1, 2, 3), (0, 2, 3), (0, 1, 3), (0, 1, 2))):
-        faces[corner] = ordered[:, keep]
-    faces = faces.reshape(-1, 3)  # face k·t + i is tetrahedron i without corner k
+        by_corner[corner] = ordered[:, keep]
+    faces = by_corner.reshape(-1, 3)  # face k·t + i is tetrahedron i without corner k
     if int(ordered.max()) < 1 << PACKED_BITS:
         key = (faces[:, 0] << (2 * PACKED_BITS)) | (faces[:, 1] << PACKED_BITS) | faces[:, 2]
         order = np.argsort(key)

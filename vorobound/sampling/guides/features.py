@@ -82,7 +82,9 @@ class SharpFeatures:
         near_d, near_i = tree.query(points, k=k, workers=thread_count())
         near_d, near_i = near_d.reshape(len(points), k), near_i.reshape(len(points), k)
         exact = _point_segment(points[:, None, :], start[near_i], end[near_i]).min(axis=1)
-        unsure = np.flatnonzero(near_d[:, -1] <= exact + piece / 2) if k < len(start) else []
+        unsure = np.zeros(0, np.int64)
+        if k < len(start):
+            unsure = np.flatnonzero(near_d[:, -1] <= exact + piece / 2)
         for row in unsure:
             ids = np.asarray(tree.query_ball_point(points[row], exact[row] + piece / 2))
             if len(ids):

@@ -16,6 +16,7 @@ Theorem 1, eq. (29), (33)–(36), (54)–(55) and property H3 of Section 4.1.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -123,7 +124,7 @@ class GuideMeasurements:
 
     def take(self, rows: np.ndarray) -> GuideMeasurements:
         """The measurements of ``rows`` only (a boolean mask or indices)."""
-        out = {}
+        out: dict[str, Any] = {}
         for name, value in vars(self).items():
             if isinstance(value, dict):
                 out[name] = {k: v[rows] for k, v in value.items()}

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -61,7 +62,7 @@ class SeededTriangles:
     @property
     def guide(self) -> np.ndarray:
         """Both seeds uncovered: a guide triangle."""
-        return self.uncovered.all(axis=1)
+        return np.asarray(self.uncovered.all(axis=1))
 
     @property
     def half_covered(self) -> np.ndarray:
@@ -70,12 +71,11 @@ class SeededTriangles:
 
     def take(self, index) -> SeededTriangles:
         """The rows ``index`` (a mask or indices)."""
-        geometry = WeightedTriangles(
-            **{
-                name: (None if value is None else value[index])
-                for name, value in vars(self.geometry).items()
-            }
-        )
+        fields: dict[str, Any] = {
+            name: (None if value is None else value[index])
+            for name, value in vars(self.geometry).items()
+        }
+        geometry = WeightedTriangles(**fields)
         return SeededTriangles(
             self.triples[index], geometry, self.seeds[index], self.uncovered[index]
         )
@@ -179,7 +179,7 @@ def other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.nd
 def _concat(parts) -> SeededTriangles:
     rows = np.concatenate([p[0] for p in parts])
     geometries = [p[1] for p in parts]
-    fields = {}
+    fields: dict[str, Any] = {}
     for name, value in vars(geometries[0]).items():
         fields[name] = (
             None if value is None else np.concatenate([vars(g)[name] for g in geometries])

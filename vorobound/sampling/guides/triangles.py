@@ -238,7 +238,7 @@ def filler_points(centers: np.ndarray, radius: float) -> np.ndarray:
         FILLER_SPACING * radius, (float(np.prod(high - low + 2 * radius)) / len(centers)) ** (1 / 3)
     )
     tree = cKDTree(centers)
-    levels = []
+    levels: list[np.ndarray] = []
     while True:
         near = max(spacing, FILLER_CLEARANCE * radius) if not levels else spacing
         far = 2 * spacing

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -38,7 +39,8 @@ def fill_csv(path: Path, columns: dict[str, np.ndarray], precision: int = FULL_P
 def fill_npz(path: Path, columns: dict[str, np.ndarray], precision: int | None = None) -> None:
     """One named array per column (compressed); ``precision`` does not apply."""
     with open(path, "wb") as handle:
-        np.savez_compressed(handle, **{name: np.asarray(a) for name, a in columns.items()})
+        arrays: dict[str, Any] = {name: np.asarray(a) for name, a in columns.items()}
+        np.savez_compressed(handle, **arrays)
 
 
 def fill_parquet(path: Path, columns: dict[str, np.ndarray], precision: int | None = None) -> None:

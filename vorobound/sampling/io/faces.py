@@ -140,7 +140,7 @@ def _ear_clipping(polygon: np.ndarray, normal: np.ndarray) -> np.ndarray:
             triangles += [(rest[0], rest[i], rest[i + 1]) for i in range(1, len(rest) - 1)]
             remaining = []
     if len(remaining) == 3:
-        triangles.append(tuple(remaining))
+        triangles.append((remaining[0], remaining[1], remaining[2]))
     return np.array(triangles, dtype=np.int64)
 
 

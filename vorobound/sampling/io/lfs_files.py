@@ -10,7 +10,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...files import checked_destination, write_set
-from ..lfs.estimate import LfsEstimate
+from ..lfs.result import LfsEstimate
 from .balls import fill_vtu
 from .columns import fill_csv
 

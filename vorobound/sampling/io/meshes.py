@@ -11,59 +11,24 @@ from __future__ import annotations
 import contextlib
 import io
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...checks import LFS_RANGE
 from ...errors import ReadError, VoroboundWarning, warn_once
+from ...mesh import MIN_AREA_RTOL, TriangleMesh, fingerprint, has_area, triangle_shapes
 
-MIN_AREA_RTOL = 1e-14
-"""Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area."""
-
-
-def triangle_shapes(points: np.ndarray, faces: np.ndarray):
-    """(twice the area, longest edge) of each triangle ``faces`` (m, 3) of ``points``."""
-    corners = points[faces]
-    first, second = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    third = corners[:, 2] - corners[:, 1]
-    double_area = np.linalg.norm(np.cross(first, second), axis=1)
-    longest_sq = np.max([(e * e).sum(axis=1) for e in (first, second, third)], axis=0)
-    return double_area, np.sqrt(longest_sq)
-
-
-def has_area(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """True for triangles with three distinct vertices and an area above MIN_AREA_RTOL·(longest
-    edge)²: the one definition of a degenerate triangle."""
-    double_area, longest = triangle_shapes(points, faces)
-    repeated = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2])
-    repeated |= faces[:, 0] == faces[:, 2]
-    return ~repeated & (double_area > MIN_AREA_RTOL * longest**2)
-
-
-@dataclass(frozen=True)
-class TriangleMesh:
-    """Vertices (n, 3) and triangles (m, 3) of a surface mesh, checked for basic sanity."""
-
-    points: np.ndarray
-    triangles: np.ndarray
-    name: str
-
-    def triangle_areas(self) -> np.ndarray:
-        """Area of each triangle (cross product of two edges)."""
-        return 0.5 * triangle_shapes(self.points, self.triangles)[0]
-
-
-def fingerprint(points: np.ndarray, triangles: np.ndarray | None = None) -> str:
-    """A digest of a mesh's vertices (and triangles): what a warning about the mesh is given
-    once per process for (:func:`vorobound.errors.warn_once`)."""
-    import hashlib
-
-    digest = hashlib.blake2b(np.ascontiguousarray(points).tobytes(), digest_size=16)
-    if triangles is not None:
-        digest.update(np.ascontiguousarray(triangles).tobytes())
-    return digest.hexdigest()
+__all__ = [
+    "MIN_AREA_RTOL",
+    "TriangleMesh",
+    "fingerprint",
+    "format_by_content",
+    "has_area",
+    "read_sizing",
+    "read_triangle_mesh",
+    "triangle_shapes",
+]
 
 
 def quiet_meshio(call, path: Path, what: str):
@@ -165,9 +130,11 @@ FACE_TYPES = ("triangle", "quad", "polygon")
 one-line warning). Other cells (vertices, lines, volumes) are ignored."""
 
 
-def read_triangle_mesh(path: str | Path) -> TriangleMesh:
+def read_triangle_mesh(path: str | Path | TriangleMesh) -> TriangleMesh:
     """Read the faces of any mesh meshio understands (STL, OBJ, PLY, OFF, VTK, VTU, ...) as
     triangles: quadrilateral and polygonal faces are split (:mod:`.faces`) with a warning.
+    A :class:`~vorobound.mesh.TriangleMesh` is returned as it is (the same object, with what
+    is cached on it, such as its L estimate).
 
     Raises
     ------
@@ -175,6 +142,8 @@ def read_triangle_mesh(path: str | Path) -> TriangleMesh:
         Unreadable file, no faces, points that are not 2-D or 3-D, non-finite coordinates,
         or faces that refer to missing vertices.
     """
+    if isinstance(path, TriangleMesh):
+        return path
     path = Path(path)
     if not path.exists():
         raise ReadError(f"cannot read mesh {path}: no such file")

@@ -10,6 +10,7 @@ lines starting with ``#`` are skipped; line numbers count every line of the file
 from __future__ import annotations
 
 import io
+import os
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,7 +38,7 @@ class NumberTable:
     """The delimiter found (None: runs of spaces)."""
 
 
-def read_number_table(path: str | Path, what: str) -> NumberTable:
+def read_number_table(path: str | os.PathLike, what: str) -> NumberTable:
     """Read a table of numbers; ``what`` names the file in messages ("balls", "sizing file").
 
     Raises

@@ -248,7 +248,8 @@ def read_run(folder: str | os.PathLike, deck: str = DECK) -> Run:
             f"VoroCrust deck {parsed.path} names {len(parsed.input_meshes)} input meshes: vc_mesh "
             "merges them (model_combined.obj in the run folder); give that one to --mesh"
         )
-    strata, index = {}, {}
+    strata: dict[str, Balls | None] = {}
+    index: dict[str, np.ndarray] = {}
     for name, file in STRATA_FILES.items():
         path = folder / file
         if not path.is_file():

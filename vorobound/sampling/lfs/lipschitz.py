@@ -12,6 +12,7 @@ descent prunes almost everything off the query's own path; chunks run on both co
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -42,6 +43,13 @@ class _ConeTree:
     c = |a|·slope·ρ/(slope + |a|) the deepest the plane dips before the cone takes over; the
     nodes are bounded with the floors.
     """
+
+    depth: int
+    order: np.ndarray
+    low: list[np.ndarray]
+    """Per depth, the lower corner of each node's box."""
+    high: list[np.ndarray]
+    leaf_sites: np.ndarray
 
     def __init__(
         self,
@@ -186,6 +194,11 @@ class Envelope:
     is value(y) + max(a·(x − y), slope·(|x − y| − ρ(y))): L's tangent plane on the site's ball,
     the cone beyond. Each cone is slope-Lipschitz, so their minimum is too."""
 
+    tree: _ConeTree
+    slope: float | None
+    """None for a :class:`DistanceCap` (no cones)."""
+    _nearest: Any
+
     def __init__(
         self,
         sites: np.ndarray,
@@ -204,7 +217,7 @@ class Envelope:
         floors = None
         if gradients is not None:
             gradients = np.asarray(gradients, dtype=float)
-            size = np.linalg.norm(gradients, axis=1) if gradients.ndim == 2 else None
+            size = np.linalg.norm(gradients, axis=1) if gradients.ndim == 2 else np.zeros(0)
             if (
                 gradients.shape != sites.shape
                 or not np.isfinite(gradients).all()
@@ -222,7 +235,7 @@ class Envelope:
             shape = like.tree
         self.tree = _ConeTree(sites, values, radii, shape, gradients, floors)
         self.slope = float(slope)
-        self._nearest = None if shape is None else like._nearest
+        self._nearest = None if shape is None or like is None else like._nearest
 
     def __call__(
         self,

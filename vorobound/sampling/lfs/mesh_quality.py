@@ -10,11 +10,12 @@ It also gives orientation-free vertex normals and the sharp edges (large dihedra
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh, has_area
+from ...mesh import TriangleMesh, has_area
 
 
 @dataclass(frozen=True)
@@ -95,6 +96,12 @@ class PreparedMesh:
     edge_consistent: np.ndarray
     """For two-face edges: True when the faces run through the edge in opposite directions."""
     report: MeshReport
+
+    @cached_property
+    def mesh(self) -> TriangleMesh:
+        """The merged vertices and faces with area as a mesh object (its derived data, such as
+        edge lengths and vertex tables, computed once)."""
+        return TriangleMesh(self.points, self.triangles, "prepared")
 
 
 def prepare_mesh(mesh: TriangleMesh) -> PreparedMesh:

@@ -205,14 +205,14 @@ def _feature_curves(points, edges: np.ndarray, sharp_angle: float):
         through = ~corner[edges[:, side]]
         joined.append(np.c_[np.flatnonzero(through), edges[through, side]])
     links = np.concatenate(joined)
-    shared = {}
-    pairs = []
+    shared: dict[int, int] = {}
+    joins: list[tuple[int, int]] = []
     for edge, v in links.tolist():
         if v in shared:
-            pairs.append((shared[v], edge))
+            joins.append((shared[v], edge))
         else:
             shared[v] = edge
-    pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    pairs = np.array(joins, dtype=np.int64).reshape(-1, 2)
     graph = coo_matrix(
         (np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(edges), len(edges))
     )

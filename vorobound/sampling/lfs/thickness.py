@@ -84,7 +84,8 @@ class RayCaster:
         """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
         directions = directions + RAY_TILT * _tilt(origins)
         directions = directions / np.linalg.norm(directions, axis=1)[:, None]
-        counts, values = [], []
+        count_blocks: list[np.ndarray] = []
+        value_blocks: list[np.ndarray] = []
         for first in range(0, len(origins), RAY_CHUNK):
             block = slice(first, first + RAY_CHUNK)
             found = self.tree.intersect_ray(
@@ -93,11 +94,11 @@ class RayCaster:
                 np.ascontiguousarray(origins[block]),
                 np.ascontiguousarray(directions[block]),
             )
-            counts.append(np.fromiter(map(len, found), dtype=np.int64, count=len(found)))
+            count_blocks.append(np.fromiter(map(len, found), dtype=np.int64, count=len(found)))
             flat = itertools.chain.from_iterable(itertools.chain.from_iterable(found))
-            values.append(np.fromiter(flat, dtype=float).reshape(-1, 4))
-        counts = np.concatenate(counts) if counts else np.zeros(0, dtype=np.int64)
-        values = np.concatenate(values) if values else np.zeros((0, 4))
+            value_blocks.append(np.fromiter(flat, dtype=float).reshape(-1, 4))
+        counts = np.concatenate(count_blocks) if count_blocks else np.zeros(0, dtype=np.int64)
+        values = np.concatenate(value_blocks) if value_blocks else np.zeros((0, 4))
         ray = np.repeat(np.arange(len(origins)), counts)
         order = np.lexsort((values[:, 1], ray))  # libigl does not sort
         values = values[order]

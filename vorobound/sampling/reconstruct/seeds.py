@@ -118,7 +118,7 @@ def read_seed_file(path: str | Path) -> Seeds:
     if not lines:
         raise ReadError(f"seeds {path} is empty")
     header = [cell.strip().lower() for cell in lines[0].split(",")]
-    columns = [0, 1, 2, 3, 4]
+    columns: list[int | None] = [0, 1, 2, 3, 4]
     if header[:3] == ["x1coord", "x2coord", "x3coord"]:
         lines = lines[1:]  # vc_mesh's own header names 4 of the 5 columns: x, y, z, sizing, region
         if not lines:

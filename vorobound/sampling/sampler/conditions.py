@@ -16,6 +16,7 @@ The sampling conditions of Section 4.1.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -59,7 +60,7 @@ class Neighbours:
     """(m, 2) pairs (i, j), each pair of the set once."""
     gap: np.ndarray
     """|p_i − p_j| per pair."""
-    tree: object
+    tree: Any
     """The points' cKDTree."""
     farthest: np.ndarray
     """Distance from each point to the last of its neighbours."""

@@ -27,10 +27,8 @@ import numpy as np
 
 from ...errors import InputError, LatticeTooLarge
 from ..surfaces.analytic import RevolutionShape
+from ..surfaces.base import SPARSITY_SLACK
 
-SPARSITY_SLACK = 1e-12
-"""Two samples conflict when closer than σε·min(L)·(1 + SPARSITY_SLACK): the margin makes the
-realized sparsity ≥ 1 survive the rounding of a distance computed again later."""
 CANDIDATE_JITTER = 0.25
 """On a surface of revolution each candidate is its cell's center moved by up to this fraction
 of the cell's size along each parameter (uniformly at random)."""

@@ -82,7 +82,7 @@ class RevolutionShape(ABC):
         """``count`` points uniform by area (rejection on dA ∝ ρ(t) dt dα) and L there."""
         t_lo, t_hi = self.t_range
         top = float(self.rho_max(t_lo, t_hi))
-        kept = []
+        kept: list[np.ndarray] = []
         while sum(len(k) for k in kept) < count:
             t = rng.uniform(t_lo, t_hi, 2 * count)
             kept.append(t[rng.uniform(0, top, len(t)) < self.profile(t)[0]])

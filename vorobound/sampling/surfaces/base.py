@@ -24,6 +24,11 @@ import numpy as np
 
 from ...errors import InputError
 
+SPARSITY_SLACK = 1e-12
+"""Two samples conflict when closer than σε·min(L)·(1 + SPARSITY_SLACK): the margin makes the
+realized sparsity ≥ 1 survive the rounding of a distance computed again later (the sampler's,
+:mod:`vorobound.sampling.sampler.lattice`; a surface's ``range_reach`` uses it too)."""
+
 
 @dataclass(frozen=True)
 class SurfaceCounts:

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh
+from ...mesh import TriangleMesh
 
 
 def _checked_count(value: int, name: str, low: int, high: int) -> int:
@@ -105,7 +105,8 @@ def box(size=(100.0, 1.0, 1.0), per_unit: float | None = None, name: str = "box"
     def cells(side: float) -> int:
         return 1 if per_unit is None else max(1, round(per_unit * side))
 
-    points, faces = [], []
+    points: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
     for axis in range(3):
         u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
         nu, nv = cells(size[u_axis]), cells(size[v_axis])
@@ -277,17 +278,17 @@ def gear(
     # star-shaped about the axis, so the triangles do not overlap).
     angles = np.concatenate([theta, phi])
     order = np.argsort(angles, kind="stable")
-    cells = []
+    cell_list: list[tuple[int, int, int]] = []
     i = j = 0
     steps = np.r_[np.ones(n_out, dtype=bool), np.zeros(holes, dtype=bool)][order]
     for outer_step in steps.tolist():
         if outer_step:
-            cells.append((i % n_out, (i + 1) % n_out, n_out + j % holes))
+            cell_list.append((i % n_out, (i + 1) % n_out, n_out + j % holes))
             i += 1
         else:
-            cells.append((i % n_out, n_out + (j + 1) % holes, n_out + j % holes))
+            cell_list.append((i % n_out, n_out + (j + 1) % holes, n_out + j % holes))
             j += 1
-    cells = np.array(cells, dtype=np.int64)
+    cells = np.array(cell_list, dtype=np.int64)
     p = profile[cells]
     signed = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 2, 0] - p[:, 0, 0]) * (
         p[:, 1, 1] - p[:, 0, 1]

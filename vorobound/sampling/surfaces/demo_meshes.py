@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from ..io.meshes import TriangleMesh
+from ...mesh import TriangleMesh
 
 _ICOSAHEDRON_FACES = np.array(
     [
@@ -133,7 +133,8 @@ def cube_mesh(half: float = 1.0, divisions: int = 4) -> TriangleMesh:
     i, j = (a.reshape(-1) for a in np.meshgrid(*(np.arange(divisions),) * 2, indexing="ij"))
     corner = i * (divisions + 1) + j
     quads = np.c_[corner, corner + divisions + 1, corner + divisions + 2, corner + 1]
-    points, faces = [], []
+    points: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
     for axis in range(3):
         for sign in (-1.0, 1.0):
             face_points = np.zeros((len(u), 3))

@@ -11,9 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError, warn_once
-from ..io.meshes import TriangleMesh, fingerprint, has_area, triangle_shapes
-from ..sampler.lattice import SPARSITY_SLACK
-from .base import ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
+from ...mesh import TriangleMesh, fingerprint
+from .base import SPARSITY_SLACK, ClosestPoints, ExpectedTopology, SurfaceCounts, mesh_counts
 
 WINDING_INSIDE = 0.5
 """A point is inside a mesh where its generalized winding number exceeds this."""
@@ -27,6 +26,10 @@ class _TriangleSurface:
     points of the given triangles) and ``counts()``."""
 
     equal_radii_on_sphere = False
+
+    def lfs_on(self, triangle: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """L at points of the given triangles (each subclass says how)."""
+        raise NotImplementedError
 
     def _set_triangles(self, mesh: TriangleMesh) -> np.ndarray:
         """Keep the triangles with area; return which ones were kept."""
@@ -48,7 +51,7 @@ class _TriangleSurface:
     @property
     def expected_topology(self) -> ExpectedTopology | None:
         """The mesh's own topology, if it is a closed 2-manifold (else None)."""
-        from ..reconstruct.topology import triangle_topology
+        from ...mesh.topology import triangle_topology
 
         top = triangle_topology(self.vertices, self.triangles)
         if not top.closed_manifold:
@@ -180,8 +183,8 @@ class FieldMeshShape(_TriangleSurface):
 def _triangles_with_area(mesh: TriangleMesh):
     """(corners, twice the areas, longest edges, mask of triangles with area) of a mesh;
     refuses a mesh whose every triangle is degenerate."""
-    area2, longest = triangle_shapes(mesh.points, mesh.triangles)
-    keep = has_area(mesh.points, mesh.triangles)
+    area2, longest = mesh.shapes
+    keep = mesh.with_area
     corners = mesh.points[mesh.triangles]
     if not keep.any():
         raise InputError(f"mesh {mesh.name}: every triangle is degenerate (no area)")
