@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -78,7 +79,7 @@ class RayCaster:
         self.tree.init(self.points, self.faces)
         diagonal = float(np.linalg.norm(self.points.max(axis=0) - self.points.min(axis=0)))
         self.start = RAY_START_RTOL * diagonal
-        self._bins = None
+        self._bins: list[tuple[Any, np.ndarray, np.ndarray, float]] | None = None
 
     def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
         """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
