@@ -115,3 +115,37 @@ def test_a_cached_estimate_warns_as_a_computed_one_at_the_callers_line():
         with pytest.warns(VoroboundWarning, match="sharp edges") as caught:
             estimate_module.estimate_lfs(mesh)
         assert {w.filename for w in caught} == {__file__}
+
+
+def test_the_api_estimates_l_once_for_sample_advise_and_check_on_one_mesh(monkeypatch, tmp_path):
+    """In Python, sample, then advise, then check on one mesh object estimate L once (each
+    estimated it again from the file before)."""
+    import warnings
+
+    import vorobound
+
+    calls = []
+    compute = estimate_module._estimate
+    monkeypatch.setattr(
+        estimate_module, "_estimate", lambda *a, **k: calls.append(1) or compute(*a, **k)
+    )
+    mesh = cad_meshes.cube()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the cube's sharp edges
+        vorobound.sample(eps=0.2, mesh=mesh, output=tmp_path / "s.csv")
+        advice = vorobound.advise(mesh=mesh)
+        checked = vorobound.check(eps=0.2, mesh=mesh, balls=tmp_path / "s.csv")
+    assert len(calls) == 1
+    # A mesh object is named in the JSON as a file would be, and the JSON stays JSON.
+    import json
+
+    assert "mesh cube" in json.dumps(advice.to_dict())
+    assert json.loads(json.dumps(checked.to_dict()))["n_guide_triangles"] > 0
+
+
+def test_the_api_refuses_what_is_neither_a_path_nor_a_mesh():
+    import vorobound
+    from vorobound.errors import InputError
+
+    with pytest.raises(InputError, match="mesh"):
+        vorobound.sample(eps=0.2, mesh=np.zeros((3, 3)), output="x.csv")

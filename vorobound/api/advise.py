@@ -15,6 +15,7 @@ from ..errors import InputError
 from ..progress import Progress
 
 if TYPE_CHECKING:
+    from ..mesh import TriangleMesh
     from ..reports.advisor import Advice
     from ..sampling.surfaces.base import SurfaceCounts
 from .arguments import checked_arguments
@@ -160,7 +161,7 @@ def advise(
     lfs: float | None = None,
     sphere: float | None = None,
     torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
+    mesh: str | os.PathLike | TriangleMesh | None = None,
     sizing: str | os.PathLike | None = None,
     vorocrust: str | os.PathLike | None = None,
     max_samples: float | None = None,

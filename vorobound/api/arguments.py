@@ -28,14 +28,25 @@ def _is_path(value) -> bool:
     return isinstance(value, str | os.PathLike) and os.fspath(value) not in ("", b"")
 
 
+def _is_mesh(value) -> bool:
+    """A :class:`vorobound.mesh.TriangleMesh` (imported only when a value is checked)."""
+    if type(value).__name__ != "TriangleMesh":
+        return False
+    from ..mesh import TriangleMesh
+
+    return isinstance(value, TriangleMesh)
+
+
 _ATOMS: dict[str, Callable[[Any], bool]] = {
     "None": lambda v: v is None,
+    "TriangleMesh": _is_mesh,
     "bool": _is_bool,
     "os.PathLike": _is_path,
     "Progress": callable,
 }
 _WORDS = {
     "None": "None",
+    "TriangleMesh": "a TriangleMesh",
     "bool": "True or False",
     "os.PathLike": "a path",
     "Progress": "a callable (task, done, total)",

@@ -19,6 +19,7 @@ from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
 if TYPE_CHECKING:
+    from ..mesh import TriangleMesh
     from ..reports.check import CheckReport
     from ..reports.check_outputs import CheckOutputs
     from ..reports.check_tiled import TiledCheckReport
@@ -162,7 +163,7 @@ def check(
     eps: float | None = None,
     sphere: float | None = None,
     torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
+    mesh: str | os.PathLike | TriangleMesh | None = None,
     lfs: float | None = None,
     sizing: str | os.PathLike | None = None,
     balls: str | os.PathLike | None = None,

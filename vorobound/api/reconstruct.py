@@ -20,6 +20,7 @@ from .arguments import checked_arguments
 from .result import Result, checked_outputs, frame, params_json
 
 if TYPE_CHECKING:
+    from ..mesh import TriangleMesh
     from ..reports.reconstruct import ReconstructReport
     from ..reports.reconstruct_draws import ReconstructDraws
     from ..reports.reconstruct_sweep import ReconstructSweep
@@ -189,7 +190,7 @@ def reconstruct(
     eps: float | Sequence[float] | None = None,
     sphere: float | None = None,
     torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
+    mesh: str | os.PathLike | TriangleMesh | None = None,
     lfs: float | None = None,
     sizing: str | os.PathLike | None = None,
     balls: str | os.PathLike | None = None,

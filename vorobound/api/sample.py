@@ -16,6 +16,7 @@ from .arguments import checked_arguments
 from .result import Result, params_json, sample_lfs
 
 if TYPE_CHECKING:
+    from ..mesh import TriangleMesh
     from ..reports.sample import SampleReport
 
 
@@ -85,7 +86,7 @@ def sample(
     output: str | os.PathLike,
     sphere: float | None = None,
     torus: Sequence[float] | None = None,
-    mesh: str | os.PathLike | None = None,
+    mesh: str | os.PathLike | TriangleMesh | None = None,
     lfs: float | None = None,
     sizing: str | os.PathLike | None = None,
     sigma: float = PAPER_SIGMA,

@@ -9,9 +9,13 @@ import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..checks import LFS_RANGE, checked_length, checked_number
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..mesh import TriangleMesh
 
 AREA_RANGE = (LFS_RANGE[0] ** 2, LFS_RANGE[1] ** 2)
 """Supported areas: squares of the supported lengths."""
@@ -57,7 +61,7 @@ class Surface:
 
     sphere: float | None = None
     torus: Sequence[float] | str | None = None
-    mesh: str | os.PathLike | None = None
+    mesh: str | os.PathLike | TriangleMesh | None = None
     lfs: float | None = None
     sizing: str | os.PathLike | None = None
 
