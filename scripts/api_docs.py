@@ -50,7 +50,9 @@ def _signature(function) -> str:
 
 
 def _result_class(function):
-    hints = typing.get_type_hints(function)
+    from vorobound.mesh import TriangleMesh  # named under TYPE_CHECKING in the API modules
+
+    hints = typing.get_type_hints(function, localns={"TriangleMesh": TriangleMesh})
     result = hints.get("return")
     return result if dataclasses.is_dataclass(result) else None
 
