@@ -358,7 +358,7 @@ def test_check_json_lists_two_checkers_that_accept(run_cli, certificate_file):
     assert len(names) == 2 and len(set(names)) == 2
     assert payload["valid"] is True and all(c["valid"] for c in payload["checkers"])
     schema = pytest.importorskip("jsonschema")
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     text = (root / "docs" / "schema" / "vorobound-output.schema.json").read_text()
     schema.Draft202012Validator(json.loads(text)).validate(payload)
 
