@@ -12,6 +12,7 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
 
 import vorobound
 from vorobound.api.certify import AGREED_FIELDS
@@ -425,7 +426,7 @@ def test_both_rejecting_is_one_line_and_exit_2(run_cli, tmp_path, paper_certific
     path = tmp_path / "forged.json"
     path.write_text(json.dumps(forged))
     code, out, err = run_cli("certify", "--check", str(path), "--json")
-    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)
     assert "independent checker rejects it too" in err
 
 
