@@ -231,10 +231,10 @@ def test_midpoint_budget_takes_the_longest_edges():
     assert estimate.sample_count == len(mesh.points) - on_features + 100
 
 
-def test_default_sample_is_all_midpoints_or_none(monkeypatch, icosphere_default):
-    mesh, estimate = icosphere_default  # 642 vertices, 1 920 edges
+def test_default_sample_is_all_midpoints_or_none(monkeypatch):
+    mesh = icosphere(1.0, 3)  # 642 vertices, 1 920 edges
     assert len(mesh.points) + 1920 <= AUTO_SAMPLES
-    assert estimate.added_samples == 1920
+    assert estimate_lfs(mesh).added_samples == 1920
     monkeypatch.setattr(lfs_module, "AUTO_SAMPLES", 2561)
     assert estimate_lfs(mesh).added_samples == 0
     assert estimate_lfs(mesh, samples=2562).added_samples == 1920
