@@ -6,7 +6,7 @@ work: a wrong type is an :class:`~vorobound.errors.InputError` naming the keywor
 Paths (``str | os.PathLike``), ``bool``, ``Sequence[...]`` and ``Progress`` are checked here; a
 keyword whose annotation holds a number, a plain ``str`` (a choice) or any other name (an Enum
 such as ``Mode``) is left to the function, which checks its value with a message naming the
-choices or the range (tests/test_api_types.py holds every keyword to that).
+choices or the range (tests/api/test_api_types.py holds every keyword to that).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ its box, a bound leaf's enclosure of the target's fraction must lie below the st
 that bound must be a finite float ≤ 1.
 
 It imports only the base layer (errors, input checks, the progress callback) and python-flint;
-``tests/test_independent_check.py`` asserts that.
+``tests/bounds/test_independent_check.py`` asserts that.
 
 References
 ----------

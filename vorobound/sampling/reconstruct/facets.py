@@ -25,9 +25,10 @@ ball's centre, on which many seeds are cospherical) into vertices up to a few hu
 of the last place apart, so Voronoi edges of M̂ shorter than GIVEN_WELD·u·|shift| are welded
 too. The facet count of a shifted seed set then stays within a few tenths of a percent of the
 unshifted one's (tiny facets the rounding creates or hides), and the topology is the same
-(tests/test_reconstruct.py shifts every fixture by 10³ … 10⁹). A seed left out of the
-triangulation makes the reconstruction not correct (``skipped_seeds``), unless it is an exact
-copy of a seed with its label (``duplicate_seeds``: one Voronoi cell, nothing lost).
+(tests/sampling/reconstruct/test_reconstruct.py shifts every fixture by 10³ … 10⁹). A seed
+left out of the triangulation makes the reconstruction not correct (``skipped_seeds``), unless
+it is an exact copy of a seed with its label (``duplicate_seeds``: one Voronoi cell, nothing
+lost).
 
 VoroCrust's seeds are cospherical by construction: every seed of a ball lies on its sphere and
 no seed lies inside it, so the ball's centre is one Voronoi vertex shared by many seeds. qhull's

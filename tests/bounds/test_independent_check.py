@@ -12,6 +12,7 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
 
 import vorobound
 from vorobound.api.certify import AGREED_FIELDS
@@ -358,7 +359,7 @@ def test_check_json_lists_two_checkers_that_accept(run_cli, certificate_file):
     assert len(names) == 2 and len(set(names)) == 2
     assert payload["valid"] is True and all(c["valid"] for c in payload["checkers"])
     schema = pytest.importorskip("jsonschema")
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     text = (root / "docs" / "schema" / "vorobound-output.schema.json").read_text()
     schema.Draft202012Validator(json.loads(text)).validate(payload)
 
@@ -425,7 +426,7 @@ def test_both_rejecting_is_one_line_and_exit_2(run_cli, tmp_path, paper_certific
     path = tmp_path / "forged.json"
     path.write_text(json.dumps(forged))
     code, out, err = run_cli("certify", "--check", str(path), "--json")
-    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)
     assert "independent checker rejects it too" in err
 
 

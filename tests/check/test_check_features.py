@@ -9,6 +9,7 @@ import json
 import meshio
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
 
 import vorobound
 from vorobound.sampling.guides.features import (
@@ -140,4 +141,4 @@ def test_a_surface_option_other_than_a_mesh_is_refused_with_workers(run_cli, tmp
     code, out, err = run_cli(
         "check", "--balls", "x.npz", "--eps", "0.1", "--workers", "2", "--lfs", "1"
     )
-    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)

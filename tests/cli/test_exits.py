@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
+from helpers import processes_with as _processes_with
 
 from vorobound.cli import EXIT_BROKEN_PIPE
 
@@ -24,9 +26,8 @@ LONG_SWEEP = ["sweep", "--rho-f", "1.01:3:3000", "--mode", "paper", "--target", 
 
 
 def _one_line_error(code: int, out: str, err: str) -> None:
-    assert code == 2 and out == "", err
-    assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err
-    assert "bug" not in err and len(err) < 300, err
+    assert_one_line_error(code, out, err)
+    assert err.startswith("error: ") and "bug" not in err and len(err) < 300, err
 
 
 def test_npy_file_named_npz_is_a_one_line_error(run_cli, tmp_path):
@@ -151,18 +152,6 @@ TIGHT_SWEEP = [
     "4",
     "--yes",
 ]
-
-
-def _processes_with(marker: bytes) -> list[int]:
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                if marker in (entry / "environ").read_bytes():
-                    found.append(int(entry.name))
-            except OSError:
-                continue
-    return found
 
 
 @pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs Linux /proc")

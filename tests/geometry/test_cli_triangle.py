@@ -3,6 +3,7 @@
 import json
 
 import pytest
+from helpers import assert_one_line_error
 
 from vorobound import weighted_triangles
 
@@ -68,8 +69,4 @@ def test_table_for_people(run_cli):
     ],
 )
 def test_bad_input_is_one_line_exit_2(run_cli, args, fragment):
-    code, out, err = run_cli("triangle", *args)
-    assert code == 2
-    assert out == ""
-    assert len(err.strip().splitlines()) == 1 and fragment in err
-    assert "Traceback" not in err
+    assert_one_line_error(*run_cli("triangle", *args), fragment)

@@ -3,6 +3,7 @@
 import json
 
 import pytest
+from helpers import assert_one_line_error
 
 
 def test_bounds_json_lists_every_equation(run_cli):
@@ -64,5 +65,4 @@ def test_solve_table(run_cli):
 )
 def test_bad_parameters_one_line_exit_2(run_cli, args):
     code, out, err = run_cli(*args)
-    assert code == 2 and out == ""
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert_one_line_error(code, out, err)

@@ -23,7 +23,7 @@ import pytest
 
 from vorobound.rounding import DOWN, UP, format_down, format_toward, format_up, round_down, round_up
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SIGMA, RATIO, RHO_F = mp.mpf(3) / 4, mp.mpf(2), mp.mpf("1.38")
 PAPER_EPS, BASELINE_EPS = mp.mpf("0.0047"), mp.mpf(1) / 500
 

@@ -208,7 +208,7 @@ def rows_file(tmp_path_factory):
 
 
 def _workers(marker: str) -> list[int]:
-    from test_outputs_and_processes import _processes_with
+    from helpers import processes_with as _processes_with
 
     found = []
     for pid in _processes_with(marker):
@@ -223,7 +223,7 @@ def _workers(marker: str) -> list[int]:
 
 def _start_tiled(rows_file, out: Path, marker: str):
     """The tiled check started, once its signal handlers are in: (process, its stderr)."""
-    from test_outputs_and_processes import _start_ready
+    from helpers import start_ready as _start_ready
 
     key, value = marker.split("=")
     args = ["check", "--balls", str(rows_file), "--eps", "0.03", "--workers", "2"]
@@ -238,7 +238,8 @@ def test_a_failed_run_leaves_nothing(rows_file, tmp_path, how, delay):
     """Stopped as the workers start, or while they compute tiles."""
     import time
 
-    from test_outputs_and_processes import _processes_with, _wait_until
+    from helpers import processes_with as _processes_with
+    from helpers import wait_until as _wait_until
 
     out = tmp_path / "out"
     marker = f"VOROBOUND_TEST_MARKER={uuid.uuid4().hex}"

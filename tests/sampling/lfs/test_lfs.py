@@ -70,6 +70,13 @@ def jittered_torus():
     return mesh, quiet_estimate(mesh, samples=0), quiet_estimate(mesh), exact
 
 
+@pytest.fixture(scope="module")
+def icosphere_default():
+    """The 642-vertex icosphere and its default estimate (every edge gets a fitted midpoint)."""
+    mesh = icosphere(1.0, 3)
+    return mesh, estimate_lfs(mesh)
+
+
 def test_sphere_is_exact_to_rounding_from_its_vertices():
     """The poles of a sphere's vertices are its centre; L at the vertices is exact to
     rounding. Between them `at` uses the face sites, which lie on the PN surface, inside the
@@ -415,10 +422,24 @@ def test_orientation_does_not_matter():
 
 
 @pytest.mark.filterwarnings(INCIDENTAL_FLIPPED)
-def test_orientation_does_not_matter_to_the_fitted_midpoints(jittered_torus):
+@pytest.mark.parametrize(
+    "jittered",
+    [
+        # 768 vertices, jittered as the fixture's: the default run's case (2 s of CPU).
+        pytest.param(lambda _: torus_mesh(3.0, 1.0, 48, 16, jitter=0.2, seed=1), id="small"),
+        # The 3 072-vertex torus with L switching (50 s of CPU).
+        pytest.param(
+            lambda request: request.getfixturevalue("jittered_torus")[0],
+            id="jittered_torus",
+            marks=pytest.mark.slow,
+        ),
+    ],
+)
+def test_orientation_does_not_matter_to_the_fitted_midpoints(jittered, request):
     """Up to rounding: the fits of flipped faces differ in the last bits, which can move a
     pole of a nearly degenerate configuration (measured up to 1e-5 on fine meshes)."""
-    mesh, _, default, _ = jittered_torus
+    mesh = jittered(request)
+    default = quiet_estimate(mesh)
     flipped = mesh.triangles.copy()
     flipped[::3] = flipped[::3, ::-1]
     with pytest.warns(VoroboundWarning, match="opposite orientation"):
@@ -446,11 +467,11 @@ def test_units_scale(scale):
 
 
 @pytest.mark.parametrize("scale", [1e-150, 1e150])
-def test_units_scale_with_fitted_midpoints(scale):
+def test_units_scale_with_fitted_midpoints(scale, icosphere_default):
     """Up to rounding of the fits (see the orientation test)."""
-    mesh = icosphere(1.0, 3)
+    mesh, estimate = icosphere_default
     scaled = TriangleMesh(mesh.points * scale, mesh.triangles, "scaled")
-    assert np.allclose(estimate_lfs(scaled).lfs / scale, estimate_lfs(mesh).lfs, rtol=1e-4)
+    assert np.allclose(estimate_lfs(scaled).lfs / scale, estimate.lfs, rtol=1e-4)
 
 
 @pytest.mark.filterwarnings(

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-DATA = Path(__file__).parent / "data" / "vorocrust"
+DATA = Path(__file__).parents[1] / "data" / "vorocrust"
 BALL_FILES = ("corner_spheres.csv", "edges_spheres.csv", "surface_spheres.csv", "seeds.csv")
 
 

@@ -5,6 +5,7 @@ import io
 import json
 
 import pytest
+from helpers import assert_one_line_error
 
 from vorobound.bounds.eps_star import solve_eps_star
 from vorobound.bounds.params import QualityParams
@@ -102,8 +103,7 @@ def test_advise_sphere_json(run_cli):
 )
 def test_bad_input_one_line_exit_2(run_cli, args):
     code, out, err = run_cli(*args)
-    assert code == 2 and out == ""
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert_one_line_error(code, out, err)
 
 
 def test_unreadable_mesh_file_is_one_line(run_cli, tmp_path):

@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
 
 EXTREME_CASES = [
     ["validate", "--eps", "0.0047", "--sigma", "10"],
@@ -104,8 +105,7 @@ def test_bad_meshes_are_one_line_and_keep_stdout_clean(run_cli, tmp_path, name, 
     mesh = tmp_path / name
     mesh.write_text(content)
     code, out, err = run_cli("advise", "--mesh", str(mesh), "--lfs", "1", "--json")
-    assert code == 2 and out == ""
-    assert len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)
 
 
 @pytest.mark.parametrize("content", [b"\xff\xfe\x00garbage\n", b"L\n1e308\n1e308\n1e308\n"])
@@ -115,7 +115,7 @@ def test_bad_sizing_files_are_refused(run_cli, tmp_path, content):
     sizing = tmp_path / "sizing.csv"
     sizing.write_bytes(content)
     code, out, err = run_cli("advise", "--mesh", str(mesh), "--sizing", str(sizing), "--json")
-    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)
 
 
 def test_huge_jobs_is_capped_not_a_crash(run_cli):

@@ -11,6 +11,7 @@ import warnings
 import meshio
 import numpy as np
 import pytest
+from helpers import assert_one_line_error
 
 import vorobound
 from vorobound.errors import InputError, VoroboundWarning, forget_warnings
@@ -54,7 +55,7 @@ def test_reconstruct_takes_eps_as_the_option_does():
 )
 def test_a_missing_input_names_the_surfaces_and_every_alternative(run_cli, command, alternatives):
     code, out, err = run_cli(command, "--eps", "0.3")
-    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)
     for option in ["--sphere", "--torus", "--mesh", *alternatives]:
         assert option in err
 

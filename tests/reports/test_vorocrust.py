@@ -19,7 +19,7 @@ from vorobound.cli import main
 from vorobound.errors import ReadError
 from vorobound.sampling.io.vorocrust import read_deck, read_run
 
-DATA = Path(__file__).parent / "data" / "vorocrust"
+DATA = Path(__file__).parents[1] / "data" / "vorocrust"
 TORUS = DATA / "torus"
 CUBE = DATA / "cube"
 
@@ -347,7 +347,7 @@ def test_json_matches_the_schema(capsys):
     import jsonschema
 
     schema = json.loads(
-        (Path(__file__).parents[1] / "docs/schema/vorobound-output.schema.json").read_text()
+        (Path(__file__).parents[2] / "docs/schema/vorobound-output.schema.json").read_text()
     )
     code, out, err = run_cli(
         capsys, "check", "--vorocrust", str(TORUS), "--torus", "1,0.4", "--json"

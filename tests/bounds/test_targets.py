@@ -33,7 +33,7 @@ OPTIMIZER_RTOL = 1e-9
 """The ratio closed form and the numerical optimizer agree to this (measured: ~1e-15)."""
 OPTIMIZER_BUDGET = {"dense_samples": 1000, "de_maxiter": 30}
 SAMPLE_RTOL = 1e-12
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _random_parameter_sets(count: int, seed: int) -> list[tuple]:

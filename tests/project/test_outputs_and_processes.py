@@ -5,83 +5,25 @@ files are intact; two concurrent ``figure`` runs each leave complete files; a ki
 terminated ``sweep --jobs 2`` leaves no live worker; a big paper sweep runs in bounded memory.
 """
 
-import contextlib
 import os
 import signal
 import subprocess
 import sys
-import threading
 import time
 import uuid
 from pathlib import Path
 
 import pytest
+from helpers import PYTHON
+from helpers import processes_with as _processes_with
+from helpers import start as _start
+from helpers import start_ready as _start_ready
+from helpers import wait_until as _wait_until
 
-from vorobound.cli import SIGNALS_READY_LINE, SIGNALS_READY_VARIABLE
 from vorobound.errors import WriteError
 from vorobound.files import TEMP_PREFIX, atomic_path, write_set, write_text
 
-PYTHON = [sys.executable, "-m", "vorobound"]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-
-
-def _start(args, env=None, stdout=subprocess.PIPE, **kwargs):
-    return subprocess.Popen(
-        PYTHON + args,
-        env=os.environ | (env or {}),
-        stdout=stdout if stdout is not None else subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
-        **kwargs,
-    )
-
-
-class _ReadyStderr:
-    """A child's stderr read line by line in a thread; ``ready`` is set once the child says
-    its signal handlers are installed (``VOROBOUND_SIGNALS_READY``), or at the end of stderr."""
-
-    def __init__(self, proc):
-        self.lines: list[str] = []
-        self.ready = threading.Event()
-        self.thread = threading.Thread(target=self._read, args=(proc.stderr,), daemon=True)
-        self.thread.start()
-
-    def _read(self, stream):
-        for line in stream:
-            line = line.rstrip("\n")
-            if line == SIGNALS_READY_LINE:
-                self.ready.set()
-            else:
-                self.lines.append(line)
-        self.ready.set()
-
-    def rest(self, proc, timeout: float) -> list[str]:
-        """The other lines of stderr, once the child has ended. A child that does not end
-        is asked for its threads' stacks (SIGUSR1, see the CLI) and killed; the test fails
-        with them."""
-        try:
-            proc.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            with contextlib.suppress(OSError):
-                proc.send_signal(signal.SIGUSR1)
-                time.sleep(3)
-                proc.kill()
-            proc.wait(30)
-            self.thread.join(timeout=30)
-            stacks = "\n".join(self.lines[-200:])
-            pytest.fail(f"the command did not end within {timeout} s; its stacks:\n{stacks}")
-        self.thread.join(timeout=timeout)
-        return [line for line in self.lines if line.strip()]
-
-
-def _start_ready(args, env=None, timeout=120):
-    """Start a command and return (process, its stderr) once its signal handlers are in: a
-    signal sent now is the command's to handle, however loaded the machine."""
-    proc = _start(args, env=(env or {}) | {SIGNALS_READY_VARIABLE: "1"}, stdout=None)
-    stderr = _ReadyStderr(proc)
-    assert stderr.ready.wait(timeout), "no readiness line"
-    assert proc.poll() is None, f"the command ended before it was ready: {stderr.lines}"
-    return proc, stderr
 
 
 def _run(args, timeout=180):
@@ -204,28 +146,6 @@ def test_concurrent_figure_runs_each_leave_complete_files(tmp_path, figure_sets)
 
 
 # --- worker processes -----------------------------------------------------------------------
-
-
-def _processes_with(marker: str) -> list[int]:
-    found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            if marker.encode() in (entry / "environ").read_bytes():
-                found.append(int(entry.name))
-        except OSError:
-            continue
-    return found
-
-
-def _wait_until(condition, timeout: float) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.2)
-    return condition()
 
 
 TIGHT_SWEEP = [

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # SIGINT arrives while the command line imports typer: deterministic, not a race.
 INTERRUPT_DURING_IMPORT = """

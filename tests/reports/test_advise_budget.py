@@ -9,6 +9,7 @@ import math
 
 import meshio
 import pytest
+from helpers import assert_one_line_error
 
 import vorobound
 from vorobound.bounds.guarantee_at import guarantee_at
@@ -149,5 +150,4 @@ def test_smallest_samplable_eps_refuses_what_no_eps_samples():
 )
 def test_bad_budgets_are_one_line(run_cli, args):
     code, out, err = run_cli("advise", *args)
-    assert code == 2 and out == ""
-    assert len(err.strip().splitlines()) == 1
+    assert_one_line_error(code, out, err)

@@ -14,7 +14,7 @@ try:
 except ModuleNotFoundError:  # Python 3.10: hatchling's own TOML reader
     import tomli as tomllib
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PAPER_TITLE = (
     "Analytic formula for the difference of the circumradius and orthoradius of a weighted triangle"
 )
