@@ -46,6 +46,18 @@ def json_of(result: tuple[int, str, str]) -> dict:
     return json.loads(out)
 
 
+def signals_as_from_a_terminal() -> None:
+    """``preexec_fn`` of a child that a test sends signals to: SIGINT and SIGTERM handled by
+    default and not blocked, as in a command started from a terminal, whatever the test
+    process inherited or left (an ignored or blocked SIGINT is inherited across exec, and the
+    child would never see the test's Ctrl-C)."""
+    import signal
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
+
+
 def start(args, env=None, stdout=subprocess.PIPE, **kwargs):
     return subprocess.Popen(
         PYTHON + args,
@@ -53,6 +65,7 @@ def start(args, env=None, stdout=subprocess.PIPE, **kwargs):
         stdout=stdout if stdout is not None else subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=signals_as_from_a_terminal,
         **kwargs,
     )
 

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import signals_as_from_a_terminal
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -40,6 +41,7 @@ def test_an_interrupt_during_import_is_one_line(run):
         text=True,
         env=env,
         timeout=60,
+        preexec_fn=signals_as_from_a_terminal,
     )
     assert done.returncode == 130, done.stderr
     assert done.stderr == "interrupted\n"
