@@ -7,9 +7,9 @@ from typing import TYPE_CHECKING
 
 from .files import atomic_path, ensure_folder, write_set
 from .reports.figure_data import (
-    HISTOGRAM_MARGIN,
     Figure3Data,
     TargetFigureData,
+    gap_counts_data,
     gap_histogram_data,
 )
 
@@ -456,42 +456,37 @@ def plot_gap_counts(edges, counts, gap_range, marks, title: str, ax=None):
 
     ``counts`` has one entry below ``edges[0]``, one per bin, and one at or above
     ``edges[-1]``; ``gap_range`` is (min, max) of the data. Bins are grouped to about 120 bars
-    over the range shown; the values below the first edge join the first bar and those above
-    the last edge form one bar up to the maximum.
+    over the range shown (:func:`vorobound.reports.figure_data.gap_counts_data`). A point mass
+    (every value within one bar) is one bar over the data's exact range on its own scale, the
+    bounds beyond it listed as off the scale, and the title says that the tiles' fixed bins
+    do not show the spread inside it. Returns the matplotlib Figure.
     """
-    import math
-
     import matplotlib
-    import numpy as np
 
-    edges, counts = np.asarray(edges, dtype=float), np.asarray(counts, dtype=np.int64)
-    data_min, data_max = gap_range
-    low = min(0.0, data_min)
-    total = int(counts.sum())
-    shown = tuple((m, float(v), c) for m, v, c in marks if math.isfinite(v))
-    high = max([data_max, 1e-12, *(value for _, value, _ in shown)])
+    data = gap_counts_data(edges, counts, gap_range, marks)
     with matplotlib.rc_context(_STYLE):
-        fig, ax = _axes(ax, legend_rows=len(shown))
-        if total:
-            shown_bins = min(len(edges) - 1, int(np.searchsorted(edges, high * 1.05)) + 1)
-            group = max(1, -(-shown_bins // 120))
-            bins = counts[1 : shown_bins + 1]
-            bins = np.add.reduceat(bins, np.arange(0, shown_bins, group))
-            lefts = edges[0:shown_bins:group]
-            rights = np.append(lefts[1:], edges[min(shown_bins, len(edges) - 1)])
-            bins[0] += counts[0]
-            lefts[0] = min(lefts[0], low)
-            rest = int(counts[shown_bins + 1 :].sum())
-            if rest:
-                lefts, rights = (
-                    np.append(lefts, rights[-1]),
-                    np.append(rights, max(data_max, rights[-1])),
-                )
-                bins = np.append(bins, rest)
-            ax.bar(lefts, bins, width=rights - lefts, align="edge", color="0.5", log=True)
-            ax.set_ylim(bottom=0.5)
-        margin = HISTOGRAM_MARGIN * (high - low)
-        _gap_axes(ax, shown, (low - margin, high + margin), f"{title}: {total:,} guide triangles")
+        rows = len(data.marks) + len(data.off_scale) + (data.note is not None)
+        fig, ax = _axes(ax, legend_rows=rows)
+        if data.point_mass is not None:
+            ax.bar(
+                [data.point_mass],
+                [data.total],
+                width=POINT_MASS_WIDTH * (data.xlim[1] - data.xlim[0]),
+                color="0.35",
+                label="_point mass",
+            )
+        elif len(data.heights):
+            widths = data.rights - data.lefts
+            ax.bar(data.lefts, data.heights, width=widths, align="edge", color="0.5", log=data.log)
+        if data.log:
+            if data.total:
+                ax.set_ylim(bottom=0.5)  # a bin of one triangle stays visible
+        else:
+            ax.set_ylim(0, 1.15 * data.total)
+        heading = f"{title}: {data.total:,} guide triangles"
+        if data.note is not None:
+            heading += f"\n{data.note}"
+        _gap_axes(ax, data.marks, data.xlim, heading, data.off_scale)
     return fig
 
 
