@@ -424,3 +424,145 @@ def test_reconstruct_sweep_layout_with_every_mark():
         rendered(fig)
     assert _texts_outside(fig) == []
     assert _legends_over_data(fig) == []
+
+
+# --- the tiled check's histogram: counts on fixed bins ----------------------------------------
+
+
+def _tiled_histograms(tmp_path_factory, monkeypatch_module):
+    """The gap histogram of a tiled check of balls on a sphere (constant L) with constant radii
+    (R − R̂ = 0 exactly) and with radii spread by 10⁻⁷ (gaps within 10⁻⁶ of 0), as the check
+    draws it; with the (min, max) it was given."""
+    pytest.importorskip("gudhi")
+    import vorobound
+    import vorobound.plotting
+    from vorobound.sampling.balls import make_balls
+    from vorobound.sampling.io.balls import write_balls
+    from vorobound.sampling.sampler.maximal import sample_surface
+    from vorobound.sampling.surfaces.analytic import SphereShape
+
+    drawn = {}
+    plot = vorobound.plotting.plot_gap_counts
+
+    def kept(*args, **kwargs):
+        drawn["figure"], drawn["range"] = plot(*args, **kwargs), args[2]
+        return drawn["figure"]
+
+    monkeypatch_module.setattr(vorobound.plotting, "plot_gap_counts", kept)
+    eps = 0.3
+    sample = sample_surface(SphereShape(1.0), eps, 0.75, seed=0)
+    found = {}
+    for name, spread in (("constant", 0.0), ("tiny spread", 1e-7)):
+        folder = tmp_path_factory.mktemp(name.replace(" ", "_"))
+        scale = 1 + spread * np.random.default_rng(0).random(len(sample.points))
+        write_balls(folder / "b.npz", make_balls(sample.points, 2 * eps * sample.lfs * scale), {})
+        result = vorobound.check(balls=folder / "b.npz", eps=eps, workers=1, out=folder / "out")
+        assert (folder / "out" / "gap_histogram.png").stat().st_size > 1000
+        found[name] = (drawn["figure"], drawn["range"], result.n_guide_triangles)
+    return found
+
+
+@pytest.fixture(scope="module")
+def tiled_histograms(tmp_path_factory):
+    with pytest.MonkeyPatch.context() as patch:
+        yield _tiled_histograms(tmp_path_factory, patch)
+
+
+def _legend_texts(fig) -> list[str]:
+    return [t.get_text() for legend in fig.legends for t in legend.get_texts()]
+
+
+def test_a_tiled_check_of_constant_radii_shows_one_bar_at_zero(tiled_histograms):
+    fig, (low, high), count = tiled_histograms["constant"]
+    assert low == high == 0.0 and count > 100
+    ax = fig.axes[0]
+    (bar,) = ax.patches
+    assert bar.get_height() == count and bar.get_x() < 0 < bar.get_x() + bar.get_width()
+    assert ax.get_yscale() == "linear" and ax.get_ylim()[1] > count
+    title = ax.get_title().replace("\n", " ")
+    assert title.endswith(f"point mass: all {count:,} have R − R̂ = 0")
+    assert not any("off the scale" in text for text in _legend_texts(fig))  # bounds drawn
+
+
+def test_a_tiled_check_of_a_tiny_spread_draws_its_range_on_its_own_scale(tiled_histograms):
+    """Gaps within 10⁻⁶ of 0 beside bounds above 1: one bar over exactly [min, max] (the counts
+    do not say more), the bounds listed as off the scale (rounded up), the title says why."""
+    from vorobound.reports.figure_data import TILED_NOTE
+    from vorobound.rounding import format_down, format_up
+
+    fig, (low, high), count = tiled_histograms["tiny spread"]
+    assert low < high and high - low < 1e-5
+    ax = fig.axes[0]
+    (bar,) = ax.patches
+    assert bar.get_height() == count
+    assert bar.get_x() == low and bar.get_x() + bar.get_width() == pytest.approx(high, abs=1e-20)
+    xlim = ax.get_xlim()
+    assert xlim[0] < low and high < xlim[1] and xlim[1] - xlim[0] < 2 * (high - low)
+    title = ax.get_title().replace("\n", " ")
+    assert "point mass beside the bounds, drawn on its own scale" in title
+    assert TILED_NOTE in title and format_down(low, 3) in title and format_up(high, 3) in title
+    off = [text for text in _legend_texts(fig) if text.endswith("off the scale →")]
+    assert len(off) == 3 and not ax.get_lines()  # every finite bound beyond the data
+
+
+@pytest.mark.parametrize("name", ["constant", "tiny spread"])
+def test_tiled_histogram_layout(tiled_histograms, name):
+    fig = tiled_histograms[name][0]
+    assert _clipped_tick_labels(fig) == []
+    assert _legends_over_data(fig) == []
+    assert _texts_outside(fig) == []
+
+
+def _counted(values, edges):
+    """A tally's counts of ``values`` on ``edges``: below, per bin, at or above."""
+    inside = np.histogram(values, edges)[0]
+    inside[-1] -= int((values == edges[-1]).sum())  # the last bin is half-open in a tally
+    below, above = int((values < edges[0]).sum()), int((values >= edges[-1]).sum())
+    return np.concatenate([[below], inside, [above]])
+
+
+def test_tiled_counts_of_a_spread_are_grouped_bars_on_the_bounds_scale():
+    from vorobound.plotting import plot_gap_counts
+    from vorobound.reports.figure_data import gap_counts_data
+
+    edges = np.linspace(0.0, 1.05 * 2.34, 1201)
+    values = np.concatenate(
+        [np.abs(np.random.default_rng(0).normal(0.0, 0.05, 5000)), [-0.01, 3.0]]
+    )
+    counts = _counted(values, edges)
+    span = (float(values.min()), float(values.max()))
+    data = gap_counts_data(edges, counts, span, HISTOGRAM_MARKS)
+    assert data.note is None and data.point_mass is None and data.log
+    assert data.total == len(values) == data.heights.sum() and data.off_scale == ()
+    assert [m[0] for m in data.marks] == ["paper", "rigorous", "tight"]
+    assert data.lefts[0] == -0.01 and data.rights[-1] == 3.0 and data.heights[-1] == 1
+    assert 100 <= len(data.heights) <= 122
+    middle = slice(1, -1)  # each bar counts the values inside it
+    for left, right, height in zip(
+        data.lefts[middle], data.rights[middle], data.heights[middle], strict=True
+    ):
+        assert height == ((values >= left) & (values < right)).sum()
+    assert data.xlim[0] < -0.01 and data.xlim[1] > 3.0
+    fig = plot_gap_counts(edges, counts, span, HISTOGRAM_MARKS, "torus")
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log" and len(ax.patches) == len(data.heights)
+    assert [bar.get_height() for bar in ax.patches] == data.heights.tolist()
+    assert "\n" not in ax.get_title() and len(ax.get_lines()) == 3
+    assert _clipped_tick_labels(fig) == []
+    assert _legends_over_data(fig) == []
+    assert _texts_outside(fig) == []
+
+
+def test_tiled_counts_in_one_bar_are_a_point_mass():
+    """Values within one bar (below the first edge and in the first bin): the range they
+    span, not the bar's; nothing counted: no bar, no note."""
+    from vorobound.reports.figure_data import gap_counts_data
+
+    edges = np.linspace(0.0, 2.5, 1201)
+    values = np.array([-1e-9, 0.0, 1e-3])  # wider than 10⁻⁶, within one bar of 2.5/120
+    data = gap_counts_data(edges, _counted(values, edges), (-1e-9, 1e-3), HISTOGRAM_MARKS)
+    assert data.lefts.tolist() == [-1e-9] and data.rights.tolist() == [1e-3]
+    assert data.heights.tolist() == [3] and not data.log
+    assert data.note.startswith("a point mass beside the bounds") and len(data.off_scale) == 3
+    none = gap_counts_data(edges, np.zeros(1202, dtype=int), (None, 0.0), HISTOGRAM_MARKS)
+    assert none.total == 0 and len(none.heights) == 0 and none.note is None

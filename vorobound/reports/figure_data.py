@@ -1,5 +1,5 @@
 """The data behind the figures: Figure 3 of the paper, both targets' bounds per mode (the
-comparison and the ratio figure) and the gap histogram of a check."""
+comparison and the ratio figure) and the gap histogram of a check, whole or tiled."""
 
 from __future__ import annotations
 
@@ -278,37 +278,147 @@ def gap_histogram_data(gap_ratio, marks) -> GapHistogramData:
     if len(values) and float(np.ptp(values)) <= width:
         smallest, largest = float(values.min()), float(values.max())
         if smallest == largest:  # exact equality is the point: R − R̂ = 0 with no rounding
-            note = _point_mass_note(values, count)
+            note = _point_mass_note(smallest, len(values), count)
             return GapHistogramData(values, count, None, smallest, note, shown, xlim)
-        spread = largest - smallest
-        pad = HISTOGRAM_MARGIN * spread
-        own = (smallest - pad, largest + pad)
-        inside = tuple(m for m in shown if own[0] <= m[1] <= own[1])
-        beyond = tuple(m for m in shown if m not in inside)
+        own, inside, beyond = _own_scale(smallest, largest, shown)
         bins = np.linspace(smallest, largest, HISTOGRAM_BINS + 1)
-        # enough digits to tell the ends apart, rounded outward
-        size = max(abs(smallest), abs(largest))
-        digits = min(12, max(3, math.ceil(math.log10(size / spread)) + 2))
-        note = (
-            "a point mass beside the bounds, drawn on its own scale: every value in "
-            f"[{format_down(smallest, digits)}, {format_up(largest, digits)}]"
-        )
+        note = _interval_note(smallest, largest)
         return GapHistogramData(values, count, bins, None, note, inside, own, beyond)
     edges = np.linspace(low, high + width, HISTOGRAM_BINS + 2) if len(values) else None
     return GapHistogramData(values, count, edges, None, None, shown, xlim)
 
 
-def _everyone(values: np.ndarray, count: int) -> str:
+def _everyone(having: int, count: int) -> str:
     """Who has the value, short enough for a title ("all 1,234 have")."""
-    with_value = " with a value" if len(values) < count else ""
-    if len(values) == 1:
+    with_value = " with a value" if having < count else ""
+    if having == 1:
         return f"the one{with_value} has"
-    return f"all {len(values):,}{with_value} have"
+    return f"all {having:,}{with_value} have"
 
 
-def _point_mass_note(values: np.ndarray, count: int) -> str:
+def _point_mass_note(value: float, having: int, count: int) -> str:
     """The sentence that states a point mass of one value."""
-    value = float(values[0])
     if value == 0.0:
-        return f"point mass: {_everyone(values, count)} R − R̂ = 0"
-    return f"point mass: {_everyone(values, count)} (R − R̂)/(εL_i) = {value:.6g}"
+        return f"point mass: {_everyone(having, count)} R − R̂ = 0"
+    return f"point mass: {_everyone(having, count)} (R − R̂)/(εL_i) = {value:.6g}"
+
+
+def _interval_note(smallest: float, largest: float) -> str:
+    """The range of a point mass beside the bounds, ends apart and rounded outward."""
+    spread = largest - smallest
+    size = max(abs(smallest), abs(largest))
+    digits = min(12, max(3, math.ceil(math.log10(size / spread)) + 2))
+    return (
+        "a point mass beside the bounds, drawn on its own scale: every value in "
+        f"[{format_down(smallest, digits)}, {format_up(largest, digits)}]"
+    )
+
+
+def _own_scale(smallest: float, largest: float, shown) -> tuple:
+    """The range that shows [smallest, largest] with a margin, the marks inside it and the
+    marks beyond it (listed as off the scale)."""
+    pad = HISTOGRAM_MARGIN * (largest - smallest)
+    own = (smallest - pad, largest + pad)
+    inside = tuple(m for m in shown if own[0] <= m[1] <= own[1])
+    return own, inside, tuple(m for m in shown if m not in inside)
+
+
+COUNTS_BARS = 120
+"""The fixed bins of a tiled check's histogram are grouped to about this many bars."""
+TILED_NOTE = "the tiles count on fixed bins, so the spread inside is not shown"
+"""Why the point mass of a tiled check is one bar over its range."""
+
+
+@dataclass(frozen=True)
+class GapCountsData:
+    """What the gap histogram of a tiled check shows: counts on the tiles' fixed bins
+    (:func:`vorobound.tiling.tally.gap_edges`) grouped into bars ``[lefts, rights)``.
+
+    When every counted value falls within one bar (or the data's range is narrower than one
+    bar on the bounds' scale: a point mass, as on a CAD part), the counts cannot show the
+    distribution inside it; the figure then shows the exact range (min, max) of the data on
+    its own scale: one bar spanning it, the bounds beyond listed as off the scale, and
+    ``note`` says so. When min = max: a thin bar at ``point_mass``, on the bounds' scale.
+
+    References
+    ----------
+    Theorem 1, eq. (29); the bounds of eq. (33)–(53).
+    """
+
+    lefts: np.ndarray
+    rights: np.ndarray
+    heights: np.ndarray
+    """Guide triangles per bar (empty for a point mass of one value)."""
+    total: int
+    """Guide triangles counted (those with a finite gap)."""
+    point_mass: float | None
+    """The common value when min = max."""
+    note: str | None
+    marks: tuple[tuple[str, float, str], ...]
+    """(mode, bound over εL_i, claim) of every mode with a finite bound inside the range."""
+    xlim: tuple[float, float]
+    off_scale: tuple[tuple[str, float, str], ...] = ()
+    """The marks beyond the range shown (a point mass drawn on its own scale)."""
+
+    @property
+    def log(self) -> bool:
+        """Counts on a log scale: everything but a point mass (one bar, drawn linear)."""
+        return self.note is None
+
+
+def gap_counts_data(edges, counts, gap_range, marks) -> GapCountsData:
+    """The bars of a tiled check's gap histogram, or its point mass, and the range shown.
+
+    ``counts`` has one entry below ``edges[0]``, one per bin, and one at or above
+    ``edges[-1]``; ``gap_range`` is (min, max) of the data (None or non-finite when unknown).
+    Bins are grouped to about :data:`COUNTS_BARS` bars over the range shown; the values below
+    the first edge join the first bar and those above the last edge form one bar up to the
+    maximum. ``marks`` holds (mode, bound over εL_i, claim); non-finite bounds are left out.
+    """
+    edges, counts = np.asarray(edges, dtype=float), np.asarray(counts, dtype=np.int64)
+    data_min, data_max = (
+        float(v) if v is not None and math.isfinite(v) else None for v in gap_range
+    )
+    low = min(0.0, data_min if data_min is not None else 0.0)
+    total = int(counts.sum())
+    shown = tuple((m, float(v), c) for m, v, c in marks if math.isfinite(v))
+    top = data_max if data_max is not None else 0.0
+    high = max([top, 1e-12, *(value for _, value, _ in shown)])
+    margin = HISTOGRAM_MARGIN * (high - low)
+    xlim = (low - margin, high + margin)
+    empty = np.zeros(0)
+    if not total:
+        return GapCountsData(empty, empty, empty.astype(np.int64), 0, None, None, shown, xlim)
+    shown_bins = min(len(edges) - 1, int(np.searchsorted(edges, high * 1.05)) + 1)
+    group = max(1, -(-shown_bins // COUNTS_BARS))
+    bins = counts[1 : shown_bins + 1]
+    bins = np.add.reduceat(bins, np.arange(0, shown_bins, group))
+    lefts = edges[0:shown_bins:group].copy()  # not a view: the caller's edges stay
+    rights = np.append(lefts[1:], edges[min(shown_bins, len(edges) - 1)])
+    bins[0] += counts[0]
+    lefts[0] = min(lefts[0], low)
+    rest = int(counts[shown_bins + 1 :].sum())
+    if rest:
+        lefts = np.append(lefts, rights[-1])
+        rights = np.append(rights, max(top, rights[-1]))
+        bins = np.append(bins, rest)
+    width = (edges[1] - edges[0]) * group  # one bar on the bounds' scale
+    one_bar = int(np.count_nonzero(bins)) == 1
+    if data_min is not None and data_max is not None and (one_bar or data_max - data_min <= width):
+        if data_min == data_max:  # exact equality: R − R̂ = 0 with no rounding
+            note = _point_mass_note(data_min, total, total)
+            return GapCountsData(empty, empty, empty, total, data_min, note, shown, xlim)
+        own, inside, beyond = _own_scale(data_min, data_max, shown)
+        note = f"{_interval_note(data_min, data_max)}; {TILED_NOTE}"
+        return GapCountsData(
+            np.array([data_min]),
+            np.array([data_max]),
+            np.array([total]),
+            total,
+            None,
+            note,
+            inside,
+            own,
+            beyond,
+        )
+    return GapCountsData(lefts, rights, bins, total, None, None, shown, xlim)
