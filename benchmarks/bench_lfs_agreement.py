@@ -32,7 +32,9 @@ import numpy as np  # noqa: E402
 
 from benchmarks.bench_lfs import surface_points  # noqa: E402
 from vorobound.errors import VoroboundWarning  # noqa: E402
+from vorobound.mesh import TriangleMesh  # noqa: E402
 from vorobound.sampling.lfs import estimate as module  # noqa: E402
+from vorobound.sampling.lfs import rounds as settings  # noqa: E402
 from vorobound.sampling.lfs.face_sites import FaceSites  # noqa: E402
 from vorobound.sampling.lfs.mesh_quality import prepare_mesh  # noqa: E402
 from vorobound.sampling.lfs.thickness import RayCaster  # noqa: E402
@@ -46,28 +48,30 @@ TINY_PART, TINY_POINTS = "cube", 500
 @contextlib.contextmanager
 def variant(flat_planes: bool, spacing: dict | None = None, min_pieces: int | None = None):
     """The estimator with its module settings changed for the block."""
-    saved = (module._site_gradients, module.SITE_SPACING, module.MIN_PIECES)
+    saved = (settings.site_gradients, settings.SITE_SPACING, settings.MIN_PIECES)
     if flat_planes:
-        fitted = module._site_gradients
+        fitted = settings.site_gradients
 
-        def no_planes(*args):
-            slopes, planes = fitted(*args)
+        def no_planes(*args, **kwargs):
+            slopes, planes = fitted(*args, **kwargs)
             return slopes, np.zeros_like(planes)
 
-        module._site_gradients = no_planes
-    module.SITE_SPACING = spacing or module.SITE_SPACING
-    module.MIN_PIECES = min_pieces or module.MIN_PIECES
+        settings.site_gradients = no_planes
+    settings.SITE_SPACING = spacing or settings.SITE_SPACING
+    settings.MIN_PIECES = min_pieces or settings.MIN_PIECES
     try:
         yield
     finally:
-        module._site_gradients, module.SITE_SPACING, module.MIN_PIECES = saved
+        settings.site_gradients, settings.SITE_SPACING, settings.MIN_PIECES = saved
 
 
 def estimate(mesh):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", VoroboundWarning)
         start = time.process_time()
-        result = module.estimate_lfs(mesh)
+        # A fresh mesh object: the estimate is cached on the object, and each variant of the
+        # settings must compute its own.
+        result = module.estimate_lfs(TriangleMesh(mesh.points, mesh.triangles, mesh.name))
         return result, time.process_time() - start
 
 
@@ -89,7 +93,7 @@ def with_probes(mesh, probes: np.ndarray):
     prepared = prepare_mesh(mesh)
     inner = (probes - prepared.centre) / prepared.scale
     _, face, closest = RayCaster(prepared.points, prepared.triangles).closest(inner)
-    plain = module.face_sites
+    plain = settings.face_sites
 
     def face_sites(points, faces, corner_normals, curved, spacing, *rest):
         made = plain(points, faces, corner_normals, curved, spacing, *rest)
@@ -111,11 +115,11 @@ def with_probes(mesh, probes: np.ndarray):
             np.vstack([made.corners, closest[:, None] + tiny]),
         )
 
-    module.face_sites = face_sites
+    settings.face_sites = face_sites
     try:
         result, _ = estimate(mesh)
     finally:
-        module.face_sites = plain
+        settings.face_sites = plain
     distance, rows = cKDTree(result.sites.points).query(probes)
     assert distance.max() < 1e-6 * np.ptp(probes, axis=0).max()
     return result, rows
