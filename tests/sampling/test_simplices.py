@@ -79,3 +79,20 @@ def test_face_neighbours_match_qhull():
 def test_a_face_of_three_tetrahedra_is_no_triangulation():
     tets = np.array([[0, 1, 2, 3], [0, 1, 2, 4], [0, 1, 2, 5]])
     assert simplices.face_neighbours(tets) is None
+
+
+def test_the_counts_without_gudhis_own_count_are_the_same():
+    """GUDHI 3.11 (the declared floor) has no num_simplices_by_dimension: one pass over the
+    skeleton gives the same counts."""
+    import gudhi
+
+
+    points = np.random.default_rng(3).normal(size=(60, 3))
+    tree = gudhi.DelaunayComplex(points=points).create_simplex_tree()
+
+    class Old:  # the 3.11 interface: no count by dimension
+        def get_skeleton(self, dimension):
+            return tree.get_skeleton(dimension)
+
+    assert simplices._counts_by_dimension(Old())[:4] == simplices._counts_by_dimension(tree)[:4]
+    assert simplices._counts_by_dimension(Old())[2] > 0

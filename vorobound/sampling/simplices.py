@@ -47,7 +47,7 @@ def tree_simplices(
         found = _read_compiled(tree, triangles, tetrahedra)
         if found is not None:
             return found
-    counts = list(tree.num_simplices_by_dimension()) + [0, 0, 0, 0]
+    counts = _counts_by_dimension(tree)
     return _read_iterated(tree, counts[2] if triangles else 0, counts[3] if tetrahedra else 0)
 
 
@@ -89,6 +89,18 @@ def _read_compiled(tree, triangles: bool, tetrahedra: bool):
         if kernel.read_tree(data, out_tri, out_tet) != (n_tri, n_tet, end):
             return None
     return out_tri, out_tet
+
+
+def _counts_by_dimension(tree) -> list[int]:
+    """Simplices per dimension 0..3 (and zeros above): GUDHI's own count where it has one
+    (3.12 on), else one pass over the 3-skeleton (GUDHI 3.11, the declared floor)."""
+    by_dimension = getattr(tree, "num_simplices_by_dimension", None)
+    if by_dimension is not None:
+        return list(by_dimension()) + [0, 0, 0, 0]
+    counts = [0] * 8
+    for simplex, _ in tree.get_skeleton(3):
+        counts[len(simplex) - 1] += 1
+    return counts
 
 
 def _read_iterated(tree, n_triangles: int, n_tetrahedra: int):
