@@ -86,7 +86,6 @@ def test_the_counts_without_gudhis_own_count_are_the_same():
     skeleton gives the same counts."""
     import gudhi
 
-
     points = np.random.default_rng(3).normal(size=(60, 3))
     tree = gudhi.DelaunayComplex(points=points).create_simplex_tree()
 
