@@ -179,6 +179,43 @@ def test_check_of_a_half_unit_cube_says_l_is_a_half(tmp_path):
     assert summary["lfs_max"] == pytest.approx(0.5, rel=1e-6)
 
 
+def test_a_tiled_check_reports_the_balls_l(sphere_balls):
+    """The tiles keep no L per ball: the JSON gave the bounds' unit L_i = 1 on a unit-radius
+    sphere sampled with L = 1 only by chance; the range comes from the radii over δ."""
+    folder, table = sphere_balls
+    radii = table[:, 3]
+    half = folder / "half.csv"
+    np.savetxt(half, np.c_[table[:, :3] / 2, radii / 2], delimiter=",", header="x,y,z,r")
+    whole = vorobound.check(balls=str(half), eps=0.3).to_dict()
+    tiled = vorobound.check(balls=str(half), eps=0.3, workers=1).to_dict()
+    assert "tiles" in tiled and "tiles" not in whole
+    delta = 2.0 * 0.3
+    assert tiled["lfs_min"] == pytest.approx(radii.min() / 2 / delta, rel=1e-12)
+    assert tiled["lfs_max"] == pytest.approx(radii.max() / 2 / delta, rel=1e-12)
+    assert tiled["params"]["lfs"] == whole["params"]["lfs"] == pytest.approx(0.5, rel=1e-9)
+
+
+def test_reconstruct_reports_the_samples_l_not_the_unit_of_the_bounds():
+    one = vorobound.reconstruct(sphere=2, eps=0.3).to_dict()
+    assert one["params"]["lfs"] == 2.0 and one["lfs_min"] == one["lfs_max"] == 2.0
+    sweep = vorobound.reconstruct(sphere=2, eps="0.3,0.35").to_dict()
+    assert sweep["params"]["lfs"] == 2.0 and sweep["lfs_max"] == 2.0
+    draws = vorobound.reconstruct(sphere=2, eps=0.3, repeats=2).to_dict()
+    assert draws["params"]["lfs"] == 2.0 and draws["lfs_min"] == 2.0
+    torus = vorobound.reconstruct(torus=(1.5, 1), eps=0.3).to_dict()
+    assert torus["params"]["lfs"] is None and 0.4 < torus["lfs_min"] < torus["lfs_max"] <= 1.0
+
+
+def test_reconstruct_of_seeds_alone_has_no_l():
+    from pathlib import Path
+
+    run = Path(__file__).parents[1] / "data" / "vorocrust" / "cube"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)  # the cube's sharp edges
+        summary = vorobound.reconstruct(vorocrust=str(run)).to_dict()
+    assert summary["params"]["lfs"] is None and "lfs_min" not in summary
+
+
 # --- a warning once per mesh per process --------------------------------------------------------
 
 

@@ -124,8 +124,10 @@ class CheckResult(Result):
         summary["params"] = params_json(
             self.report.params.quality, self.report.params.eps, **self.asked
         )
-        lfs = getattr(self.report, "lfs", None)
-        if lfs is not None:  # a whole check (tiles keep no L)
+        lfs = getattr(self.report, "lfs", None)  # a whole check's L per ball
+        if lfs is None:  # tiles keep only the range
+            lfs = getattr(self.report, "lfs_range", None)
+        if lfs is not None:
             summary |= sample_lfs(summary["params"], lfs)
         return summary | {
             "ok": not any(found.values()),

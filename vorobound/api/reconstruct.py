@@ -17,7 +17,7 @@ from ..constants import PAPER_DELTA_RATIO, PAPER_SIGMA
 from ..errors import InputError
 from ..progress import Progress
 from .arguments import checked_arguments
-from .result import Result, checked_outputs, frame, params_json
+from .result import Result, checked_outputs, frame, params_json, sample_lfs
 
 if TYPE_CHECKING:
     from ..mesh import TriangleMesh
@@ -72,7 +72,19 @@ class ReconstructResult(Result):
         summary["params"] = params_json(self.quality, eps, **self.asked)
         for key in ("rho_f", "lipschitz", "target"):
             summary["params"].pop(key, None)
+        info = self.report.sample
+        if info is not None and info.lfs_range is not None:
+            summary |= sample_lfs(summary["params"], info.lfs_range)
+        else:  # seeds alone: no ball radius, so no L of the balls
+            summary["params"]["lfs"] = None
         return summary | self.extra | {"ok": self.ok, "written": list(self.written)}
+
+
+def _rows_lfs(params: dict, rows) -> dict:
+    """``params["lfs"]`` and the L range over the balls of every row with M̂
+    (:func:`~vorobound.api.result.sample_lfs`)."""
+    ends = [end for row in rows if row.lfs_range is not None for end in row.lfs_range]
+    return sample_lfs(params, ends)
 
 
 @dataclass(frozen=True, repr=False)
@@ -106,6 +118,7 @@ class ReconstructSweepResult(Result):
         for key in ("rho_f", "lipschitz", "target"):
             params.pop(key, None)
         summary["params"] = params
+        summary |= _rows_lfs(params, self.sweep.rows)
         return summary | {"ok": self.ok, "written": list(self.written)}
 
     def to_frame(self):
@@ -154,6 +167,7 @@ class ReconstructDrawsResult(Result):
         for key in ("rho_f", "lipschitz", "target"):
             params.pop(key, None)
         summary["params"] = params
+        summary |= _rows_lfs(params, [row for r in self.draws.rows for row in r.draws])
         if self.share_correct is not None:
             summary["share_correct"] = self.share_correct
         return summary | {"ok": self.ok, "written": list(self.written)}

@@ -70,6 +70,12 @@ class TiledCheckReport:
         """The merged tally of the guide triangles."""
         return self.run.guides
 
+    @property
+    def lfs_range(self) -> tuple[float, float]:
+        """Smallest and largest L_i = r_i/δ over the file's balls."""
+        low, high = self.run.radius_range
+        return low / self.params.delta, high / self.params.delta
+
     @cached_property
     def _summary(self) -> dict:
         g = self.run.guides

@@ -47,6 +47,8 @@ class SampleInfo:
     guide_triangles: int
     half_covered: int
     engine: str
+    lfs_range: tuple[float, float] | None = None
+    """Smallest and largest L = r/δ of the balls (None without sampling parameters)."""
 
 
 @dataclass(frozen=True)
@@ -328,7 +330,13 @@ def _from_balls(
                 disagreements = int((by_sheets != inside).sum())
     clock.lap("labels")
     seeds = found.labelled(inside, labels, source)
-    info = SampleInfo(len(balls), guides, search.half_covered, search.engine)
+    lfs_range = None
+    if params is not None and len(balls.radii):
+        lfs_range = (
+            float(balls.radii.min()) / params.delta,
+            float(balls.radii.max()) / params.delta,
+        )
+    info = SampleInfo(len(balls), guides, search.half_covered, search.engine, lfs_range)
     report = _finish(
         seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress
     )

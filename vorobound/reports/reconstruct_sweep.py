@@ -56,6 +56,8 @@ class SweepRow:
     sheet_disagreements: int | None
     sheet_note: str | None = None
     note: str | None = None
+    lfs_range: tuple[float, float] | None = None
+    """Smallest and largest L of the sample's balls (None without M̂)."""
 
     @property
     def ok(self) -> bool:
@@ -81,6 +83,7 @@ class SweepRow:
             sheet_disagreements=s["sheet_label_disagreements"],
             sheet_note=s["sheet_label_note"],
             note=s.get("note"),
+            lfs_range=None if report.sample is None else report.sample.lfs_range,
         )
 
     @classmethod

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import math
 import os
 import resource
 import shutil
@@ -115,6 +116,8 @@ class TiledRun(Tallies):
     vtu: VtuRows | None
     timings: dict[str, float]
     """Wall seconds per driver stage."""
+    radius_range: tuple[float, float] = (math.nan, math.nan)
+    """Smallest and largest ball radius of the file (the L range is this over δ)."""
 
 
 def run_tiles(
@@ -184,6 +187,7 @@ class _Spill:
     low: np.ndarray = field(default_factory=lambda: np.full(3, np.inf))
     high: np.ndarray = field(default_factory=lambda: np.full(3, -np.inf))
     top: float = 0.0
+    smallest: float = math.inf
     subsample: np.ndarray | None = None
 
     def chunks(self, rows: int) -> Iterator[tuple[int, np.ndarray]]:
@@ -208,6 +212,7 @@ def _read(path: Path, file: Path, chunk_rows: int, progress: Progress | None) ->
             spill.low = np.minimum(spill.low, centers.min(axis=0))
             spill.high = np.maximum(spill.high, centers.max(axis=0))
             spill.top = max(spill.top, float((radii * radii).max()))
+            spill.smallest = min(spill.smallest, float(radii.min()))
             counter.step(len(radii))
     spill.subsample = sample.points()
     return spill
@@ -389,6 +394,7 @@ def _merge(outcomes, run, spill, settings, timings, serial) -> TiledRun:
         tiling=tiling,
         vtu=vtu,
         timings=timings,
+        radius_range=(spill.smallest, math.sqrt(spill.top)),
     )
 
 
