@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import math
 import os
 import resource
 import shutil
@@ -50,11 +51,14 @@ from .job import Tallies, TileJob, TileOutcome, TileSettings, VtuRows, run_tile
 from .tally import GuideTally, PairTally
 
 TILE_BALLS = 150_000
-"""Most balls in a tile's core (a worker computing such tiles peaks at about 0.8 GB)."""
-TILES_PER_WORKER = 4
-"""Below ``TILE_BALLS`` per tile, at least this many tiles per worker (load balance)."""
+"""Balls aimed at per tile's core (a worker computing such tiles peaks at about 0.9 GB); the
+tile count is rounded to a multiple of the workers, so a tile holds up to ``MAX_TILE_SHARE``
+times this."""
+MAX_TILE_SHARE = 1.25
+"""Tiles hold at most this multiple of ``TILE_BALLS`` (else the count is rounded up)."""
 MIN_TILE_BALLS = 20_000
-"""...but no smaller tiles than this (their halos would cost more than balance gains)."""
+"""Several workers get no smaller tiles than this (their halos would cost more than the
+parallel run gains)."""
 IN_FLIGHT = 2
 """Tiles submitted per worker at a time (the driver holds at most this many tiles' balls)."""
 VTU_TRIANGLES = 200_000
@@ -67,13 +71,27 @@ _RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
 """A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
 
 
+def tile_count(balls: int, workers: int) -> int:
+    """Tiles of a check of ``balls`` on ``workers``: the multiple of ``workers`` nearest to
+    balls/``TILE_BALLS`` (at least one tile per worker, and rounded up where tiles would exceed
+    ``MAX_TILE_SHARE``·``TILE_BALLS``), so that every worker takes the same number of tiles of
+    equal size from the queue and the halos cost about what one worker's tiles cost (a halo's
+    share of a tile grows as tiles shrink: more tiles for more workers would cost CPU time,
+    docs/performance.md). Fewer tiles than workers where they would hold under
+    ``MIN_TILE_BALLS``."""
+    workers = max(1, int(workers))
+    rounds = max(1, math.floor(balls / (workers * TILE_BALLS) + 0.5))
+    if balls / (rounds * workers) > MAX_TILE_SHARE * TILE_BALLS:
+        rounds += 1
+    count = rounds * workers
+    if workers > 1 and balls < count * MIN_TILE_BALLS:
+        count = max(1, min(count, balls // MIN_TILE_BALLS))
+    return count
+
+
 def tile_size(balls: int, workers: int) -> int:
-    """Balls per tile: ``TILE_BALLS``, or fewer so that each worker gets ``TILES_PER_WORKER``
-    tiles, but not below ``MIN_TILE_BALLS``."""
-    if workers <= 1:
-        return TILE_BALLS
-    share = -(-balls // (TILES_PER_WORKER * workers))
-    return int(min(TILE_BALLS, max(MIN_TILE_BALLS, share)))
+    """Balls per tile of :func:`tile_count` tiles of equal size."""
+    return max(1, math.ceil(balls / tile_count(balls, workers)))
 
 
 @dataclass(frozen=True)
@@ -132,7 +150,8 @@ def run_tiles(
     and ``vtu_share`` (the share of guide triangles asked for in the VTU, 0: none) is capped
     so that about ``VTU_TRIANGLES`` are kept. ``workers`` local processes (1: in this
     process) or the dask.distributed ``scheduler`` run them; ``tile_balls`` is the balls per
-    tile (default :func:`tile_size`), ``chunk_rows`` the rows read at a time.
+    tile (default: :func:`tile_count` tiles of equal size), ``chunk_rows`` the rows read at
+    a time.
 
     Raises
     ------
@@ -156,8 +175,11 @@ def run_tiles(
         with task_executor(workers, scheduler) as (executor, slots):
             start, cpu = time.perf_counter(), time.process_time()
             size = tile_balls or tile_size(spill.count, slots)
+            count = None if tile_balls else tile_count(spill.count, slots)
             assert spill.subsample is not None
-            plan = tiles.plan_tiles(spill.subsample, spill.count, size, spill.low, spill.high)
+            plan = tiles.plan_tiles(
+                spill.subsample, spill.count, size, spill.low, spill.high, count
+            )
             core_radius = _core_radii(spill, plan, chunk_rows)
             params = settings.params
             sparsity_reach = params.sigma / params.quality.delta_ratio
