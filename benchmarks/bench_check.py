@@ -188,7 +188,8 @@ def speedup(data: str, repeats: int, count: int = 10**6) -> None:
         same = all(a[k] == b[k] for k in set(a) - SPEEDUP_VARIES - {"params"}) and set(a) == set(b)
         same &= {**a["params"], "workers": 2} == b["params"]
         if not same:
-            raise SystemExit("1 and 2 workers gave different summaries")
+            differ = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+            raise SystemExit(f"1 and 2 workers gave different summaries: {', '.join(differ)}")
         speed.append(one["wall"] / two["wall"])
         cost.append(two["cpu"] / one["cpu"])
         for k in order:

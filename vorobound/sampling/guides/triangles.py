@@ -58,10 +58,6 @@ COSPHERICAL_RTOL = 1e-12
 """Relative tolerance of "equal radii" and "on the sphere" for the hull engine."""
 BRUTE_MAX_BALLS = 200_000
 """The ``brute`` engine enumerates about a hundred triples per ball: refuse beyond this."""
-FILLER_CELL_REACH = 3
-"""A filler node is kept only within 2 spacings of a center: with the jitter, such a center lies
-in a grid cell at most this many cells away along each axis (2 + FILLER_JITTER + 1/2,
-rounded up), and only those nodes are looked up in the k-d tree."""
 FILLER_MAX_NODES_PER_CENTER = 64
 """A filler level with more grid nodes than this per center is not built (see
 :func:`filler_points`)."""
@@ -258,34 +254,11 @@ def filler_points(centers: np.ndarray, radius: float) -> np.ndarray:
         ]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         grid += rng.uniform(-FILLER_JITTER, FILLER_JITTER, grid.shape) * spacing
-        # Only nodes with a center in the cells around them can have one within ``far``
-        # (a node's cell is the one about its unjittered place): the others are not queried.
-        origin = np.array([a[0] for a in axes])
-        cells = np.zeros([len(a) for a in axes], dtype=bool)
-        at = np.rint((centers - origin) / spacing).astype(np.int64)
-        cells[at[:, 0], at[:, 1], at[:, 2]] = True
-        grid = grid[_grown(cells, FILLER_CELL_REACH).ravel()]
         dist, _ = tree.query(grid, distance_upper_bound=far, workers=thread_count())
         levels.append(grid[(dist >= near) & (dist < far)])
         if spacing > extent:
             return np.vstack(levels)
         spacing *= 2
-
-
-def _grown(mask: np.ndarray, steps: int) -> np.ndarray:
-    """``mask`` (3-D) grown by ``steps`` cells along each axis (a cube of side 2·steps + 1
-    around each True cell)."""
-    out = mask.copy()
-    for axis in range(3):
-        for _ in range(steps):
-            grown = out.copy()
-            ahead = [slice(None)] * 3
-            behind = [slice(None)] * 3
-            ahead[axis], behind[axis] = slice(1, None), slice(None, -1)
-            grown[tuple(ahead)] |= out[tuple(behind)]
-            grown[tuple(behind)] |= out[tuple(ahead)]
-            out = grown
-    return out
 
 
 def overlap_triples(balls: Balls, progress: Progress | None = None) -> np.ndarray:
