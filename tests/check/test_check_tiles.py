@@ -192,35 +192,24 @@ def test_one_and_two_workers_give_the_same_summary(tmp_path):
         assert two[key] == one[key], key
 
 
-def test_tile_counts_are_multiples_of_the_workers():
-    from vorobound.tiling.engine import (
-        MAX_TILE_SHARE,
-        MIN_TILE_BALLS,
-        TILE_BALLS,
-        tile_count,
-        tile_size,
-    )
+def test_tile_counts_are_even_and_the_tiles_equal():
+    from vorobound.tiling.engine import MAX_TILE_SHARE, TILE_BALLS, tile_count, tile_size
 
-    for balls in (100_000, 450_000, 1_001_674, 1_350_000, 10**7, 10**8):
-        for workers in (1, 2, 3, 4, 64):
-            count = tile_count(balls, workers)
-            if balls >= workers * MIN_TILE_BALLS:
-                assert count % workers == 0, (balls, workers)
-            assert balls / count <= MAX_TILE_SHARE * TILE_BALLS or count == 1, (balls, workers)
-            assert tile_size(balls, workers) * count >= balls
-    # The planner makes exactly that many tiles from a subsample of the centers.
+    for balls in (100_000, 187_500, 187_501, 450_000, 1_001_674, 1_350_000, 10**7, 10**8):
+        count = tile_count(balls)
+        assert count == 1 or count % 2 == 0, balls
+        assert balls / count <= MAX_TILE_SHARE * TILE_BALLS, balls
+        assert tile_size(balls) * count >= balls
+    # The planner makes exactly that many tiles of equal size from a subsample of the centers.
     centers = np.random.default_rng(5).uniform(-1, 1, (40_000, 3)) * [3.0, 2.0, 1.0]
-    for balls, workers in ((1_001_674, 1), (1_001_674, 2), (10**7, 2), (10**7, 4)):
-        count = tile_count(balls, workers)
-        size = tile_size(balls, workers)
+    for balls in (1_001_674, 10**7):
+        count, size = tile_count(balls), tile_size(balls)
         plan = tiles.plan_tiles(centers, balls, size, np.full(3, -3.0), np.full(3, 3.0), count)
-        assert plan.count == count, (balls, workers)
+        assert plan.count == count, balls
         sizes = np.bincount(plan.owner(centers))
-        assert sizes.max() - sizes.min() <= 2, (balls, workers)  # equal up to the rounding
-    # One worker: the count nearest to balls/TILE_BALLS; two: the nearest even count, so two
-    # workers do not pay for more halos than one (10⁶ balls: 7 tiles and 6, not 7 and 11).
-    assert tile_count(1_001_674, 1) == 7 and tile_count(1_001_674, 2) == 6
-    assert tile_count(10**5, 2) == 2 and tile_count(30_000, 2) == 1
+        assert sizes.max() - sizes.min() <= 2, balls  # equal up to the rounding
+    # 10⁶ balls: 6 tiles for any number of workers (it was 7 for 1 worker, 11 for 2).
+    assert tile_count(1_001_674) == 6 and tile_count(10**5) == 1 and tile_count(10**7) == 66
 
 
 MEMORY_PROBE = """

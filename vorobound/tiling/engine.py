@@ -52,13 +52,10 @@ from .tally import GuideTally, PairTally
 
 TILE_BALLS = 150_000
 """Balls aimed at per tile's core (a worker computing such tiles peaks at about 0.9 GB); the
-tile count is rounded to a multiple of the workers, so a tile holds up to ``MAX_TILE_SHARE``
-times this."""
+tile count is rounded to an even number, so a tile holds up to ``MAX_TILE_SHARE`` times
+this."""
 MAX_TILE_SHARE = 1.25
 """Tiles hold at most this multiple of ``TILE_BALLS`` (else the count is rounded up)."""
-MIN_TILE_BALLS = 20_000
-"""Several workers get no smaller tiles than this (their halos would cost more than the
-parallel run gains)."""
 IN_FLIGHT = 2
 """Tiles submitted per worker at a time (the driver holds at most this many tiles' balls)."""
 VTU_TRIANGLES = 200_000
@@ -71,27 +68,24 @@ _RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
 """A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
 
 
-def tile_count(balls: int, workers: int) -> int:
-    """Tiles of a check of ``balls`` on ``workers``: the multiple of ``workers`` nearest to
-    balls/``TILE_BALLS`` (at least one tile per worker, and rounded up where tiles would exceed
-    ``MAX_TILE_SHARE``·``TILE_BALLS``), so that every worker takes the same number of tiles of
-    equal size from the queue and the halos cost about what one worker's tiles cost (a halo's
-    share of a tile grows as tiles shrink: more tiles for more workers would cost CPU time,
-    docs/performance.md). Fewer tiles than workers where they would hold under
-    ``MIN_TILE_BALLS``."""
-    workers = max(1, int(workers))
-    rounds = max(1, math.floor(balls / (workers * TILE_BALLS) + 0.5))
-    if balls / (rounds * workers) > MAX_TILE_SHARE * TILE_BALLS:
-        rounds += 1
-    count = rounds * workers
-    if workers > 1 and balls < count * MIN_TILE_BALLS:
-        count = max(1, min(count, balls // MIN_TILE_BALLS))
-    return count
+def tile_count(balls: int) -> int:
+    """Tiles of a check of ``balls``, whatever the number of workers: one up to
+    ``MAX_TILE_SHARE``·``TILE_BALLS`` balls, else the even number nearest to
+    balls/``TILE_BALLS`` (rounded up where tiles would exceed ``MAX_TILE_SHARE``·
+    ``TILE_BALLS``). Every worker count computes the same tiles, so the answer, candidate
+    counts included, and the CPU time spent on halos are those of one worker; workers take
+    tiles from a queue, and an even count splits evenly between two (docs/performance.md)."""
+    if balls <= MAX_TILE_SHARE * TILE_BALLS:
+        return 1
+    pairs = max(1, math.floor(balls / (2 * TILE_BALLS) + 0.5))
+    while balls / (2 * pairs) > MAX_TILE_SHARE * TILE_BALLS:
+        pairs += 1
+    return 2 * pairs
 
 
-def tile_size(balls: int, workers: int) -> int:
+def tile_size(balls: int) -> int:
     """Balls per tile of :func:`tile_count` tiles of equal size."""
-    return max(1, math.ceil(balls / tile_count(balls, workers)))
+    return max(1, math.ceil(balls / tile_count(balls)))
 
 
 @dataclass(frozen=True)
@@ -174,8 +168,8 @@ def run_tiles(
             )
         with task_executor(workers, scheduler) as (executor, slots):
             start, cpu = time.perf_counter(), time.process_time()
-            size = tile_balls or tile_size(spill.count, slots)
-            count = None if tile_balls else tile_count(spill.count, slots)
+            size = tile_balls or tile_size(spill.count)
+            count = None if tile_balls else tile_count(spill.count)
             assert spill.subsample is not None
             plan = tiles.plan_tiles(
                 spill.subsample, spill.count, size, spill.low, spill.high, count
