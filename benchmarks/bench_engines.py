@@ -94,8 +94,11 @@ def child_check(path: str, eps: str) -> dict:
     if done.returncode not in (0, 1):
         raise SystemExit(done.stderr)
     summary = json.loads(done.stdout)
+    tiles = summary.get("tiles", {})
     return {"cpu": usage.ru_utime + usage.ru_stime, "wall": wall,
-            "guide": summary.get("n_guide_triangles")}  # fmt: skip
+            "guide": summary.get("n_guide_triangles"), "tiles": tiles.get("count"),
+            "halo": tiles.get("halo_share"), "stages": tiles.get("cpu_seconds", {}),
+            "driver": tiles.get("driver_cpu_seconds", {})}  # fmt: skip
 
 
 def child_seeds(eps: str, out: str) -> dict:
@@ -170,6 +173,11 @@ def bench_check(data: str, sizes: list[int]) -> None:
         print(_pair("CGAL + simplex tree", cgal["tree"], base))
         print(_pair("vorobound check --workers 1", (check["cpu"], check["wall"]), base,
                     check["load"]))  # fmt: skip
+        stages = {**check["stages"], **{f"driver {k}": v for k, v in check["driver"].items()}}
+        rest = check["cpu"] - sum(stages.values())
+        print(f"    {check['tiles']} tiles, halo {100 * check['halo']:.1f} %; CPU-s by stage: "
+              + ", ".join(f"{k} {v:.2f}" for k, v in stages.items())
+              + f", the rest (start-up, imports, merge) {rest:.2f}")  # fmt: skip
 
 
 def bench_reconstruct(eps: str) -> None:
