@@ -25,8 +25,11 @@ growth exponent of CPU time with N and the extrapolation to 10⁸ balls on 64 wo
 measured per-ball costs. ``--tile-engines`` times, on one tile of 1.5·10⁵ balls, GUDHI's
 regular triangulation (``DelaunayComplex``, the engine) against the weighted alpha complex
 pruned at alpha² ≤ 10⁻⁶·r_max² (the previous engine), with the guide triangles of each.
-``--speedup N`` runs 1 and 2 workers alternately N times on 10⁶ balls, with the load average
-around each run (the second core is often taken by other jobs on the shared machine).
+``--speedup N`` runs 1 and 2 workers on the same 10⁶ balls, paired and alternated (which goes
+first alternates too), N times: wall and CPU seconds of each, tiles, halo share and the load
+average around each run (the second core is often taken by other jobs on the shared machine),
+the speed-up as measured and the CPU the second worker costs; the summaries must be identical
+but for the timings and the tiles (issue 35: < 5 % extra CPU for 2 workers).
 
 Scale targets (issue 23): 10⁶ balls ≤ 60 CPU-s end to end, outputs ≤ 15 % extra; 2 workers
 ≥ 1.7× faster than 1 at 10⁶; 10⁷ balls complete with peak ≤ 6 GB; CPU growth exponent from
@@ -163,6 +166,53 @@ def kernel_throughput(report) -> dict:
     }
 
 
+SPEEDUP_VARIES = {"timings", "tiles"}
+"""Summary fields that may differ between 1 and 2 workers (every other one must not, but for
+the worker count among the parameters)."""
+
+
+def speedup(data: str, repeats: int, count: int = 10**6) -> None:
+    """1 and 2 workers on the same 10⁶-ball file, paired and alternated (which goes first
+    alternates too), ``repeats`` times: wall and CPU seconds of each (worker processes
+    included), tiles and halo, load before → after, the speed-up as measured (wall) and the
+    CPU ratio; the JSON summaries must be identical but for the timings and the tiles."""
+    import bench_scale
+
+    path, eps = bench_scale.sample_file(data, count)
+    speed, cost = [], []
+    for repeat in range(repeats):
+        order = (1, 2) if repeat % 2 == 0 else (2, 1)
+        got = {k: bench_scale.run(path, eps, "--workers", str(k)) for k in order}
+        one, two = got[1], got[2]
+        a, b = one["summary"], two["summary"]
+        same = all(a[k] == b[k] for k in set(a) - SPEEDUP_VARIES - {"params"}) and set(a) == set(b)
+        same &= {**a["params"], "workers": 2} == b["params"]
+        if not same:
+            differ = sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+            raise SystemExit(f"1 and 2 workers gave different summaries: {', '.join(differ)}")
+        speed.append(one["wall"] / two["wall"])
+        cost.append(two["cpu"] / one["cpu"])
+        for k in order:
+            run, tiles = got[k], got[k]["summary"]["tiles"]
+            print(
+                f"run {repeat + 1}, {k} worker{'s' if k > 1 else ''}: {run['wall']:.1f} s wall, "
+                f"{run['cpu']:.1f} CPU-s, {tiles['count']} tiles, halo "
+                f"{100 * tiles['halo_share']:.1f} %, load {run['load'][0]:.2f} → "
+                f"{run['load'][1]:.2f}",
+                flush=True,
+            )
+        print(
+            f"run {repeat + 1}: 2 workers {speed[-1]:.2f}x as fast (wall), CPU "
+            f"{100 * (cost[-1] - 1):+.1f} %; the same summary: {same}",
+            flush=True,
+        )
+    print(
+        f"speed-up (wall) {min(speed):.2f}–{max(speed):.2f}x, median "
+        f"{sorted(speed)[len(speed) // 2]:.2f}x; CPU of 2 workers against 1: "
+        f"{100 * (min(cost) - 1):+.1f} % to {100 * (max(cost) - 1):+.1f} %"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -198,7 +248,7 @@ def main() -> None:
         if args.tile_engines:
             bench_scale.tile_engines(args.data)
         if args.speedup:
-            bench_scale.speedup(args.data, args.speedup)
+            speedup(args.data, args.speedup)
         if args.scale:
             bench_scale.scale(args.data, [int(float(n)) for n in args.sizes.split(",")])
         return
@@ -238,6 +288,7 @@ def _tiny() -> None:
     with tempfile.TemporaryDirectory() as data:
         bench_scale.tile_engines(data, bench_scale.TINY_BALLS, bench_scale.TINY_TILE_BALLS)
         bench_scale.scale(data, [bench_scale.TINY_BALLS])
+        speedup(data, 1, bench_scale.TINY_BALLS)
 
 
 def cases(names: list[str]) -> None:

@@ -1,6 +1,7 @@
 """Each stage against the engine underneath, side by side in the same run (issue 35).
 
-Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6`` and
+Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6``,
+``python benchmarks/bench_engines.py tile --sizes 1e6`` and
 ``python benchmarks/bench_engines.py reconstruct --eps 0.03``. Every measurement runs in its own
 fresh process; printed are CPU and wall seconds and the load average before and after (the
 machine is shared: CPU seconds are the steadier measure).
@@ -10,6 +11,10 @@ machine is shared: CPU seconds are the steadier measure).
   uses (GUDHI ``DelaunayComplex`` built, no simplex tree; then with its simplex tree), against
   ``vorobound check --balls F --eps E --workers 1`` end to end. Target: check ≤ 2.5× the bare
   triangulation at 10⁶ balls.
+* ``tile``: the stages of one tile of that sample (a sixth of the balls, one thread), each
+  timed apart against CGAL's triangulation of the same tile: filler points, CGAL, GUDHI's
+  simplex tree, its serialization, reading the triangles, freeing both, the seeds (their
+  geometry and the coverage queries) and the 16 nearest neighbours of the pair conditions.
 * ``reconstruct``: the seeds of the torus (3, 1) at ε (0.03: about 5.4·10⁵ seeds), CGAL's
   Delaunay tetrahedralization of them (``DelaunayComplex`` built; then with its simplex tree)
   against M̂ from the seeds (:func:`vorobound.sampling.reconstruct.facets.inout_facets`, CGAL
@@ -94,8 +99,81 @@ def child_check(path: str, eps: str) -> dict:
     if done.returncode not in (0, 1):
         raise SystemExit(done.stderr)
     summary = json.loads(done.stdout)
+    tiles = summary.get("tiles", {})
     return {"cpu": usage.ru_utime + usage.ru_stime, "wall": wall,
-            "guide": summary.get("n_guide_triangles")}  # fmt: skip
+            "guide": summary.get("n_guide_triangles"), "tiles": tiles.get("count"),
+            "halo": tiles.get("halo_share"), "stages": tiles.get("cpu_seconds", {}),
+            "driver": tiles.get("driver_cpu_seconds", {})}  # fmt: skip
+
+
+def child_tile(path: str) -> dict:
+    """One tile's stages, timed apart: the 1/6 of the balls with the smallest x and y (the
+    size of a tile of 10⁶ balls), on one thread; CPU seconds of each step."""
+    import math
+
+    import gudhi
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    from vorobound.geometry.threads import limited_threads
+    from vorobound.sampling import simplex_kernel
+    from vorobound.sampling.balls import Balls
+    from vorobound.sampling.guides.seeds import classify, lifted_balls, other_power, seed_pairs
+    from vorobound.sampling.guides.triangles import filler_points
+    from vorobound.sampling.sampler import conditions
+    from vorobound.sampling.simplices import kernel_available
+
+    centers, radii = _read_balls(path)
+    cut = math.sqrt(1 / 6)
+    x, y = np.quantile(centers[:, 0], cut), np.quantile(centers[:, 1], cut)
+    keep = (centers[:, 0] <= x) & (centers[:, 1] <= y)
+    balls = Balls(centers[keep], radii[keep])
+    kernel_available()  # numba's load: a one-off cost of the process
+    seconds: dict[str, float] = {}
+
+    def timed(name, work):
+        start = _cpu()
+        out = work()
+        seconds[name] = _cpu() - start
+        return out
+
+    with limited_threads(1):
+        w = balls.weights
+        filler = timed("filler points", lambda: filler_points(balls.centers, math.sqrt(w.max())))
+        points = np.vstack([balls.centers, filler])
+        weights = np.concatenate([w, np.zeros(len(filler))])
+        complex_ = timed("CGAL triangulation", lambda: gudhi.DelaunayComplex(
+            points=points, weights=weights, precision="fast"))  # fmt: skip
+        tree = timed("GUDHI simplex tree", complex_.create_simplex_tree)
+        start = _cpu()
+        del complex_
+        seconds["CGAL freed"] = _cpu() - start
+        start = _cpu()
+        data = np.asarray(tree.__getstate__()).view(np.uint8)
+        seconds["tree serialized"] = _cpu() - start
+        none3, none4 = np.empty((0, 3), np.int64), np.empty((0, 4), np.int64)
+        n_tri, _, _ = simplex_kernel.read_tree(data, none3, none4)  # compiled code loaded
+        triangles = np.empty((n_tri, 3), np.int64)
+        start = _cpu()
+        simplex_kernel.read_tree(data, triangles, none4)
+        seconds["triangles read"] = _cpu() - start
+        start = _cpu()
+        del tree, data
+        seconds["simplex tree freed"] = _cpu() - start
+        triples = triangles[(triangles < len(balls)).all(axis=1)]
+        classify(balls, triples[:100])  # compiled code loaded
+        timed("seeds, all", lambda: classify(balls, triples))
+        geometry, seeds = timed("seeds: geometry", lambda: seed_pairs(balls, triples))
+        top = float(w.max())
+        lifted = cKDTree(lifted_balls(balls, top))
+        has = np.isfinite(seeds).all(axis=(1, 2))
+        start = _cpu()
+        for side in (0, 1):
+            other_power(lifted, top, seeds[has, side], triples[has])
+        seconds["seeds: coverage queries"] = _cpu() - start
+        timed("neighbour conditions: 16 nearest", lambda: conditions.neighbours(balls.centers))
+    return {"balls": len(balls), "filler": len(filler), "triangles": len(triples),
+            "seconds": seconds}  # fmt: skip
 
 
 def child_seeds(eps: str, out: str) -> dict:
@@ -170,6 +248,26 @@ def bench_check(data: str, sizes: list[int]) -> None:
         print(_pair("CGAL + simplex tree", cgal["tree"], base))
         print(_pair("vorobound check --workers 1", (check["cpu"], check["wall"]), base,
                     check["load"]))  # fmt: skip
+        stages = {**check["stages"], **{f"driver {k}": v for k, v in check["driver"].items()}}
+        rest = check["cpu"] - sum(stages.values())
+        print(f"    {check['tiles']} tiles, halo {100 * check['halo']:.1f} %; CPU-s by stage: "
+              + ", ".join(f"{k} {v:.2f}" for k, v in stages.items())
+              + f", the rest (start-up, imports, merge) {rest:.2f}")  # fmt: skip
+
+
+def bench_tile(data: str, count: int) -> None:
+    sys.path.insert(0, os.path.dirname(__file__))
+    from bench_scale import sample_file
+
+    path, _ = sample_file(data, count)
+    tile = _child("tile", str(path))
+    seconds = tile["seconds"]
+    base = seconds["CGAL triangulation"]
+    print(f"one tile: {tile['balls']:,} balls (+{tile['filler']:,} filler points), "
+          f"{tile['triangles']:,} candidate triangles; load {tile['load'][0]:.1f} → "
+          f"{tile['load'][1]:.1f}")  # fmt: skip
+    for name, spent in seconds.items():
+        print(f"  {name:36s} {spent:6.2f} CPU-s  {spent / base:5.2f}× CGAL")
 
 
 def bench_reconstruct(eps: str) -> None:
@@ -194,13 +292,15 @@ def main() -> None:
         print(json.dumps(globals()[f"child_{sys.argv[2]}"](*sys.argv[3:])))
         return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=["check", "reconstruct"])
+    parser.add_argument("what", choices=["check", "tile", "reconstruct"])
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
     args = parser.parse_args()
     if args.what == "check":
         bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
+    elif args.what == "tile":
+        bench_tile(args.data, int(float(args.sizes.split(",")[-1])))
     else:
         bench_reconstruct(args.eps)
 

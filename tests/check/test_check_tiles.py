@@ -179,6 +179,39 @@ def test_dask_local_cluster_gives_the_same_summary(tmp_path):
         assert remote[key] == local[key], key
 
 
+def test_one_and_two_workers_give_the_same_summary(tmp_path):
+    """Forced small tiles, the same plan: every field but the timings and the run's own
+    description (executor, processes, memory) is identical, candidate counts too."""
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.12, tmp_path / "t.npz")
+    params = SamplingParams(0.12, QualityParams(lipschitz=1.0))
+    one = check_ball_file(path, params, workers=1, tile_balls=300).summary()
+    two = check_ball_file(path, params, workers=2, tile_balls=300).summary()
+    assert one["tiles"]["count"] == two["tiles"]["count"] >= 6
+    assert one["tiles"]["halo_share"] == two["tiles"]["halo_share"]
+    for key in set(one) - {"timings", "tiles"}:
+        assert two[key] == one[key], key
+
+
+def test_tile_counts_are_even_and_the_tiles_equal():
+    from vorobound.tiling.engine import MAX_TILE_SHARE, TILE_BALLS, tile_count, tile_size
+
+    for balls in (100_000, 187_500, 187_501, 450_000, 1_001_674, 1_350_000, 10**7, 10**8):
+        count = tile_count(balls)
+        assert count == 1 or count % 2 == 0, balls
+        assert balls / count <= MAX_TILE_SHARE * TILE_BALLS, balls
+        assert tile_size(balls) * count >= balls
+    # The planner makes exactly that many tiles of equal size from a subsample of the centers.
+    centers = np.random.default_rng(5).uniform(-1, 1, (40_000, 3)) * [3.0, 2.0, 1.0]
+    for balls in (1_001_674, 10**7):
+        count, size = tile_count(balls), tile_size(balls)
+        plan = tiles.plan_tiles(centers, balls, size, np.full(3, -3.0), np.full(3, 3.0), count)
+        assert plan.count == count, balls
+        sizes = np.bincount(plan.owner(centers))
+        assert sizes.max() - sizes.min() <= 2, balls  # equal up to the rounding
+    # 10⁶ balls: 6 tiles for any number of workers (it was 7 for 1 worker, 11 for 2).
+    assert tile_count(1_001_674) == 6 and tile_count(10**5) == 1 and tile_count(10**7) == 66
+
+
 MEMORY_PROBE = """
 import resource, sys
 from vorobound.bounds.params import QualityParams, SamplingParams

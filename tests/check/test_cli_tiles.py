@@ -197,10 +197,14 @@ def test_parquet_without_pyarrow_is_refused(run_cli, torus_file, tmp_path, monke
 # --- a killed worker, Ctrl-C --------------------------------------------------------------
 
 
+ROWS_EPS = 0.022
+
+
 @pytest.fixture(scope="module")
 def rows_file(tmp_path_factory):
-    """About 1.3·10⁵ balls: several seconds on two workers."""
-    parts = list(torus_rows(3.0, 1.0, 0.03))
+    """About 2.4·10⁵ balls: two tiles (tiling.engine.tile_count), several seconds on two
+    workers."""
+    parts = list(torus_rows(3.0, 1.0, ROWS_EPS))
     balls = make_balls(np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts]))
     path = tmp_path_factory.mktemp("rows") / "rows.npz"
     write_balls(path, balls, {})
@@ -226,7 +230,7 @@ def _start_tiled(rows_file, out: Path, marker: str):
     from helpers import start_ready as _start_ready
 
     key, value = marker.split("=")
-    args = ["check", "--balls", str(rows_file), "--eps", "0.03", "--workers", "2"]
+    args = ["check", "--balls", str(rows_file), "--eps", str(ROWS_EPS), "--workers", "2"]
     return _start_ready([*args, "--out", str(out)], env={key: value})
 
 

@@ -157,7 +157,7 @@ def check_ball_file(
         Where the tiles write their rows (:class:`~vorobound.reports.check_outputs.CheckOutputs`,
         entered).
     tile_balls : int, optional
-        Balls per tile (default :func:`vorobound.tiling.engine.tile_size`).
+        Balls per tile (default: :func:`vorobound.tiling.engine.tile_count` tiles of equal size).
     chunk_rows : int
         Rows read at a time.
     features : SharpFeatures, optional

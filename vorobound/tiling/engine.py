@@ -51,11 +51,11 @@ from .job import Tallies, TileJob, TileOutcome, TileSettings, VtuRows, run_tile
 from .tally import GuideTally, PairTally
 
 TILE_BALLS = 150_000
-"""Most balls in a tile's core (a worker computing such tiles peaks at about 0.8 GB)."""
-TILES_PER_WORKER = 4
-"""Below ``TILE_BALLS`` per tile, at least this many tiles per worker (load balance)."""
-MIN_TILE_BALLS = 20_000
-"""...but no smaller tiles than this (their halos would cost more than balance gains)."""
+"""Balls aimed at per tile's core (a worker computing such tiles peaks at about 0.9 GB); the
+tile count is rounded to an even number, so a tile holds up to ``MAX_TILE_SHARE`` times
+this."""
+MAX_TILE_SHARE = 1.25
+"""Tiles hold at most this multiple of ``TILE_BALLS`` (else the count is rounded up)."""
 IN_FLIGHT = 2
 """Tiles submitted per worker at a time (the driver holds at most this many tiles' balls)."""
 VTU_TRIANGLES = 200_000
@@ -68,13 +68,24 @@ _RECORD = np.dtype([("id", "<i8"), ("ball", "<f8", (4,)), ("core", "u1")])
 """A ball in a shard file: index, x, y, z, r, and whether the tile owns it."""
 
 
-def tile_size(balls: int, workers: int) -> int:
-    """Balls per tile: ``TILE_BALLS``, or fewer so that each worker gets ``TILES_PER_WORKER``
-    tiles, but not below ``MIN_TILE_BALLS``."""
-    if workers <= 1:
-        return TILE_BALLS
-    share = -(-balls // (TILES_PER_WORKER * workers))
-    return int(min(TILE_BALLS, max(MIN_TILE_BALLS, share)))
+def tile_count(balls: int) -> int:
+    """Tiles of a check of ``balls``, whatever the number of workers: one up to
+    ``MAX_TILE_SHARE``·``TILE_BALLS`` balls, else the even number nearest to
+    balls/``TILE_BALLS`` (rounded up where tiles would exceed ``MAX_TILE_SHARE``·
+    ``TILE_BALLS``). Every worker count computes the same tiles, so the answer, candidate
+    counts included, and the CPU time spent on halos are those of one worker; workers take
+    tiles from a queue, and an even count splits evenly between two (docs/performance.md)."""
+    if balls <= MAX_TILE_SHARE * TILE_BALLS:
+        return 1
+    pairs = max(1, math.floor(balls / (2 * TILE_BALLS) + 0.5))
+    while balls / (2 * pairs) > MAX_TILE_SHARE * TILE_BALLS:
+        pairs += 1
+    return 2 * pairs
+
+
+def tile_size(balls: int) -> int:
+    """Balls per tile of :func:`tile_count` tiles of equal size."""
+    return max(1, math.ceil(balls / tile_count(balls)))
 
 
 @dataclass(frozen=True)
@@ -135,7 +146,8 @@ def run_tiles(
     and ``vtu_share`` (the share of guide triangles asked for in the VTU, 0: none) is capped
     so that about ``VTU_TRIANGLES`` are kept. ``workers`` local processes (1: in this
     process) or the dask.distributed ``scheduler`` run them; ``tile_balls`` is the balls per
-    tile (default :func:`tile_size`), ``chunk_rows`` the rows read at a time.
+    tile (default: :func:`tile_count` tiles of equal size), ``chunk_rows`` the rows read at
+    a time.
 
     Raises
     ------
@@ -158,9 +170,12 @@ def run_tiles(
             )
         with task_executor(workers, scheduler) as (executor, slots):
             start, cpu = time.perf_counter(), time.process_time()
-            size = tile_balls or tile_size(spill.count, slots)
+            size = tile_balls or tile_size(spill.count)
+            count = None if tile_balls else tile_count(spill.count)
             assert spill.subsample is not None
-            plan = tiles.plan_tiles(spill.subsample, spill.count, size, spill.low, spill.high)
+            plan = tiles.plan_tiles(
+                spill.subsample, spill.count, size, spill.low, spill.high, count
+            )
             core_radius = _core_radii(spill, plan, chunk_rows)
             params = settings.params
             sparsity_reach = params.sigma / params.quality.delta_ratio

@@ -218,7 +218,11 @@ class _Clock:
 def _refuse_duplicates(job: TileJob) -> None:
     """Equal centers fall in the same tile's core: refuse them as make_balls does."""
     centers = job.centers[job.core]
-    order = np.lexsort(centers.T[::-1])
+    # Equal centers have equal x: only the rows whose x occurs twice are sorted in full.
+    x = np.sort(centers[:, 0])
+    repeated = x[1:][x[1:] == x[:-1]]
+    rows = np.flatnonzero(np.isin(centers[:, 0], repeated))
+    order = rows[np.lexsort(centers[rows].T[::-1])]
     same = np.flatnonzero((np.diff(centers[order], axis=0) == 0).all(axis=1))
     if len(same):
         ids = job.ids[job.core]

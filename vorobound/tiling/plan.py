@@ -151,11 +151,18 @@ def box_distance(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarr
 
 
 def plan_tiles(
-    sample: np.ndarray, total: int, tile_balls: int, low: np.ndarray, high: np.ndarray
+    sample: np.ndarray,
+    total: int,
+    tile_balls: int,
+    low: np.ndarray,
+    high: np.ndarray,
+    count: int | None = None,
 ) -> TilePlan:
     """Splits of the subsample ``sample`` of ``total`` centers until each box holds at most
     about ``tile_balls`` of them, cutting the longest side first: a box that needs k tiles is
-    cut at the quantile ⌊k/2⌋/k, so the tiles come out close to ``tile_balls`` each.
+    cut at the quantile ⌊k/2⌋/k, so the tiles come out close to ``tile_balls`` each. With
+    ``count``, exactly that many tiles (as far as the subsample allows) of about equal size:
+    the root needs ``count`` and each side of a cut the tiles it was cut for.
 
     ``low`` and ``high`` bound every center; the tiles' boxes are clipped to them.
     """
@@ -169,8 +176,9 @@ def plan_tiles(
     lows: list[np.ndarray] = []
     highs: list[np.ndarray] = []
 
-    def build(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> int:
-        parts = math.ceil(len(points) * scale / tile_balls)
+    def build(points: np.ndarray, lo: np.ndarray, hi: np.ndarray, parts: int | None) -> int:
+        if parts is None:
+            parts = math.ceil(len(points) * scale / tile_balls)
         if parts > 1 and len(points) >= 2:
             rank = max(1, len(points) * (parts // 2) // parts)
             for dim in np.argsort(hi - lo)[::-1]:
@@ -184,15 +192,17 @@ def plan_tiles(
                     right.append(0)
                     upper, lower = hi.copy(), lo.copy()
                     upper[dim], lower[dim] = value, value
-                    left[node] = build(points[below], lo, upper)
-                    right[node] = build(points[~below], lower, hi)
+                    below_parts = parts // 2 if count is not None else None
+                    above_parts = parts - parts // 2 if count is not None else None
+                    left[node] = build(points[below], lo, upper, below_parts)
+                    right[node] = build(points[~below], lower, hi, above_parts)
                     return node
         lows.append(lo)
         highs.append(hi)
         return -len(lows)
 
     low, high = np.asarray(low, dtype=float), np.asarray(high, dtype=float)
-    build(np.asarray(sample, dtype=float), low, high)
+    build(np.asarray(sample, dtype=float), low, high, count)
     return TilePlan(
         np.array(axis, dtype=np.int64),
         np.array(split, dtype=float),
