@@ -199,6 +199,7 @@ def inout_facets(
     inside: np.ndarray,
     progress: Progress | None = None,
     triangulation: str = "cgal",
+    compiled: bool | None = None,
 ) -> InOutFacets:
     """The Voronoi facets between seeds labelled inside and seeds labelled outside.
 
@@ -213,6 +214,10 @@ def inout_facets(
     triangulation : {"cgal", "qhull"}
         The Delaunay tetrahedralization: CGAL's (through GUDHI, exact predicates; the
         default) or qhull's (scipy; kept as the cross-check of the tests).
+    compiled : bool, optional
+        True builds the neighbours, circumcentres and cycles with the compiled kernels of
+        :mod:`.facets_kernel` (numba), False with numpy; None (default) compiled where numba
+        is installed. Both give the same facets (the tests compare them).
 
     Returns
     -------
@@ -234,17 +239,23 @@ def inout_facets(
     points = (points - shift) / unit
     # The seeds are known to the rounding of their given coordinates, which the shift hides.
     given = float(np.linalg.norm(shift)) / unit
+    kernel = _facets_kernel() if compiled is None or compiled else None
+    if compiled and kernel is None:
+        raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
     if triangulation == "cgal":
         Counter(progress, "Delaunay (CGAL)", None)
-        simplices, neighbors, present = _cgal_tetrahedra(points)
+        simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
     else:
         Counter(progress, "Delaunay (qhull)", None)
         simplices, neighbors, present = _qhull_tetrahedra(points)
     duplicates, skipped = _absent_seeds(points, inside, present)
     counter = Counter(progress, "in/out facets", 3)
-    centres, radius, error = circumcentres(points, simplices, neighbors)
+    centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
     counter.step()
-    cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
+    if kernel is None:
+        cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
+    else:
+        cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
     counter.step()
     surface, collapsed, unresolved, non_simple = _weld(
         points, inside, centres, radius, error, cycles, given
@@ -290,16 +301,22 @@ def _power_of_two_scale(points: np.ndarray) -> float:
     return float(np.ldexp(1.0, int(np.frexp(largest)[1])))
 
 
-def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def circumcentres(
+    points, simplices, neighbors, kernel=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Circumcentre, circumradius and rounding error of the circumcentre of every tetrahedron;
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
-    (and that neighbour's error; NaN where none is found)."""
+    (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
+    computes the circumcentres (else numpy, by chunks)."""
     count = len(simplices)
-    centres, error = np.empty((count, 3)), np.empty(count)
-    flat = np.empty(count, dtype=bool)
-    for start in range(0, count, CHUNK):
-        part = slice(start, start + CHUNK)
-        centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
+    if kernel is not None:
+        centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
+    else:
+        centres, error = np.empty((count, 3)), np.empty(count)
+        flat = np.empty(count, dtype=bool)
+        for start in range(0, count, CHUNK):
+            part = slice(start, start + CHUNK)
+            centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
     centres[flat] = np.nan
     error[flat] = np.nan
     todo = np.flatnonzero(flat)
@@ -348,8 +365,9 @@ def _circumcentres(corner: np.ndarray):
     return centres, error, flat
 
 
-def _cgal_tetrahedra(points: np.ndarray):
-    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL."""
+def _cgal_tetrahedra(points: np.ndarray, kernel=None):
+    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL (the
+    neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
     from ..simplices import delaunay_simplices, face_neighbours
 
     _, simplices, _ = delaunay_simplices(points, triangles=False)
@@ -358,7 +376,11 @@ def _cgal_tetrahedra(points: np.ndarray):
             "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
             "in a plane)"
         )
-    neighbors = face_neighbours(simplices)
+    if kernel is not None:
+        neighbors, ok = kernel.face_neighbours(simplices, len(points))
+        neighbors = neighbors if ok else None
+    else:
+        neighbors = face_neighbours(simplices)
     if neighbors is None:
         raise InputError("seeds: CGAL's triangulation has a face of more than two tetrahedra")
     present = np.zeros(len(points), dtype=bool)
@@ -477,6 +499,55 @@ def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
         offsets=out_offsets,
         unbounded=_inside_first(pairs[open_edge], inside),
         edge_count=len(keys),
+    )
+
+
+def _facets_kernel():
+    """:mod:`.facets_kernel`, or None where numba is missing (or ``VOROBOUND_PURE_NUMPY`` set)."""
+    from ..simplices import kernel_available
+
+    if not kernel_available():
+        return None
+    try:
+        from . import facets_kernel
+    except (ImportError, RuntimeError, OSError):  # e.g. a numba that cannot cache
+        return None
+    return facets_kernel
+
+
+def _compiled_cycles(kernel, points, simplices, neighbors, inside) -> _Cycles:
+    """The oriented cycles of :func:`_oriented` (of :func:`_edge_cycles`), from the compiled
+    walk: edges in the order of their keys, each cycle from its first tetrahedron, reversed
+    where it turns clockwise about the edge from the inside to the outside seed."""
+    first, inner, outer, length, turn, found, ok = kernel.find_edges(
+        points, simplices, neighbors, inside
+    )
+    if not ok:
+        raise InputError("seeds: the triangulation is inconsistent around an edge")
+    first, inner, outer, length, turn = (x[:found] for x in (first, inner, outer, length, turn))
+    seeds_n = max(int(simplices.max()) + 1, 1)
+    order = np.argsort(np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer))
+    first, inner, outer, length, turn = (x[order] for x in (first, inner, outer, length, turn))
+    bounded = length >= 0
+    offsets = np.concatenate([[0], np.cumsum(length[bounded])])
+    tets = np.empty(int(offsets[-1]), dtype=np.int64)
+    kernel.write_cycles(
+        simplices,
+        neighbors,
+        first[bounded],
+        inner[bounded],
+        outer[bounded],
+        turn[bounded] < 0,
+        offsets,
+        tets,
+    )
+    pairs = np.column_stack([inner, outer])
+    return _Cycles(
+        pairs=pairs[bounded],
+        tets=tets,
+        offsets=offsets,
+        unbounded=pairs[~bounded],
+        edge_count=int(found),
     )
 
 
