@@ -13,7 +13,8 @@ machine is shared: CPU seconds are the steadier measure).
 * ``reconstruct``: the seeds of the torus (3, 1) at ε (0.03: about 5.4·10⁵ seeds), CGAL's
   Delaunay tetrahedralization of them (``DelaunayComplex`` built; then with its simplex tree)
   against M̂ from the seeds (:func:`vorobound.sampling.reconstruct.facets.inout_facets`, CGAL
-  and qhull) and the whole ``reconstruct`` of the surface. Target: M̂ ≤ 1.5× CGAL's
+  with the compiled steps and with the numpy steps, and qhull) and the whole ``reconstruct`` of
+  the surface. Target: M̂ ≤ 1.5× CGAL's
   tetrahedralization.
 """
 
@@ -135,7 +136,8 @@ def child_cgal_seeds(path: str) -> dict:
             "tetrahedra": int(tree.num_simplices_by_dimension()[3])}  # fmt: skip
 
 
-def child_mhat(path: str, triangulation: str) -> dict:
+def child_mhat(path: str, triangulation: str, compiled: str = "auto") -> dict:
+    """M̂ of the seeds; ``compiled`` "auto", "yes" (numba steps) or "no" (numpy steps)."""
     import numpy as np
 
     from vorobound.sampling.reconstruct.facets import inout_facets
@@ -143,9 +145,10 @@ def child_mhat(path: str, triangulation: str) -> dict:
     data = np.load(path)
     from vorobound.sampling.simplices import kernel_available
 
-    kernel_available()  # numba's load is a one-off cost of the process, like importing scipy
+    kernel_available()  # numba's import is a one-off cost of the process, like importing scipy
+    use = {"auto": None, "yes": True, "no": False}[compiled]
     cpu, wall = _cpu(), time.perf_counter()
-    found = inout_facets(data[:, :3], data[:, 3] > 0.5, triangulation=triangulation)
+    found = inout_facets(data[:, :3], data[:, 3] > 0.5, triangulation=triangulation, compiled=use)
     return {"mhat": (_cpu() - cpu, time.perf_counter() - wall),
             "facets": found.surface.n_facets, "skipped": found.skipped_seeds}  # fmt: skip
 
@@ -177,13 +180,16 @@ def bench_reconstruct(eps: str) -> None:
         seeds = os.path.join(folder, "seeds.npy")
         whole = _child("seeds", eps, seeds)
         cgal = _child("cgal_seeds", seeds)
-        mhat = _child("mhat", seeds, "cgal")
-        qhull = _child("mhat", seeds, "qhull")
+        mhat = _child("mhat", seeds, "cgal", "yes")
+        plain = _child("mhat", seeds, "cgal", "no")
+        qhull = _child("mhat", seeds, "qhull", "yes")
     base = cgal["built"]
     print(f"torus (3, 1), ε = {eps}: {whole['seeds']:,} seeds, {cgal['tetrahedra']:,} tetrahedra")
     print(_pair("CGAL Delaunay (built)", base, base, cgal["load"]))
     print(_pair("CGAL + simplex tree", cgal["tree"], base))
     print(_pair(f"M̂ on CGAL ({mhat['facets']:,} facets)", mhat["mhat"], base, mhat["load"]))
+    print(_pair(f"M̂ on CGAL, numpy steps ({plain['facets']:,})", plain["mhat"], base,
+                plain["load"]))  # fmt: skip
     print(_pair(f"M̂ on qhull ({qhull['facets']:,} facets)", qhull["mhat"], base, qhull["load"]))
     print(_pair("reconstruct --torus 3,1 (whole, no files)", whole["total"], base, whole["load"]))
     print(f"  M̂ correct: {whole['correct']}; skipped seeds {mhat['skipped']}, {qhull['skipped']}")
