@@ -142,3 +142,13 @@ def test_compiled_true_without_numba_is_refused(monkeypatch):
         inout_facets(points, points[:, 0] < 0.5, compiled=True)
     plain = inout_facets(points, points[:, 0] < 0.5)  # None: numpy where numba is off
     assert plain.delaunay_edges > 0
+
+
+def test_dense_unique_is_numpys_unique():
+    values = np.random.default_rng(6).integers(0, 50, 300)
+    unique, inverse = facets._dense_unique(values, 60)
+    want, want_inverse = np.unique(values, return_inverse=True)
+    np.testing.assert_array_equal(unique, want)
+    np.testing.assert_array_equal(inverse, want_inverse)
+    empty, none = facets._dense_unique(np.empty(0, dtype=np.int64), 5)
+    assert len(empty) == len(none) == 0

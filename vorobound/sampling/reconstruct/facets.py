@@ -603,8 +603,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    used, corner_vertex = np.unique(cycles.tets, return_inverse=True)
-    corner_vertex = corner_vertex.reshape(-1)
+    used, corner_vertex = _dense_unique(cycles.tets, len(centres))
     position = centres[used]
     slack = WELD_RTOL * radius[used] + error[used]
     sizes = np.diff(cycles.offsets)
@@ -638,8 +637,10 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     vertex, polygon = vertex[keep], polygon[keep]
     offsets = np.concatenate([[0], np.cumsum(distinct[good])])
     # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
-    used_clusters, vertex = np.unique(vertex, return_inverse=True)
-    member = np.flatnonzero(known & np.isin(cluster, used_clusters))
+    used_clusters, vertex = _dense_unique(vertex, count)
+    is_used = np.zeros(count, dtype=bool)
+    is_used[used_clusters] = True
+    member = np.flatnonzero(known & is_used[np.maximum(cluster, 0)])
     slot = np.searchsorted(used_clusters, cluster[member])
     total = np.bincount(slot, minlength=len(used_clusters))
     vertices = np.stack(
@@ -652,6 +653,17 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     non_simple = _non_simple(vertex, offsets)
     surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
     return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
+
+
+def _dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(values, return_inverse=True)`` for integers in [0, bound), by a table of
+    ``bound`` entries instead of a sort."""
+    present = np.zeros(bound, dtype=bool)
+    present[values] = True
+    unique = np.flatnonzero(present)
+    rank = np.empty(bound, dtype=np.int64)
+    rank[unique] = np.arange(len(unique))
+    return unique, rank[values]
 
 
 def _non_simple(corners, offsets) -> int:
