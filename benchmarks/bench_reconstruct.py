@@ -178,6 +178,27 @@ def run_sample(name: str) -> dict:
             "wall": wall, "peak_gb": after.ru_maxrss / 1e6}  # fmt: skip
 
 
+def run_degeneracy(name: str = "cube-0.038") -> dict:
+    """CGAL's build (GUDHI ``DelaunayComplex``) on the seeds of a cube case, on the same seeds
+    moved by 10⁻⁹ at random, and on as many uniform random points, CPU seconds each."""
+    import gudhi
+    import numpy as np
+
+    seeds = _reconstruct_cube(CASES[name][2], None).seeds.points
+    rng = np.random.default_rng(0)
+    sets = {
+        "seeds": seeds,
+        "seeds moved by 1e-9": seeds + 1e-9 * rng.standard_normal(seeds.shape),
+        "random points": rng.uniform(-1, 1, seeds.shape),
+    }
+    out = {"case": name, "count": len(seeds)}
+    for label, points in sets.items():
+        cpu0 = _cpu_seconds()
+        gudhi.DelaunayComplex(points=np.ascontiguousarray(points), precision="fast")
+        out[label] = _cpu_seconds() - cpu0
+    return out
+
+
 def run_qhull(kind: str, eps: float = VORONOI_EPS) -> dict:
     """Delaunay or Voronoi of the seeds of the torus (3, 1) at ``eps``, timed alone."""
     from scipy.spatial import Delaunay, Voronoi
@@ -246,14 +267,33 @@ def main() -> None:
         action="store_true",
         help="also time `vorobound sample --mesh cube.stl` at each (cube) case",
     )
+    parser.add_argument(
+        "--degeneracy",
+        action="store_true",
+        help="CGAL on the cube's seeds against the same seeds moved by 1e-9 and random points",
+    )
     args = parser.parse_args()
+    if args.degeneracy and not args.child:
+        done = subprocess.run(
+            [sys.executable, __file__, "--child", "degeneracy"],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        print(f"CGAL's Delaunay of {r['count']:,} points ({r['case']}), CPU seconds:")
+        for label in ("seeds", "seeds moved by 1e-9", "random points"):
+            print(f"  {label:22s} {r[label]:6.2f}")
+        return
     if args.cube:
         args.cases, args.sample = CUBE_CASES, True
     if args.tiny:
         args.cases = TINY_CASES
         compare_voronoi(CASES[TINY_CASES.split(",")[-1]][2])
     if args.child:
-        if args.child.startswith("sample-"):
+        if args.child == "degeneracy":
+            result = run_degeneracy()
+        elif args.child.startswith("sample-"):
             result = run_sample(args.child.removeprefix("sample-"))
         elif args.child.startswith("qhull-"):
             kind, eps = args.child.removeprefix("qhull-").split("@")
