@@ -8,9 +8,10 @@ predicates; its tetrahedra read in bulk by :mod:`vorobound.sampling.simplices`),
 neighbours of the tetrahedra from matching their faces; they give the turn around each edge
 without any geometry. Where numba is installed, the neighbours, the circumcentres and the walks
 around the in/out edges are compiled (:mod:`.facets_kernel`: faces bucketed by their smallest
-vertex instead of one global sort, each edge walked once from its first tetrahedra); the numpy
-steps below give the same facets everywhere else, and the tests compare the two. qhull (:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives
-the same facets and stays as the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
+vertex instead of one global sort, each edge walked once from its first tetrahedron); the
+numpy steps below give the same facets everywhere else, and the tests compare the two. qhull
+(:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives the same facets and stays as
+the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
