@@ -2,9 +2,9 @@
 
 Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6``,
 ``python benchmarks/bench_engines.py tile --sizes 1e6`` and
-``python benchmarks/bench_engines.py reconstruct --eps 0.03``. Every measurement runs in its own
-fresh process; printed are CPU and wall seconds and the load average before and after (the
-machine is shared: CPU seconds are the steadier measure).
+``python benchmarks/bench_engines.py reconstruct --eps 0.03 [--stages]``. Every measurement runs
+in its own fresh process; printed are CPU and wall seconds and the load average before and after
+(the machine is shared: CPU seconds are the steadier measure).
 
 * ``check``: on the torus row sample of about N balls (benchmarks/bench_scale.py makes it, in
   ``--data``), CGAL's bare regular triangulation of the balls with the filler points check
@@ -18,7 +18,8 @@ machine is shared: CPU seconds are the steadier measure).
 * ``reconstruct``: the seeds of the torus (3, 1) at ε (0.03: about 5.4·10⁵ seeds), CGAL's
   Delaunay tetrahedralization of them (``DelaunayComplex`` built; then with its simplex tree)
   against M̂ from the seeds (:func:`vorobound.sampling.reconstruct.facets.inout_facets`, CGAL
-  and qhull) and the whole ``reconstruct`` of the surface. Target: M̂ ≤ 1.5× CGAL's
+  with the compiled steps and with the numpy steps, and qhull) and the whole ``reconstruct`` of
+  the surface. Target: M̂ ≤ 1.5× CGAL's
   tetrahedralization.
 """
 
@@ -213,7 +214,8 @@ def child_cgal_seeds(path: str) -> dict:
             "tetrahedra": int(tree.num_simplices_by_dimension()[3])}  # fmt: skip
 
 
-def child_mhat(path: str, triangulation: str) -> dict:
+def child_mhat(path: str, triangulation: str, compiled: str = "auto") -> dict:
+    """M̂ of the seeds; ``compiled`` "auto", "yes" (numba steps) or "no" (numpy steps)."""
     import numpy as np
 
     from vorobound.sampling.reconstruct.facets import inout_facets
@@ -221,11 +223,61 @@ def child_mhat(path: str, triangulation: str) -> dict:
     data = np.load(path)
     from vorobound.sampling.simplices import kernel_available
 
-    kernel_available()  # numba's load is a one-off cost of the process, like importing scipy
+    kernel_available()  # numba's import is a one-off cost of the process, like importing scipy
+    use = {"auto": None, "yes": True, "no": False}[compiled]
     cpu, wall = _cpu(), time.perf_counter()
-    found = inout_facets(data[:, :3], data[:, 3] > 0.5, triangulation=triangulation)
+    found = inout_facets(data[:, :3], data[:, 3] > 0.5, triangulation=triangulation, compiled=use)
     return {"mhat": (_cpu() - cpu, time.perf_counter() - wall),
             "facets": found.surface.n_facets, "skipped": found.skipped_seeds}  # fmt: skip
+
+
+def child_stages(path: str) -> dict:
+    """CPU seconds of each step of M̂ on CGAL with the compiled steps, called one by one as
+    :func:`vorobound.sampling.reconstruct.facets.inout_facets` calls them (numba and its
+    kernels loaded first, so each step is its own cost)."""
+    import gudhi
+    import numpy as np
+
+    from vorobound.sampling import simplices
+    from vorobound.sampling.reconstruct import facets
+
+    data = np.load(path)
+    inside = data[:, 3] > 0.5
+    shift, unit = facets.seed_frame(data[:, :3])
+    points = (data[:, :3] - shift) / unit
+    kernel = facets._facets_kernel()
+    warm = np.random.default_rng(0).random((40, 3))  # loads every compiled step once
+    facets.inout_facets(warm, warm[:, 0] < 0.5, compiled=True)
+    simplices.tree_simplices(gudhi.DelaunayComplex(points=warm).create_simplex_tree(), True)
+    steps, cpu = {}, [_cpu()]
+
+    def lap(name):
+        cpu.append(_cpu())
+        steps[name] = cpu[-1] - cpu[-2]
+
+    complex_ = gudhi.DelaunayComplex(points=points, precision="fast")
+    lap("CGAL DelaunayComplex")
+    tree = complex_.create_simplex_tree()
+    del complex_
+    lap("simplex tree")
+    data_bytes = tree.__getstate__()
+    lap("serialization (__getstate__)")
+    del data_bytes
+    cpu[-1] = _cpu()
+    _, tets = simplices.tree_simplices(tree, True, triangles=False)
+    steps["reading (numba, with its serialization)"] = _cpu() - cpu[-1]
+    cpu.append(_cpu())
+    del tree
+    lap("freeing the tree")
+    neighbors, _ = kernel.face_neighbours(tets, len(points))
+    lap("face neighbours")
+    centres = facets.circumcentres(points, tets, neighbors, kernel)
+    lap("circumcentres")
+    cycles = facets._compiled_cycles(kernel, points, tets, neighbors, inside)
+    lap("cycles and orientation")
+    facets._weld(points, inside, *centres, cycles)
+    lap("welding")
+    return {"steps": steps, "tetrahedra": len(tets)}
 
 
 def _pair(label: str, cpu_wall, base, load=None) -> str:
@@ -270,21 +322,33 @@ def bench_tile(data: str, count: int) -> None:
         print(f"  {name:36s} {spent:6.2f} CPU-s  {spent / base:5.2f}× CGAL")
 
 
-def bench_reconstruct(eps: str) -> None:
+def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
     with tempfile.TemporaryDirectory() as folder:
         seeds = os.path.join(folder, "seeds.npy")
         whole = _child("seeds", eps, seeds)
         cgal = _child("cgal_seeds", seeds)
-        mhat = _child("mhat", seeds, "cgal")
-        qhull = _child("mhat", seeds, "qhull")
+        mhat = _child("mhat", seeds, "cgal", "yes")
+        plain = _child("mhat", seeds, "cgal", "no")
+        qhull = _child("mhat", seeds, "qhull", "yes")
+        stages = _child("stages", seeds) if with_stages else None
     base = cgal["built"]
     print(f"torus (3, 1), ε = {eps}: {whole['seeds']:,} seeds, {cgal['tetrahedra']:,} tetrahedra")
     print(_pair("CGAL Delaunay (built)", base, base, cgal["load"]))
     print(_pair("CGAL + simplex tree", cgal["tree"], base))
     print(_pair(f"M̂ on CGAL ({mhat['facets']:,} facets)", mhat["mhat"], base, mhat["load"]))
+    print(_pair(f"M̂ on CGAL, numpy steps ({plain['facets']:,})", plain["mhat"], base,
+                plain["load"]))  # fmt: skip
     print(_pair(f"M̂ on qhull ({qhull['facets']:,} facets)", qhull["mhat"], base, qhull["load"]))
     print(_pair("reconstruct --torus 3,1 (whole, no files)", whole["total"], base, whole["load"]))
     print(f"  M̂ correct: {whole['correct']}; skipped seeds {mhat['skipped']}, {qhull['skipped']}")
+    if stages is not None:
+        print("  the steps of M̂ on CGAL, one by one (serialization counted once):")
+        unit = stages["steps"]["CGAL DelaunayComplex"]
+        for name, seconds in stages["steps"].items():
+            if name.startswith("reading"):
+                seconds -= stages["steps"]["serialization (__getstate__)"]
+                name = "reading the serialized tree (numba)"
+            print(f"    {name:40s} {seconds:7.2f} CPU-s {seconds / unit:5.2f}×")
 
 
 def main() -> None:
@@ -295,6 +359,9 @@ def main() -> None:
     parser.add_argument("what", choices=["check", "tile", "reconstruct"])
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
+    parser.add_argument(
+        "--stages", action="store_true", help="reconstruct: also time M̂'s steps one by one"
+    )
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
     args = parser.parse_args()
     if args.what == "check":
@@ -302,7 +369,7 @@ def main() -> None:
     elif args.what == "tile":
         bench_tile(args.data, int(float(args.sizes.split(",")[-1])))
     else:
-        bench_reconstruct(args.eps)
+        bench_reconstruct(args.eps, args.stages)
 
 
 if __name__ == "__main__":

@@ -38,8 +38,28 @@ CASES = {
     "sphere-0.01": ("sphere", (1.0,), 0.01),
     "torus-0.3": ("torus", (3.0, 1.0), 0.3),
     "torus-0.2": ("torus", (3.0, 1.0), 0.2),
+    "cube-0.038": ("cube", (), 0.037991),
+    "cube-0.019": ("cube", (), 0.018995),
+    "cube-0.0095": ("cube", (), 0.0094977),
 }
-"""name ↦ (surface, dimensions, ε)."""
+"""name ↦ (surface, dimensions, ε). The cube is the CAD cube [−1, 1]³ of issue 32
+(``cad_meshes.cube()`` written as STL, L estimated from the mesh as ``vorobound reconstruct
+--mesh cube.stl`` does), at the advised ε = 0.0094977 and at 2 and 4 times it."""
+CUBE_CASES = "cube-0.038,cube-0.019,cube-0.0095"
+"""The cases of ``--cube`` (issue 32: reconstruct ≤ 60 CPU-s and ≤ 2.5 GB at ε = 0.0094977)."""
+CUBE_TARGET_CPU = 60.0
+CUBE_TARGET_GB = 2.5
+STAGE_OF = {
+    "lattice": "sample (lattice, sampling)",
+    "sampling": "sample (lattice, sampling)",
+    "regular triangulation": "guide triangles, seeds, labels",
+    "seeds": "guide triangles, seeds, labels",
+    "Delaunay (CGAL)": "M̂: CGAL, simplex tree, neighbours",
+    "in/out facets": "M̂: facets; topology, quality",
+    "distances to the surface": "distances to the surface",
+}
+"""Progress tasks grouped into the stages printed (the tasks before the lattice estimate L of
+a mesh)."""
 TINY_CASES = "torus-0.3,torus-0.2"
 """The cases of a --tiny run (that the code runs; the numbers mean nothing)."""
 VORONOI_EPS = 0.03
@@ -60,23 +80,28 @@ def run_case(name: str) -> dict:
     from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
 
     kind, dims, eps = CASES[name]
-    shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
-    marks: dict[str, tuple[float, float]] = {}
+    marks: list[tuple[str, float, float, float]] = []
 
     def progress(task: str, done: int, total: int | None) -> None:
-        if task not in marks:
-            marks[task] = (time.perf_counter(), _cpu_seconds())
+        stage = STAGE_OF.get(task, "L of the mesh" if kind == "cube" else task)
+        if not marks or marks[-1][0] != stage:
+            marks.append((stage, time.perf_counter(), _cpu_seconds(), _peak_gb()))
 
     load_before = os.getloadavg()
     cpu0, start = _cpu_seconds(), time.perf_counter()
-    report = reconstruct_surface(shape, eps, QualityParams(), seed=0, progress=progress)
+    if kind == "cube":
+        report = _reconstruct_cube(eps, progress)
+    else:
+        shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
+        report = reconstruct_surface(shape, eps, QualityParams(), seed=0, progress=progress)
     total, cpu = time.perf_counter() - start, _cpu_seconds() - cpu0
-    order = sorted(marks.items(), key=lambda item: item[1][0])
-    ends = [mark for _, mark in order[1:]] + [(start + total, cpu0 + cpu)]
-    stages = {
-        task: (end[0] - begin[0], end[1] - begin[1])
-        for (task, begin), end in zip(order, ends, strict=True)
-    }
+    ends = [mark[1:] for mark in marks[1:]] + [(start + total, cpu0 + cpu, _peak_gb())]
+    stages: dict[str, list[float]] = {}
+    for (stage, wall0, cpu_at, _), (wall1, cpu1, peak) in zip(marks, ends, strict=True):
+        seen = stages.setdefault(stage, [0.0, 0.0, 0.0])
+        seen[0] += wall1 - wall0
+        seen[1] += cpu1 - cpu_at
+        seen[2] = max(seen[2], peak)
     summary = report.summary()
     pairs = report.facets.surface.seed_pairs
     triangle = report.seeds.triangle
@@ -98,6 +123,80 @@ def run_case(name: str) -> dict:
         "load_before": load_before[0],
         "load_after": os.getloadavg()[0],
     }
+
+
+def _peak_gb() -> float:
+    """Peak resident memory of this process so far, GB."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+
+
+def _cube_file(folder: str) -> str:
+    """The CAD cube [−1, 1]³ written as STL into ``folder``."""
+    import meshio
+
+    from vorobound.sampling.surfaces import cad_meshes
+
+    path = os.path.join(folder, "cube.stl")
+    part = cad_meshes.cube()
+    meshio.write_points_cells(path, part.points, [("triangle", part.triangles)])
+    return path
+
+
+def _reconstruct_cube(eps: float, progress):
+    """``vorobound reconstruct --mesh cube.stl --eps E`` without files; its report."""
+    import tempfile
+    import warnings
+
+    from vorobound.api.reconstruct import reconstruct
+
+    with tempfile.TemporaryDirectory() as folder, warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the cube's sharp edges are warned about
+        return reconstruct(mesh=_cube_file(folder), eps=eps, progress=progress).report
+
+
+def run_sample(name: str) -> dict:
+    """``vorobound sample --mesh cube.stl --eps E -o s.npz`` in a child process."""
+    import tempfile
+
+    eps = CASES[name][2]
+    with tempfile.TemporaryDirectory() as folder:
+        mesh = _cube_file(folder)
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        start = time.perf_counter()
+        done = subprocess.run(
+            [sys.executable, "-m", "vorobound", "sample", "--mesh", mesh, "--eps", repr(eps)]
+            + ["-o", os.path.join(folder, "s.npz"), "--json"],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    summary = json.loads(done.stdout)
+    return {"case": name, "eps": eps, "n_samples": summary["n_samples"], "cpu": cpu,
+            "wall": wall, "peak_gb": after.ru_maxrss / 1e6}  # fmt: skip
+
+
+def run_degeneracy(name: str = "cube-0.038") -> dict:
+    """CGAL's build (GUDHI ``DelaunayComplex``) on the seeds of a cube case, on the same seeds
+    moved by 10⁻⁹ at random, and on as many uniform random points, CPU seconds each."""
+    import gudhi
+    import numpy as np
+
+    seeds = _reconstruct_cube(CASES[name][2], None).seeds.points
+    rng = np.random.default_rng(0)
+    sets = {
+        "seeds": seeds,
+        "seeds moved by 1e-9": seeds + 1e-9 * rng.standard_normal(seeds.shape),
+        "random points": rng.uniform(-1, 1, seeds.shape),
+    }
+    out = {"case": name, "count": len(seeds)}
+    for label, points in sets.items():
+        cpu0 = _cpu_seconds()
+        gudhi.DelaunayComplex(points=np.ascontiguousarray(points), precision="fast")
+        out[label] = _cpu_seconds() - cpu0
+    return out
 
 
 def run_qhull(kind: str, eps: float = VORONOI_EPS) -> dict:
@@ -160,12 +259,43 @@ def main() -> None:
     parser.add_argument(
         "--tiny", action="store_true", help=f"--cases {TINY_CASES} and --voronoi on them (CI)"
     )
+    parser.add_argument(
+        "--cube", action="store_true", help=f"--cases {CUBE_CASES} --sample (issue 32)"
+    )
+    parser.add_argument(
+        "--sample",
+        action="store_true",
+        help="also time `vorobound sample --mesh cube.stl` at each (cube) case",
+    )
+    parser.add_argument(
+        "--degeneracy",
+        action="store_true",
+        help="CGAL on the cube's seeds against the same seeds moved by 1e-9 and random points",
+    )
     args = parser.parse_args()
+    if args.degeneracy and not args.child:
+        done = subprocess.run(
+            [sys.executable, __file__, "--child", "degeneracy"],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        print(f"CGAL's Delaunay of {r['count']:,} points ({r['case']}), CPU seconds:")
+        for label in ("seeds", "seeds moved by 1e-9", "random points"):
+            print(f"  {label:22s} {r[label]:6.2f}")
+        return
+    if args.cube:
+        args.cases, args.sample = CUBE_CASES, True
     if args.tiny:
         args.cases = TINY_CASES
         compare_voronoi(CASES[TINY_CASES.split(",")[-1]][2])
     if args.child:
-        if args.child.startswith("qhull-"):
+        if args.child == "degeneracy":
+            result = run_degeneracy()
+        elif args.child.startswith("sample-"):
+            result = run_sample(args.child.removeprefix("sample-"))
+        elif args.child.startswith("qhull-"):
             kind, eps = args.child.removeprefix("qhull-").split("@")
             result = run_qhull(kind, float(eps))
         else:
@@ -200,24 +330,62 @@ def main() -> None:
             f"without area; {r['guide_facets']:,} facets are the two seeds of one guide "
             f"triangle ({100 * r['guide_facets'] / r['n_facets']:.1f} %)"
         )
-        for stage, (wall, cpu) in r["stages"].items():
-            share = 100 * wall / r["total"]
-            print(f"  {stage:32s} {wall:8.2f} s wall {cpu:8.2f} s CPU  {share:5.1f} %")
+        for stage, (wall, cpu, peak) in r["stages"].items():
+            share = 100 * cpu / r["cpu"]
+            print(
+                f"  {stage:36s} {wall:8.2f} s wall {cpu:8.2f} s CPU {share:5.1f} %  "
+                f"peak so far {peak:.2f} GB"
+            )
+        if r["case"].startswith("cube"):
+            verdict = "ok" if r["cpu"] <= CUBE_TARGET_CPU else "SLOW"
+            memory = "ok" if r["peak_gb"] <= CUBE_TARGET_GB else "OVER"
+            target, memory_target = f"{CUBE_TARGET_CPU:.0f} CPU-s", CUBE_TARGET_GB
+        else:
+            target, memory_target = f"{TARGET_SECONDS:.0f} s wall", MEMORY_TARGET_GB
         print(
-            f"  total {r['total']:.1f} s wall [{verdict} ≤ {TARGET_SECONDS:.0f} s], CPU "
-            f"{r['cpu']:.1f} s, peak {r['peak_gb']:.2f} GB [{memory} ≤ {MEMORY_TARGET_GB:.0f} "
-            f"GB], load average {r['load_before']:.2f} → {r['load_after']:.2f}"
+            f"  total {r['total']:.1f} s wall, CPU {r['cpu']:.1f} s [{verdict} ≤ {target}], "
+            f"peak {r['peak_gb']:.2f} GB [{memory} ≤ {memory_target:.1f} GB], load average "
+            f"{r['load_before']:.2f} → {r['load_after']:.2f}"
         )
     if len(results) >= 2:
-        small, large = results[0], results[-1]
-        size = math.log(large["n_seeds"] / small["n_seeds"])
-        wall = math.log(large["total"] / small["total"]) / size
-        cpu = math.log(large["cpu"] / small["cpu"]) / size
-        print(
-            f"\ngrowth from {small['case']} to {large['case']} "
-            f"({small['n_seeds']:,} → {large['n_seeds']:,} seeds): time ∝ n^{wall:.2f} (wall), "
-            f"n^{cpu:.2f} (CPU)"
-        )
+        _growth("reconstruct", results, "n_seeds", "seeds")
+    if args.sample:
+        rows = []
+        for name in (c for c in args.cases.split(",") if CASES[c][0] == "cube"):
+            # In a child of its own, so that the peak of its children is the sample's alone.
+            done = subprocess.run(
+                [sys.executable, __file__, "--child", f"sample-{name}"],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
+            r = json.loads(done.stdout.strip().splitlines()[-1])
+            rows.append(r)
+            print(
+                f"sample {name}: {r['n_samples']:,} samples, {r['cpu']:.1f} s CPU, "
+                f"{r['wall']:.1f} s wall, peak {r['peak_gb']:.2f} GB"
+            )
+        if len(rows) >= 2:
+            _growth("sample", rows, "n_samples", "samples")
+
+
+def _growth(what: str, rows: list[dict], size_key: str, unit: str) -> None:
+    """The growth exponent of the CPU time between consecutive rows and over all of them
+    (the least-squares slope of log CPU against log size)."""
+    size = [math.log(r[size_key]) for r in rows]
+    cpu = [math.log(r["cpu"]) for r in rows]
+    steps = ", ".join(
+        f"n^{(cpu[k + 1] - cpu[k]) / (size[k + 1] - size[k]):.2f}" for k in range(len(rows) - 1)
+    )
+    mean_size, mean_cpu = sum(size) / len(size), sum(cpu) / len(cpu)
+    slope = sum((x - mean_size) * (y - mean_cpu) for x, y in zip(size, cpu, strict=True)) / sum(
+        (x - mean_size) ** 2 for x in size
+    )
+    print(
+        f"\ngrowth of {what} CPU time from {rows[0]['case']} to {rows[-1]['case']} "
+        f"({rows[0][size_key]:,} → {rows[-1][size_key]:,} {unit}): steps {steps}; "
+        f"fit n^{slope:.2f}"
+    )
 
 
 if __name__ == "__main__":

@@ -6,8 +6,12 @@ around it. Only edges whose two seeds carry different labels are kept, so only t
 built. The Delaunay tetrahedralization comes from CGAL (GUDHI's ``DelaunayComplex``, exact
 predicates; its tetrahedra read in bulk by :mod:`vorobound.sampling.simplices`), and the face
 neighbours of the tetrahedra from matching their faces; they give the turn around each edge
-without any geometry. qhull (:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives
-the same facets and stays as the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
+without any geometry. Where numba is installed, the neighbours, the circumcentres and the walks
+around the in/out edges are compiled (:mod:`.facets_kernel`: faces bucketed by their smallest
+vertex instead of one global sort, each edge walked once from its first tetrahedron); the
+numpy steps below give the same facets everywhere else, and the tests compare the two. qhull
+(:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives the same facets and stays as
+the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
@@ -199,6 +203,7 @@ def inout_facets(
     inside: np.ndarray,
     progress: Progress | None = None,
     triangulation: str = "cgal",
+    compiled: bool | None = None,
 ) -> InOutFacets:
     """The Voronoi facets between seeds labelled inside and seeds labelled outside.
 
@@ -213,6 +218,10 @@ def inout_facets(
     triangulation : {"cgal", "qhull"}
         The Delaunay tetrahedralization: CGAL's (through GUDHI, exact predicates; the
         default) or qhull's (scipy; kept as the cross-check of the tests).
+    compiled : bool, optional
+        True builds the neighbours, circumcentres and cycles with the compiled kernels of
+        :mod:`.facets_kernel` (numba), False with numpy; None (default) compiled where numba
+        is installed. Both give the same facets (the tests compare them).
 
     Returns
     -------
@@ -234,17 +243,23 @@ def inout_facets(
     points = (points - shift) / unit
     # The seeds are known to the rounding of their given coordinates, which the shift hides.
     given = float(np.linalg.norm(shift)) / unit
+    kernel = _facets_kernel() if compiled is None or compiled else None
+    if compiled and kernel is None:
+        raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
     if triangulation == "cgal":
         Counter(progress, "Delaunay (CGAL)", None)
-        simplices, neighbors, present = _cgal_tetrahedra(points)
+        simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
     else:
         Counter(progress, "Delaunay (qhull)", None)
         simplices, neighbors, present = _qhull_tetrahedra(points)
     duplicates, skipped = _absent_seeds(points, inside, present)
     counter = Counter(progress, "in/out facets", 3)
-    centres, radius, error = circumcentres(points, simplices, neighbors)
+    centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
     counter.step()
-    cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
+    if kernel is None:
+        cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
+    else:
+        cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
     counter.step()
     surface, collapsed, unresolved, non_simple = _weld(
         points, inside, centres, radius, error, cycles, given
@@ -290,16 +305,22 @@ def _power_of_two_scale(points: np.ndarray) -> float:
     return float(np.ldexp(1.0, int(np.frexp(largest)[1])))
 
 
-def circumcentres(points, simplices, neighbors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def circumcentres(
+    points, simplices, neighbors, kernel=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Circumcentre, circumradius and rounding error of the circumcentre of every tetrahedron;
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
-    (and that neighbour's error; NaN where none is found)."""
+    (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
+    computes the circumcentres (else numpy, by chunks)."""
     count = len(simplices)
-    centres, error = np.empty((count, 3)), np.empty(count)
-    flat = np.empty(count, dtype=bool)
-    for start in range(0, count, CHUNK):
-        part = slice(start, start + CHUNK)
-        centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
+    if kernel is not None:
+        centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
+    else:
+        centres, error = np.empty((count, 3)), np.empty(count)
+        flat = np.empty(count, dtype=bool)
+        for start in range(0, count, CHUNK):
+            part = slice(start, start + CHUNK)
+            centres[part], error[part], flat[part] = _circumcentres(points[simplices[part]])
     centres[flat] = np.nan
     error[flat] = np.nan
     todo = np.flatnonzero(flat)
@@ -348,8 +369,9 @@ def _circumcentres(corner: np.ndarray):
     return centres, error, flat
 
 
-def _cgal_tetrahedra(points: np.ndarray):
-    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL."""
+def _cgal_tetrahedra(points: np.ndarray, kernel=None):
+    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL (the
+    neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
     from ..simplices import delaunay_simplices, face_neighbours
 
     _, simplices, _ = delaunay_simplices(points, triangles=False)
@@ -358,7 +380,11 @@ def _cgal_tetrahedra(points: np.ndarray):
             "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
             "in a plane)"
         )
-    neighbors = face_neighbours(simplices)
+    if kernel is not None:
+        neighbors, ok = kernel.face_neighbours(simplices, len(points))
+        neighbors = neighbors if ok else None
+    else:
+        neighbors = face_neighbours(simplices)
     if neighbors is None:
         raise InputError("seeds: CGAL's triangulation has a face of more than two tetrahedra")
     present = np.zeros(len(points), dtype=bool)
@@ -480,6 +506,55 @@ def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
     )
 
 
+def _facets_kernel():
+    """:mod:`.facets_kernel`, or None where numba is missing (or ``VOROBOUND_PURE_NUMPY`` set)."""
+    from ..simplices import kernel_available
+
+    if not kernel_available():
+        return None
+    try:
+        from . import facets_kernel
+    except (ImportError, RuntimeError, OSError):  # e.g. a numba that cannot cache
+        return None
+    return facets_kernel
+
+
+def _compiled_cycles(kernel, points, simplices, neighbors, inside) -> _Cycles:
+    """The oriented cycles of :func:`_oriented` (of :func:`_edge_cycles`), from the compiled
+    walk: edges in the order of their keys, each cycle from its first tetrahedron, reversed
+    where it turns clockwise about the edge from the inside to the outside seed."""
+    first, inner, outer, length, turn, found, ok = kernel.find_edges(
+        points, simplices, neighbors, inside
+    )
+    if not ok:
+        raise InputError("seeds: the triangulation is inconsistent around an edge")
+    first, inner, outer, length, turn = (x[:found] for x in (first, inner, outer, length, turn))
+    seeds_n = max(int(simplices.max()) + 1, 1)
+    order = np.argsort(np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer))
+    first, inner, outer, length, turn = (x[order] for x in (first, inner, outer, length, turn))
+    bounded = length >= 0
+    offsets = np.concatenate([[0], np.cumsum(length[bounded])])
+    tets = np.empty(int(offsets[-1]), dtype=np.int64)
+    kernel.write_cycles(
+        simplices,
+        neighbors,
+        first[bounded],
+        inner[bounded],
+        outer[bounded],
+        turn[bounded] < 0,
+        offsets,
+        tets,
+    )
+    pairs = np.column_stack([inner, outer])
+    return _Cycles(
+        pairs=pairs[bounded],
+        tets=tets,
+        offsets=offsets,
+        unbounded=pairs[~bounded],
+        edge_count=int(found),
+    )
+
+
 def _inside_first(pairs: np.ndarray, inside: np.ndarray) -> np.ndarray:
     """Each pair ordered (inside seed, outside seed)."""
     swap = ~inside[pairs[:, 0]]
@@ -532,8 +607,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    used, corner_vertex = np.unique(cycles.tets, return_inverse=True)
-    corner_vertex = corner_vertex.reshape(-1)
+    used, corner_vertex = _dense_unique(cycles.tets, len(centres))
     position = centres[used]
     slack = WELD_RTOL * radius[used] + error[used]
     sizes = np.diff(cycles.offsets)
@@ -567,8 +641,10 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     vertex, polygon = vertex[keep], polygon[keep]
     offsets = np.concatenate([[0], np.cumsum(distinct[good])])
     # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
-    used_clusters, vertex = np.unique(vertex, return_inverse=True)
-    member = np.flatnonzero(known & np.isin(cluster, used_clusters))
+    used_clusters, vertex = _dense_unique(vertex, count)
+    is_used = np.zeros(count, dtype=bool)
+    is_used[used_clusters] = True
+    member = np.flatnonzero(known & is_used[np.maximum(cluster, 0)])
     slot = np.searchsorted(used_clusters, cluster[member])
     total = np.bincount(slot, minlength=len(used_clusters))
     vertices = np.stack(
@@ -581,6 +657,17 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     non_simple = _non_simple(vertex, offsets)
     surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
     return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
+
+
+def _dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(values, return_inverse=True)`` for integers in [0, bound), by a table of
+    ``bound`` entries instead of a sort."""
+    present = np.zeros(bound, dtype=bool)
+    present[values] = True
+    unique = np.flatnonzero(present)
+    rank = np.empty(bound, dtype=np.int64)
+    rank[unique] = np.arange(len(unique))
+    return unique, rank[values]
 
 
 def _non_simple(corners, offsets) -> int:

@@ -176,12 +176,16 @@ def _from_surface(reference, surface, triangles, eps, count, rng) -> Extreme:
 
     vertices = np.ascontiguousarray(surface.vertices, dtype=float)
     faces = np.ascontiguousarray(triangles, dtype=np.int64)
+    if hasattr(igl, "AABB"):  # the tree of M̂ built once for all chunks of probes
+        tree = igl.AABB()
+        tree.init(vertices, faces)
+        distances = tree.squared_distance
+    else:  # a libigl without the class: a tree per chunk
+        distances = lambda v, f, p: igl.point_mesh_squared_distance(p, v, f)  # noqa: E731
     best = Extreme(0.0, None)
     for start in range(0, count, CHUNK):
         probes, lfs = reference.random_points(min(CHUNK, count - start), rng)
-        squared, _, _ = igl.point_mesh_squared_distance(
-            np.ascontiguousarray(probes, dtype=float), vertices, faces
-        )
+        squared, _, _ = distances(vertices, faces, np.ascontiguousarray(probes, dtype=float))
         ratio = np.sqrt(squared) / (eps * lfs)
         top = _argmax(ratio)
         if ratio[top] > best.value or np.isnan(ratio[top]):
