@@ -134,23 +134,45 @@ def test_a_mode_without_eps_star_does_not_abort_the_advice(run_cli):
     assert code == 0 and "no ε* for rigorous, target additive" in out
 
 
-def test_advise_on_a_mesh_estimates_its_feature_size_and_says_so(run_cli, tmp_path):
-    """A torus mesh with nothing else given: L is estimated from the mesh, and the sample
-    counts match the analytic torus within the estimator's error."""
+def _advise_estimated_and_exact(run_cli, path, mesh, exact_option):
+    """advise on a mesh file with nothing else given, and on the analytic surface: (estimated
+    JSON, exact JSON), after the checks that L was estimated from the mesh and said so."""
     import meshio
 
-    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
-
-    mesh = torus_mesh(1.5, 1.0, 96, 32)
-    path = tmp_path / "torus.stl"
     meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
     code, out, _ = run_cli("advise", "--mesh", str(path), "--mode", "rigorous", "--json")
     estimated = json.loads(out)
     # Exit code 1 exactly when `vorobound sample` cannot build the recommended ε.
     assert code == (0 if estimated["recommendation"]["samplable"] else 1)
     assert estimated["surface"]["lfs_source"].startswith("estimated from the mesh")
-    code, out, _ = run_cli("advise", "--torus", "1.5,1", "--mode", "rigorous", "--json")
+    code, out, _ = run_cli("advise", *exact_option, "--mode", "rigorous", "--json")
     exact = json.loads(out)
     assert exact["surface"]["lfs_source"] == "exact"
+    return estimated, exact
+
+
+def test_advise_on_a_mesh_estimates_its_feature_size_and_says_so(run_cli, tmp_path):
+    """A sphere mesh with nothing else given: L is estimated from the mesh, and the sample
+    counts match the analytic sphere within the estimator's error (1 CPU-s; the torus, where
+    L switches between the tube radius and the distance to the axis, is the slow test below)."""
+    from vorobound.sampling.surfaces.demo_meshes import icosphere
+
+    mesh = icosphere(1.0, 2)
+    estimated, exact = _advise_estimated_and_exact(
+        run_cli, tmp_path / "sphere.stl", mesh, ("--sphere", "1")
+    )
+    ratio = estimated["modes"][0]["samples_low"] / exact["modes"][0]["samples_low"]
+    assert ratio == pytest.approx(1, rel=0.03)  # facets and the estimate, 162 vertices
+
+
+@pytest.mark.slow
+def test_advise_on_a_torus_mesh_matches_the_analytic_torus(run_cli, tmp_path):
+    """The same on a 3 072-vertex torus (1.5, 1): 15 CPU-s, most of it the L estimate."""
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+
+    mesh = torus_mesh(1.5, 1.0, 96, 32)
+    estimated, exact = _advise_estimated_and_exact(
+        run_cli, tmp_path / "torus.stl", mesh, ("--torus", "1.5,1")
+    )
     ratio = estimated["modes"][0]["samples_low"] / exact["modes"][0]["samples_low"]
     assert ratio == pytest.approx(1, rel=0.03)  # facets and the estimate, 3 072 vertices

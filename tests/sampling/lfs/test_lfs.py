@@ -160,12 +160,12 @@ def test_jittered_torus_keeps_the_median_target():
     assert errors.max() < 0.05  # documented: off-axis poles near the symmetry axis
 
 
-def test_error_falls_with_resolution():
-    worst = []
-    for around, tube in ((48, 16), (96, 32)):
-        mesh = torus_mesh(3.0, 1.0, around, tube)
-        exact = surfaces.TorusShape(3.0, 1.0).lfs_at(mesh.points)
-        worst.append(relative_errors(quiet_estimate(mesh, samples=0), exact).max())
+def test_error_falls_with_resolution(coarse_torus):
+    mesh = torus_mesh(3.0, 1.0, 48, 16)
+    exact = surfaces.TorusShape(3.0, 1.0).lfs_at(mesh.points)
+    worst = [relative_errors(quiet_estimate(mesh, samples=0), exact).max()]
+    _, vertices_only, _, exact = coarse_torus  # the same torus at 96 × 32, vertices only
+    worst.append(relative_errors(vertices_only, exact).max())
     assert worst[1] < worst[0] / 3  # second order in the edge length
 
 
@@ -231,10 +231,10 @@ def test_midpoint_budget_takes_the_longest_edges():
     assert estimate.sample_count == len(mesh.points) - on_features + 100
 
 
-def test_default_sample_is_all_midpoints_or_none(monkeypatch):
-    mesh = icosphere(1.0, 3)  # 642 vertices, 1 920 edges
+def test_default_sample_is_all_midpoints_or_none(monkeypatch, icosphere_default):
+    mesh, estimate = icosphere_default  # 642 vertices, 1 920 edges, the default estimate
     assert len(mesh.points) + 1920 <= AUTO_SAMPLES
-    assert estimate_lfs(mesh).added_samples == 1920
+    assert estimate.added_samples == 1920
     monkeypatch.setattr(poles_module, "AUTO_SAMPLES", 2561)
     mesh = icosphere(1.0, 3)  # a new mesh object: the first one keeps its estimate
     assert estimate_lfs(mesh).added_samples == 0
