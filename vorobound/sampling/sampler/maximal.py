@@ -213,21 +213,25 @@ def sample_surface(
     """
     from ..surfaces.analytic import RevolutionShape
     from .lattice import revolution_candidates
-    from .mesh_lattice import mesh_candidates
+    from .slabs import slab_sample
 
     rng = np.random.default_rng(seed)
-    Counter(progress, "lattice", None)
-    build = revolution_candidates if isinstance(shape, RevolutionShape) else mesh_candidates
-    candidates = build(shape, eps, sigma, rng)
-    chosen = np.sort(maximal_sparse_subset(candidates, eps, sigma, rng, progress))
+    if isinstance(shape, RevolutionShape):
+        Counter(progress, "lattice", None)
+        candidates = revolution_candidates(shape, eps, sigma, rng)
+        chosen = np.sort(maximal_sparse_subset(candidates, eps, sigma, rng, progress))
+        points, lfs = candidates.points[chosen], candidates.lfs[chosen]
+        made, ratio = len(candidates.points), candidates.reach_ratio
+    else:
+        points, lfs, made, ratio = slab_sample(shape, eps, sigma, rng, progress)
     return Sample(
-        points=candidates.points[chosen],
-        lfs=candidates.lfs[chosen],
+        points=points,
+        lfs=lfs,
         eps=eps,
         sigma=sigma,
         lipschitz=shape.lipschitz,
         surface=shape.name,
         seed=seed,
-        candidates=len(candidates.points),
-        reach_ratio=candidates.reach_ratio,
+        candidates=made,
+        reach_ratio=ratio,
     )
