@@ -217,7 +217,7 @@ def _sampler_lines(rec) -> list[str]:
             "VoroCrust protects them)"
         )
     if rec.lattice_candidates is not None:
-        from ..sampling.sampler.lattice import MAX_CANDIDATES
+        from ..sampling.sampler.slabs import MAX_EXPECTED_CANDIDATES as MAX_CANDIDATES
 
         cost = rec.cost
         if rec.samplable:

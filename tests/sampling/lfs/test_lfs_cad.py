@@ -170,15 +170,15 @@ def test_check_of_the_tools_own_mesh_sample_finds_no_lipschitz_violation(tmp_pat
 
 
 def test_a_lattice_too_large_is_refused_in_one_line_naming_eps(tmp_path, run_cli):
-    """The 100-long cylinder at the ratio ε: `advise` says sample cannot make it; `sample`
-    refuses before allocating, in one line naming the ε asked for."""
+    """The 100-long cylinder at ε = 0.002 (about 5.9e9 plain-lattice candidates, beyond the
+    slab sampler's limit): `sample` refuses before allocating, in one line naming the ε."""
     path = tmp_path / "cylinder.stl"
     part = cad_meshes.capped_cylinder(length=100.0, rings=2)
     meshio.write_points_cells(path, part.points, [("triangle", part.triangles)])
-    code, out, err = run_cli("sample", "--mesh", str(path), "--eps", "0.0095", "-o", "s.npz")
+    code, out, err = run_cli("sample", "--mesh", str(path), "--eps", "0.002", "-o", "s.npz")
     assert code == 2 and out == ""
     errors = [line for line in err.strip().splitlines() if not line.startswith("warning:")]
-    assert len(errors) == 1 and errors[0].startswith("error: eps=0.0095 needs")
+    assert len(errors) == 1 and errors[0].startswith("error: eps=0.002 needs")
     assert "Traceback" not in err
 
 

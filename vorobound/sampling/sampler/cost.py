@@ -14,8 +14,8 @@ import math
 from dataclasses import dataclass
 
 from ...errors import InputError
-from .lattice import MAX_CANDIDATES
 from .mesh_lattice import expected_candidates
+from .slabs import MAX_EXPECTED_CANDIDATES
 
 BYTES_PER_CANDIDATE = 201.0
 """Peak memory per lattice candidate (measured slope, benchmarks/bench_sample_cost.py)."""
@@ -40,8 +40,9 @@ class SamplerCost:
 
     @property
     def samplable(self) -> bool:
-        """Whether the sampler builds this lattice (at most :data:`MAX_CANDIDATES`)."""
-        return self.candidates <= MAX_CANDIDATES
+        """Whether the sampler takes this on (a plain-lattice count of at most
+        :data:`.slabs.MAX_EXPECTED_CANDIDATES`, a limit of time: memory is bounded by a slab)."""
+        return self.candidates <= MAX_EXPECTED_CANDIDATES
 
 
 def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: float) -> SamplerCost:
@@ -57,7 +58,7 @@ def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: floa
 def smallest_samplable_eps(
     inv_lfs_sq_integral: float, sigma: float, lam: float, high: float = 0.999
 ) -> float:
-    """The smallest ε (to 1e-9 relative) whose lattice has at most :data:`MAX_CANDIDATES`
+    """The smallest ε (to 1e-9 relative) whose lattice has at most :data:`MAX_EXPECTED_CANDIDATES`
     candidates; the count decreases with ε, so every larger ε is samplable too.
 
     Raises
@@ -67,11 +68,11 @@ def smallest_samplable_eps(
     """
 
     def fits(eps: float) -> bool:
-        return expected_candidates(inv_lfs_sq_integral, eps, sigma, lam) <= MAX_CANDIDATES
+        return expected_candidates(inv_lfs_sq_integral, eps, sigma, lam) <= MAX_EXPECTED_CANDIDATES
 
     if not fits(high):
         raise InputError(
-            f"even eps={high:g} needs more than {MAX_CANDIDATES:.0e} lattice candidates: "
+            f"even eps={high:g} needs more than {MAX_EXPECTED_CANDIDATES:.0e} lattice candidates: "
             "vorobound sample cannot sample this surface"
         )
     low = 1e-12

@@ -108,6 +108,7 @@ def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progr
     centroid = shape.corners.mean(axis=1)
     middle = np.full((count, 3), 1 / 3)
     first_lfs = _positive(shape.lfs_at(np.arange(count), middle, centroid), shape)
+    # (L at the corners and centroids: the slabs are checked against L at every candidate)
     at_corners = shape.lfs_on(np.repeat(np.arange(count), 3), shape.corners.reshape(-1, 3))
     lfs_high = max(float(np.max(at_corners)), float(first_lfs.max()))
     # Small enough for thin slabs on a large part, never below the coarse cells at L_high.
@@ -115,10 +116,8 @@ def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progr
         math.sqrt(float(shape.areas.sum()) / FIRST_CELL_BUDGET),
         COARSE * float(k.max()) * lfs_high / math.sqrt(2),
     )
-    side = np.minimum(
-        np.minimum(np.maximum(frames.w, frames.h), cap),
-        COARSE * np.maximum(k * first_lfs / (1 + k * lam), by_range) / math.sqrt(2),
-    )
+    # First cells as large as the cap allows: few per part; each slab cuts its own further.
+    side = np.minimum(np.maximum(frames.w, frames.h), cap)
     cells = _first_cells(frames, side, eps)
     reach_margin = 1.5 * float(np.hypot(cells[3], cells[4]).max())
     axis = int(np.argmax(np.ptp(shape.corners.reshape(-1, 3), axis=0)))
