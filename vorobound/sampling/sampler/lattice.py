@@ -79,9 +79,10 @@ def candidate_limit_error(
     amount = (
         f"at least {count:.3g}" if at_least else f"about {count:.3g}" if about else f"{count:.3g}"
     )
+    why = "that fit in memory" if limit == MAX_CANDIDATES else "the slab sampler takes on"
     return LatticeTooLarge(
-        f"eps={eps:g} needs {amount} lattice candidates, more than the "
-        f"{limit:.0e} the sampler builds (the count grows like area/(eps·L)² and with "
+        f"eps={eps:g} needs {amount} lattice candidates, more than the {limit:.0e} {why} "
+        "(the count grows like area/(eps·L)² and with "
         "sigma near 1): use a larger eps, or a surface with a larger L"
     )
 
