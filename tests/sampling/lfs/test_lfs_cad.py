@@ -146,7 +146,8 @@ def test_sample_works_at_the_eps_advise_recommends(tmp_path, run_cli):
     assert code == 0, err
     made = json.loads(out)
     assert rec["samples_low"] <= made["n_samples"] <= rec["samples_high"]
-    assert made["n_candidates"] == pytest.approx(rec["lattice_candidates"], rel=0.3)
+    # The slab sampler's certified cells save most of the plain lattice the advice counts.
+    assert 0.1 * rec["lattice_candidates"] < made["n_candidates"] < rec["lattice_candidates"]
     assert made["sparsity_violations"] == 0 and made["coverage_max"] < 1
 
 
