@@ -46,7 +46,8 @@ def sample(
     holds x, y, z, the ball radius r = δ·L (δ = (δ/ε)·ε) and L per point; `vorobound check
     --balls` reads it back. Reported: coverage_max (max distance to the sample over εL at random
     probe points, < 1 required) and sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs,
-    ≥ 1 required); exit code 1 if either fails. Python: vorobound.sample(eps=..., output=..., torus=(3, 1)).
+    ≥ 1 required); exit code 1 if either fails. Python: vorobound.sample(eps=..., output=...,
+    torus=(3, 1)).
     """
     return invoke("sample", _show, locals())
 
