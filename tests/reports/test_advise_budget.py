@@ -127,6 +127,17 @@ def test_an_unsamplable_recommendation_names_the_smallest_eps_and_exits_1(plate,
     assert "smallest eps it builds is " + format_down(back["eps"]) in last
 
 
+def test_the_cylinders_advised_eps_is_samplable_in_slabs(cylinder, run_cli):
+    """The issue's cylinder: its advised ε (2.6e8 plain-lattice candidates) is within the slab
+    sampler's reach, so `advise` exits 0 with an estimate of one slab's memory."""
+    code, out, _ = run_cli("advise", "--mesh", str(cylinder), "--json")
+    assert code == 0
+    rec = json.loads(out)["recommendation"]
+    assert rec["samplable"] is True and rec["smallest_samplable"] is None
+    assert 1e8 < rec["lattice_candidates"] < MAX_CANDIDATES
+    assert rec["sampler_cost"]["memory_bytes"] < 4e9
+
+
 def test_sample_names_the_smallest_eps_it_builds(cylinder, run_cli):
     code, out, err = run_cli("sample", "--mesh", str(cylinder), "--eps", "0.002", "-o", "s.npz")
     assert code == 2 and out == ""
