@@ -7,8 +7,8 @@ quarter of them. CPU time grows linearly in that count; memory grows with it up 
 ``python benchmarks/bench_sample_cost.py`` (the CAD cube at ε = 0.05, 0.025, 0.0125: 0.39,
 1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU s, 169, 222 and 346 MB on the
 2-core machine shared with other jobs; fitted as base + slope × candidates) and
-``python benchmarks/bench_sample_slabs.py`` (the samples' share, on the 100-long cylinder at
-ε = 0.0094977); they are estimates, not bounds.
+``python benchmarks/bench_sample_slabs.py --parts cylinder`` (the 100-long cylinder at
+ε = 0.0094977: 482 CPU s, 1.32 GB); they are estimates, not bounds.
 """
 
 from __future__ import annotations
@@ -22,13 +22,14 @@ from .slabs import MAX_EXPECTED_CANDIDATES, SLAB_CANDIDATES
 
 BYTES_PER_CANDIDATE = 32.0
 """Peak memory per plain-lattice candidate within one slab (measured slope, cube)."""
-BYTES_PER_SAMPLED_CANDIDATE = 4.0
+BYTES_PER_SAMPLED_CANDIDATE = 3.5
 """Peak memory per plain-lattice candidate beyond one slab: the samples kept, their balls and
-the conditions' arrays (the cylinder at ε = 0.0094977)."""
+the conditions' arrays (the cylinder at ε = 0.0094977: 2.63·10⁸ plain candidates, 1.32 GB)."""
 BASE_BYTES = 165e6
 """Peak memory of a small ``vorobound sample --mesh`` run (interpreter, numpy, scipy, mesh)."""
-CPU_SECONDS_PER_CANDIDATE = 1.56e-6
-"""CPU seconds per plain-lattice candidate (lattice, greedy visit, checks; measured slope)."""
+CPU_SECONDS_PER_CANDIDATE = 1.83e-6
+"""CPU seconds per plain-lattice candidate (lattice, greedy visit, checks): the larger of the
+cube's fitted slope (1.56 µs) and the cylinder at ε = 0.0094977 (482 CPU s)."""
 BASE_CPU_SECONDS = 2.0
 """CPU seconds of a small run (imports, the local feature size of a small mesh)."""
 
