@@ -11,7 +11,7 @@ from scipy.spatial.distance import cdist
 
 from vorobound.errors import InputError
 from vorobound.sampling.io.meshes import TriangleMesh
-from vorobound.sampling.sampler import conditions, lattice, slabs
+from vorobound.sampling.sampler import conditions, greedy, lattice, slabs
 from vorobound.sampling.sampler import maximal as sampler
 from vorobound.sampling.surfaces import cad_meshes
 from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
@@ -89,7 +89,7 @@ def _sequential_greedy(points, lfs, eps, sigma, order):
 
 
 def test_chunked_visit_equals_sequential_greedy(monkeypatch):
-    monkeypatch.setattr(sampler, "MIN_CHUNK", 500)  # many chunks on a small lattice
+    monkeypatch.setattr(greedy, "MIN_CHUNK", 500)  # many chunks on a small lattice
     shape, eps = TorusShape(1.5, 1.0), 0.25
     rng = np.random.default_rng(5)
     candidates = lattice.revolution_candidates(shape, eps, SIGMA, rng)
@@ -98,7 +98,7 @@ def test_chunked_visit_equals_sequential_greedy(monkeypatch):
     rng.bit_generator.state = state
     order = np.argsort(rng.permutation(len(candidates.points)))
     reference = _sequential_greedy(candidates.points, candidates.lfs, eps, SIGMA, order)
-    assert len(sampler._chunks(len(candidates.points))) > 3
+    assert len(greedy._chunks(len(candidates.points))) > 3
     assert np.array_equal(np.sort(chosen), reference)
 
 

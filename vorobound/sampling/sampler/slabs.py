@@ -10,7 +10,7 @@ other, each refining only its own cells:
    and L there. A cell more than ``COARSE`` times larger than the lattice condition of
    :mod:`.mesh_lattice` allows is cut without visiting its candidate.
 2. The other candidates are visited in a random order, each accepted unless an accepted sample
-   is within σ'ε·min(L) of it (the greedy rule of :mod:`.maximal`, the same chunked visit).
+   is within σ'ε·min(L) of it (the greedy rule of :mod:`.greedy`, the same chunked visit).
 3. A visited cell is done when it meets the lattice condition (then every point of it is
    within εL of a sample by :func:`.lattice.cell_reach`, whether its candidate was accepted or
    not), or when it is *certified*: with C its centre, d its diagonal, q its candidate and p
@@ -38,8 +38,8 @@ import numpy as np
 
 from ...errors import InputError
 from ...progress import Counter
+from .greedy import _chunks, _conflicts_with, _first_independent
 from .lattice import SPARSITY_SLACK, candidate_limit_error
-from .maximal import _chunks, _conflicts_with, _first_independent
 from .mesh_lattice import (
     MAX_LEVELS,
     _corner_candidates,
@@ -209,7 +209,7 @@ def _sample_slab(shape, frames, cells, k, lam, by_range, eps, greedy, rng, allow
 
 
 class _Greedy:
-    """Accepted samples and the greedy visit (the rule of :mod:`.maximal`): a search tree of
+    """Accepted samples and the greedy visit (the rule of :mod:`.greedy`): a search tree of
     the samples of the last closed slab and the features, and one of the open slab's."""
 
     def __init__(self, eps: float, sigma: float):
