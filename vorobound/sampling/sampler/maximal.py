@@ -46,9 +46,10 @@ class Sample:
     """Name of the sampled surface."""
     seed: int
     candidates: int
-    """Size of the candidate lattice."""
+    """Candidates made (the lattice; on a mesh, every cell's candidate of the slab sampler)."""
     reach_ratio: float
-    """Guaranteed: every surface point is within reach_ratio·ε·L of a candidate."""
+    """Guaranteed: every surface point is within reach_ratio·ε·L of its cell's candidate, or (a
+    certified cell of the slab sampler) of the sample that certifies it."""
 
 
 def maximal_sparse_subset(
