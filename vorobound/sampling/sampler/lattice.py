@@ -49,8 +49,6 @@ class Candidates:
     reach_ratio: float
     """max over cells of reach / (ε·L_min of the cell): every surface point is within
     reach_ratio·ε·L of its cell's candidate (at most (1 − σ')/(1 + λσ'ε))."""
-    priority: np.ndarray | None = None
-    """(n,) visiting class (lower first: feature corners, feature edges, faces), or None."""
 
 
 def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):

@@ -1,8 +1,8 @@
 """σ-sparse ε-samples with a guarantee: a maximal sparse subset of a fine candidate lattice.
 
-The candidates are visited in a random order (fixed by the seed; on a mesh with sharp features
-its corners first, then its feature edges); each is accepted unless an
-accepted sample lies within σε·min(L) of it. The result is the lexicographically first maximal
+The candidates are visited in a random order (fixed by the seed); each is accepted unless an
+accepted sample lies within σε·min(L) of it (the rule of :mod:`.greedy`; a mesh is sampled
+slab by slab, features first, by :mod:`.slabs`). The result is the lexicographically first maximal
 independent set of the conflict graph for that order, so it is σ-sparse by construction and,
 by the choice of the lattice (:mod:`vorobound.sampling.sampler.lattice`), an ε-sample.
 
@@ -86,11 +86,6 @@ def maximal_sparse_subset(
     points, lfs = candidates.points, candidates.lfs
     count = len(points)
     rank = rng.permutation(count)  # visiting position of each candidate
-    if candidates.priority is not None:
-        # Lower priority classes first (feature corners, then edges), random inside a class.
-        order = np.lexsort((rank, candidates.priority))
-        rank = np.empty(count, dtype=np.int64)
-        rank[order] = np.arange(count)
     counter = Counter(progress, "sampling", count)
     accepted: list[np.ndarray] = []
     tree, members = None, np.empty(0, dtype=np.int64)
