@@ -18,8 +18,8 @@ from vorobound.bounds.targets import h3_route
 from vorobound.reports.advisor import packing_count, printable_eps_up
 from vorobound.rounding import format_down
 from vorobound.sampling.sampler.cost import smallest_samplable_eps
-from vorobound.sampling.sampler.lattice import MAX_CANDIDATES
 from vorobound.sampling.sampler.mesh_lattice import expected_candidates
+from vorobound.sampling.sampler.slabs import MAX_EXPECTED_CANDIDATES as MAX_CANDIDATES
 from vorobound.sampling.surfaces import cad_meshes
 
 QUALITY = QualityParams()
@@ -97,8 +97,18 @@ def cylinder(tmp_path_factory):
     return path
 
 
-def test_an_unsamplable_recommendation_names_the_smallest_eps_and_exits_1(cylinder, run_cli):
-    code, out, _ = run_cli("advise", "--mesh", str(cylinder), "--mode", "tight", "--json")
+@pytest.fixture(scope="module")
+def plate(tmp_path_factory):
+    """The CAD plate: its advised ε needs about 3.4e10 plain-lattice candidates, beyond the
+    slab sampler's 4e9."""
+    path = tmp_path_factory.mktemp("parts") / "plate.stl"
+    part = cad_meshes.plate()
+    meshio.write_points_cells(path, part.points, [("triangle", part.triangles)])
+    return path
+
+
+def test_an_unsamplable_recommendation_names_the_smallest_eps_and_exits_1(plate, run_cli):
+    code, out, _ = run_cli("advise", "--mesh", str(plate), "--json")
     assert code == 1
     rec = json.loads(out)["recommendation"]
     assert rec["samplable"] is False
@@ -111,14 +121,25 @@ def test_an_unsamplable_recommendation_names_the_smallest_eps_and_exits_1(cylind
     assert back["rho_f_proven"] == pytest.approx(
         guarantee_at(back["eps"], QUALITY).rho_f_ratio, rel=1e-12
     )
-    code, out, _ = run_cli("advise", "--mesh", str(cylinder), "--mode", "tight")
+    code, out, _ = run_cli("advise", "--mesh", str(plate))
     assert code == 1
     last = out.strip().splitlines()[-1]
     assert "smallest eps it builds is " + format_down(back["eps"]) in last
 
 
+def test_the_cylinders_advised_eps_is_samplable_in_slabs(cylinder, run_cli):
+    """The issue's cylinder: its advised ε (2.6e8 plain-lattice candidates) is within the slab
+    sampler's reach, so `advise` exits 0 with an estimate of one slab's memory."""
+    code, out, _ = run_cli("advise", "--mesh", str(cylinder), "--json")
+    assert code == 0
+    rec = json.loads(out)["recommendation"]
+    assert rec["samplable"] is True and rec["smallest_samplable"] is None
+    assert 1e8 < rec["lattice_candidates"] < MAX_CANDIDATES
+    assert rec["sampler_cost"]["memory_bytes"] < 4e9
+
+
 def test_sample_names_the_smallest_eps_it_builds(cylinder, run_cli):
-    code, out, err = run_cli("sample", "--mesh", str(cylinder), "--eps", "0.0095", "-o", "s.npz")
+    code, out, err = run_cli("sample", "--mesh", str(cylinder), "--eps", "0.002", "-o", "s.npz")
     assert code == 2 and out == ""
     errors = [line for line in err.strip().splitlines() if not line.startswith("warning:")]
     assert len(errors) == 1 and "the smallest eps it builds" in errors[0]

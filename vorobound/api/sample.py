@@ -97,7 +97,8 @@ def sample(
     """Sample a surface: σ-sparse, and an ε-sample by construction; write the balls.
 
     The sample is a maximal σ-sparse subset of a jittered candidate lattice fine enough that
-    maximality implies coverage (docs/samples.md). ``output`` (.npz, .vtu or .csv) holds x, y,
+    maximality implies coverage; a mesh is sampled slab by slab, a cell also being done once a
+    sample provably covers it (docs/samples.md). ``output`` (.npz, .vtu or .csv) holds x, y,
     z, the ball radius r = δ·L and L per point; :func:`vorobound.check` reads it back.
 
     References

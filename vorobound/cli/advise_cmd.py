@@ -217,15 +217,15 @@ def _sampler_lines(rec) -> list[str]:
             "VoroCrust protects them)"
         )
     if rec.lattice_candidates is not None:
-        from ..sampling.sampler.lattice import MAX_CANDIDATES
+        from ..sampling.sampler.slabs import MAX_EXPECTED_CANDIDATES as MAX_CANDIDATES
 
         cost = rec.cost
         if rec.samplable:
             lines.append(
-                f"  `vorobound sample --mesh` at this ε builds about "
-                f"{rec.lattice_candidates:.3g} lattice candidates (at most {MAX_CANDIDATES:.0e}): "
-                f"about {_memory(cost.memory_bytes)} and {_duration(cost.cpu_seconds)} CPU "
-                "(estimates)"
+                f"  `vorobound sample --mesh` at this ε: about {rec.lattice_candidates:.3g} "
+                f"plain-lattice candidates (at most {MAX_CANDIDATES:.0e}; the slab sampler makes "
+                f"about a quarter), about {_memory(cost.memory_bytes)} and "
+                f"{_duration(cost.cpu_seconds)} CPU (estimates)"
             )
         else:
             lines.append(

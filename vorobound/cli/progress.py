@@ -11,13 +11,36 @@ from collections.abc import Iterator
 
 from ..progress import Progress, silent
 
+PLAIN_SECONDS = 30.0
+"""Without a terminal, a task's progress is printed as a line at most this often."""
+
+
+def _lines() -> Progress:
+    """A callback printing "progress: task done/total" on stderr, at most every
+    ``PLAIN_SECONDS`` (the first line after that long)."""
+    import sys
+    import time
+
+    last = [time.monotonic()]
+
+    def report(task: str, done: int, total: int | None) -> None:
+        now = time.monotonic()
+        if now - last[0] < PLAIN_SECONDS:
+            return
+        last[0] = now
+        amount = f"{done:,}" if total is None else f"{done:,}/{total:,}"
+        print(f"progress: {task} {amount}", file=sys.stderr, flush=True)
+
+    return report
+
 
 @contextlib.contextmanager
 def progress_bar(enabled: bool = True) -> Iterator[Progress]:
     """Yield a :data:`Progress` callback that draws one bar per task on stderr (or does nothing).
 
     Bars are drawn only when stderr is a terminal, and disappear when the block ends
-    (``transient``), leaving only the command's output; a pipe or a file gets nothing.
+    (``transient``), leaving only the command's output; a pipe or a file gets a plain line per
+    task at most every ``PLAIN_SECONDS`` (none for a command that ends sooner).
     """
     if not enabled:
         yield silent
@@ -26,7 +49,7 @@ def progress_bar(enabled: bool = True) -> Iterator[Progress]:
 
     console = Console(stderr=True)
     if not console.is_terminal:
-        yield silent
+        yield _lines()
         return
     from rich.progress import (
         BarColumn,

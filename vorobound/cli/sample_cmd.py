@@ -41,11 +41,13 @@ def sample(
     """Sample a surface: σ-sparse, and an ε-sample by construction.
 
     The sample is a maximal σ-sparse subset of a jittered candidate lattice fine enough that
-    maximality implies coverage (docs/samples.md). The file holds x, y, z, the ball radius
-    r = δ·L (δ = (δ/ε)·ε) and L per point; `vorobound check --balls` reads it back. Reported:
-    coverage_max (max distance to the sample over εL at random probe points, < 1 required) and
-    sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs, ≥ 1 required); exit code 1 if
-    either fails. Python: vorobound.sample(eps=..., output=..., torus=(3, 1)).
+    maximality implies coverage; a mesh is sampled slab by slab, where a cell is also done once
+    a sample provably covers it (docs/samples.md), so memory is bounded by a slab. The file
+    holds x, y, z, the ball radius r = δ·L (δ = (δ/ε)·ε) and L per point; `vorobound check
+    --balls` reads it back. Reported: coverage_max (max distance to the sample over εL at random
+    probe points, < 1 required) and sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs,
+    ≥ 1 required); exit code 1 if either fails. Python: vorobound.sample(eps=..., output=...,
+    torus=(3, 1)).
     """
     return invoke("sample", _show, locals())
 
@@ -65,7 +67,11 @@ def _show(result) -> None:
                 fmt(result.coverage_max, 6),
                 f"< 1 required (measured, {result.coverage_probes:,} probes)",
             ),
-            ("guaranteed reach", fmt(result.reach_ratio, 6), "lattice cell reach / (εL)"),
+            (
+                "guaranteed reach",
+                fmt(result.reach_ratio, 6),
+                "cell reach / (εL): to its candidate or certifying sample",
+            ),
             ("sparsity_min", fmt(result.sparsity_min, 12), "≥ 1 required (exact, all pairs)"),
             ("λ of L", fmt(result.lipschitz, 6), "Lipschitz constant of the surface's L"),
             ("time", f"{result.seconds:.1f} s", ""),

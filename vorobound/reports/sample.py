@@ -36,6 +36,6 @@ def sample_report(
     """
     sample = sample_surface(shape, params.eps, params.sigma, seed, progress)
     balls = make_balls(sample.points, params.delta * sample.lfs, shape.name)
-    sparse = conditions.sparsity(sample.points, sample.lfs, params.eps, params.sigma)
+    sparse = conditions.sparsity_in_blocks(sample.points, sample.lfs, params.eps, params.sigma)
     coverage, _, probes = conditions.surface_coverage(shape, sample.points, params.eps, seed)
     return SampleReport(sample, balls, coverage, probes, sparse)

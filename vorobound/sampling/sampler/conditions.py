@@ -1,7 +1,8 @@
 """What a sample achieves: coverage, sparsity and the Lipschitz property of its L.
 
 * coverage: max over probe points x of the surface of (distance to the nearest sample)/(εL(x));
-  an ε-sample has it < 1. Probes are random points, uniform by area, plus any points the
+  an ε-sample has it < 1. Probes are random points, uniform by area (``PROBES_PER_SAMPLE`` per
+  sample, between ``MIN_PROBES`` and ``MAX_PROBES``), plus any points the
   caller adds (the checker adds the circumcenters of the guide triangles projected onto the
   surface, near which the distance to the sample peaks). A measurement, not a proof.
 * sparsity: min over all pairs of |p_i − p_j|/(σε·min(L_i, L_j)); σ-sparse means ≥ 1. Exact.
@@ -26,6 +27,15 @@ PROBES_PER_SAMPLE = 4
 """Random probe points per sample for the coverage measurement."""
 MIN_PROBES = 100_000
 """At least this many random probe points."""
+MAX_PROBES = 2_000_000
+"""At most this many random probe points (a sample of 10⁷ points would otherwise need 4·10⁷
+evaluations of L, as many as the sampler itself)."""
+BLOCK_SAMPLES = 500_000
+"""Samples beyond this many are measured for sparsity in blocks of this size along their
+longest axis (:func:`sparsity_in_blocks`), which bounds the memory of the neighbour lists."""
+HALO_RATIO = 2.0
+"""A block is measured with the samples within HALO_RATIO·σε·max L of it along the axis: every
+pair whose sparsity ratio is below HALO_RATIO lies in one block and its halo."""
 NEIGHBOURS = 16
 """Sparsity and Lipschitz ratios are evaluated between each sample and this many nearest
 samples (sparsity then completes the search where that could miss a pair)."""
@@ -133,6 +143,57 @@ def sparsity(
     return _report(pairs, ratio, broken, smallest=True)
 
 
+def sparsity_in_blocks(points: np.ndarray, lfs: np.ndarray, eps: float, sigma: float) -> PairReport:
+    """:func:`sparsity` of a large sample, block by block along its longest axis.
+
+    Each block of ``BLOCK_SAMPLES`` consecutive samples (in the order of the axis) is measured
+    with the samples up to HALO_RATIO·σε·max L beyond it. A pair with ratio r < HALO_RATIO is
+    closer than that along the axis, so it lies in the block of its first point and its halo:
+    the minimum is exact when below HALO_RATIO (else it is the ratio of a pair, at least
+    HALO_RATIO), and pairs below 1 are counted once, in the block of their first point.
+
+    References
+    ----------
+    The σ-sparsity condition of Section 4.1.
+    """
+    if len(points) <= BLOCK_SAMPLES:
+        return sparsity(points, lfs, eps, sigma)
+    axis = int(np.argmax(np.ptp(points, axis=0)))
+    order = np.argsort(points[:, axis], kind="stable")
+    coord = points[order, axis]
+    halo = HALO_RATIO * sigma * eps * float(lfs.max())
+    best, violations, worst, worst_values = None, 0, [], []
+    for start in range(0, len(points), BLOCK_SAMPLES):
+        stop = min(len(points), start + BLOCK_SAMPLES)
+        end = int(np.searchsorted(coord, coord[stop - 1] + halo, side="right"))
+        rows = order[start:end]
+        report = sparsity(points[rows], lfs[rows], eps, sigma)
+        if best is None or report.extreme < best[0]:
+            best = (report.extreme, tuple(int(rows[i]) for i in report.extreme_pair))
+        if report.violations:
+            pairs, ratio = _pairs_below_one(points[rows], lfs[rows], eps, sigma)
+            own = pairs.min(axis=1) < stop - start
+            violations += int(own.sum())
+            worst.append(rows[pairs[own]])
+            worst_values.append(ratio[own])
+    worst = np.concatenate([np.empty((0, 2), dtype=np.int64), *worst])
+    worst_values = np.concatenate([np.empty(0), *worst_values])
+    listed = np.argsort(worst_values)[:WORST_LISTED]
+    return PairReport(best[0], best[1], violations, worst[listed], worst_values[listed])
+
+
+def _pairs_below_one(points, lfs, eps, sigma):
+    """All pairs (i, j), i < j, closer than σε·min(L_i, L_j), and their ratios."""
+    from scipy.spatial import cKDTree
+
+    unit = sigma * eps
+    pairs = cKDTree(points).query_pairs(unit * float(lfs.max()), output_type="ndarray")
+    pairs = np.sort(pairs, axis=1)
+    gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
+    ratio = gap / (unit * np.minimum(lfs[pairs[:, 0]], lfs[pairs[:, 1]]))
+    return pairs[ratio < 1], ratio[ratio < 1]
+
+
 def lipschitz(
     points: np.ndarray, lfs: np.ndarray, bound: float | None, near: Neighbours | None = None
 ) -> PairReport:
@@ -228,7 +289,7 @@ def surface_coverage(
     The ε-sample condition of Section 4.1.
     """
     rng = np.random.default_rng([0 if seed is None else seed, 1])
-    count = max(MIN_PROBES, PROBES_PER_SAMPLE * len(points))
+    count = max(MIN_PROBES, min(MAX_PROBES, PROBES_PER_SAMPLE * len(points)))
     probes, probe_lfs = shape.random_points(count, rng)
     projected = shape.project(extra) if extra is not None and len(extra) else None
     if projected is not None:  # (shapes without a projection return None)

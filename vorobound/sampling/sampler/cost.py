@@ -1,11 +1,14 @@
 """What ``vorobound sample --mesh`` costs at an ε, and the smallest ε it can build.
 
-The mesh lattice has about :func:`.mesh_lattice.expected_candidates` candidates (∝ ∫dA/L²/ε²);
-memory and CPU time grow linearly in that count. The constants are measured by
-``python benchmarks/bench_sample_cost.py`` (peak RSS and CPU seconds of ``vorobound sample``
-on the CAD cube at ε = 0.05, 0.025, 0.0125: 0.4, 1.4 and 5.3 million candidates, 2.3, 5.5 and
-20.9 CPU s, 198, 389 and 1175 MB on the 2-core machine shared with other jobs; fitted as
-base + slope × candidates) and are estimates, not bounds.
+The cost is counted in plain-lattice candidates, :func:`.mesh_lattice.expected_candidates`
+(∝ ∫dA/L²/ε²), the count `advise` shows; the slab sampler (:mod:`.slabs`) makes about a
+quarter of them. CPU time grows linearly in that count; memory grows with it up to one slab
+(``SLAB_CANDIDATES``) and then only with the samples kept. The constants are measured by
+``python benchmarks/bench_sample_cost.py`` (the CAD cube at ε = 0.05, 0.025, 0.0125: 0.39,
+1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU s, 169, 222 and 346 MB on the
+2-core machine shared with other jobs; fitted as base + slope × candidates) and
+``python benchmarks/bench_sample_slabs.py --parts cylinder`` (the 100-long cylinder at
+ε = 0.0094977: 482 CPU s, 1.32 GB); they are estimates, not bounds.
 """
 
 from __future__ import annotations
@@ -14,16 +17,20 @@ import math
 from dataclasses import dataclass
 
 from ...errors import InputError
-from .lattice import MAX_CANDIDATES
 from .mesh_lattice import expected_candidates
+from .slabs import MAX_EXPECTED_CANDIDATES, SLAB_CANDIDATES
 
-BYTES_PER_CANDIDATE = 201.0
-"""Peak memory per lattice candidate (measured slope, benchmarks/bench_sample_cost.py)."""
-BASE_BYTES = 112e6
+BYTES_PER_CANDIDATE = 32.0
+"""Peak memory per plain-lattice candidate within one slab (measured slope, cube)."""
+BYTES_PER_SAMPLED_CANDIDATE = 3.5
+"""Peak memory per plain-lattice candidate beyond one slab: the samples kept, their balls and
+the conditions' arrays (the cylinder at ε = 0.0094977: 2.63·10⁸ plain candidates, 1.32 GB)."""
+BASE_BYTES = 165e6
 """Peak memory of a small ``vorobound sample --mesh`` run (interpreter, numpy, scipy, mesh)."""
-CPU_SECONDS_PER_CANDIDATE = 3.9e-6
-"""CPU seconds per lattice candidate (lattice, maximal subset, checks; measured slope)."""
-BASE_CPU_SECONDS = 0.5
+CPU_SECONDS_PER_CANDIDATE = 1.83e-6
+"""CPU seconds per plain-lattice candidate (lattice, greedy visit, checks): the larger of the
+cube's fitted slope (1.56 µs) and the cylinder at ε = 0.0094977 (482 CPU s)."""
+BASE_CPU_SECONDS = 2.0
 """CPU seconds of a small run (imports, the local feature size of a small mesh)."""
 
 
@@ -40,8 +47,9 @@ class SamplerCost:
 
     @property
     def samplable(self) -> bool:
-        """Whether the sampler builds this lattice (at most :data:`MAX_CANDIDATES`)."""
-        return self.candidates <= MAX_CANDIDATES
+        """Whether the sampler takes this on (a plain-lattice count of at most
+        :data:`.slabs.MAX_EXPECTED_CANDIDATES`, a limit of time: memory is bounded by a slab)."""
+        return self.candidates <= MAX_EXPECTED_CANDIDATES
 
 
 def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: float) -> SamplerCost:
@@ -49,7 +57,9 @@ def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: floa
     count = expected_candidates(inv_lfs_sq_integral, eps, sigma, lam)
     return SamplerCost(
         candidates=count,
-        memory_bytes=BASE_BYTES + BYTES_PER_CANDIDATE * count,
+        memory_bytes=BASE_BYTES
+        + BYTES_PER_CANDIDATE * min(count, SLAB_CANDIDATES)
+        + BYTES_PER_SAMPLED_CANDIDATE * max(count - SLAB_CANDIDATES, 0.0),
         cpu_seconds=BASE_CPU_SECONDS + CPU_SECONDS_PER_CANDIDATE * count,
     )
 
@@ -57,7 +67,7 @@ def sampler_cost(inv_lfs_sq_integral: float, eps: float, sigma: float, lam: floa
 def smallest_samplable_eps(
     inv_lfs_sq_integral: float, sigma: float, lam: float, high: float = 0.999
 ) -> float:
-    """The smallest ε (to 1e-9 relative) whose lattice has at most :data:`MAX_CANDIDATES`
+    """The smallest ε (to 1e-9 relative) whose lattice has at most :data:`MAX_EXPECTED_CANDIDATES`
     candidates; the count decreases with ε, so every larger ε is samplable too.
 
     Raises
@@ -67,11 +77,11 @@ def smallest_samplable_eps(
     """
 
     def fits(eps: float) -> bool:
-        return expected_candidates(inv_lfs_sq_integral, eps, sigma, lam) <= MAX_CANDIDATES
+        return expected_candidates(inv_lfs_sq_integral, eps, sigma, lam) <= MAX_EXPECTED_CANDIDATES
 
     if not fits(high):
         raise InputError(
-            f"even eps={high:g} needs more than {MAX_CANDIDATES:.0e} lattice candidates: "
+            f"even eps={high:g} needs more than {MAX_EXPECTED_CANDIDATES:.0e} lattice candidates: "
             "vorobound sample cannot sample this surface"
         )
     low = 1e-12

@@ -49,8 +49,6 @@ class Candidates:
     reach_ratio: float
     """max over cells of reach / (ε·L_min of the cell): every surface point is within
     reach_ratio·ε·L of its cell's candidate (at most (1 − σ')/(1 + λσ'ε))."""
-    priority: np.ndarray | None = None
-    """(n,) visiting class (lower first: feature corners, feature edges, faces), or None."""
 
 
 def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):
@@ -68,16 +66,21 @@ def cell_reach(eps: float, sigma: float, lfs_min, lipschitz: float):
 
 
 def candidate_limit_error(
-    count: float, eps: float, at_least: bool = False, about: bool = False
+    count: float,
+    eps: float,
+    at_least: bool = False,
+    about: bool = False,
+    limit: float = MAX_CANDIDATES,
 ) -> LatticeTooLarge:
-    """The one refusal for lattices that do not fit in memory (``count`` a lower bound, an
-    estimate, or exact)."""
+    """The one refusal for lattices too large (``count`` a lower bound, an estimate, or
+    exact): beyond ``limit``, the memory of a whole lattice or the time of the slab sampler."""
     amount = (
         f"at least {count:.3g}" if at_least else f"about {count:.3g}" if about else f"{count:.3g}"
     )
+    why = "that fit in memory" if limit == MAX_CANDIDATES else "the slab sampler takes on"
     return LatticeTooLarge(
-        f"eps={eps:g} needs {amount} lattice candidates, more than the "
-        f"{MAX_CANDIDATES:.0e} that fit in memory (the count grows like area/(eps·L)² and with "
+        f"eps={eps:g} needs {amount} lattice candidates, more than the {limit:.0e} {why} "
+        "(the count grows like area/(eps·L)² and with "
         "sigma near 1): use a larger eps, or a surface with a larger L"
     )
 

@@ -22,7 +22,9 @@ shapes: a 100-long sliver of a CAD export costs what its area costs.
 
 Feature edges get candidates of their own along the edge and their corners one each; the
 sampler visits corners first, then edges, then faces (VoroCrust protects sharp features
-first).
+first). The slab sampler (:mod:`.slabs`) builds these cells slab by slab and stops cutting a
+cell once a sample provably covers it; :func:`expected_candidates` counts the plain lattice,
+the measure of cost `advise` shows.
 """
 
 from __future__ import annotations
@@ -32,14 +34,10 @@ import math
 import numpy as np
 
 from ...errors import InputError
-from .lattice import MAX_CANDIDATES, SPARSITY_SLACK, Candidates, candidate_limit_error
+from .lattice import MAX_CANDIDATES, SPARSITY_SLACK, candidate_limit_error
 
-FIRST_CELLS = 4.0
-"""The first cells of a triangle are this many times larger than the condition allows at its
-centroid (capped by the triangle): the first cut then adapts to L where it is evaluated."""
 MAX_LEVELS = 60
 """Most rounds of cutting (each one at least halves a failing cell's side)."""
-PRIORITY_CORNER, PRIORITY_EDGE, PRIORITY_FACE = 0, 1, 2
 
 
 LATTICE_WASTE = 1.15
@@ -54,42 +52,6 @@ def expected_candidates(inv_lfs_sq_integral: float, eps: float, sigma: float, la
     k = (1 - s) * eps / (1 + lam * s * eps)
     side = k / (1 + k * lam) / math.sqrt(2)
     return LATTICE_WASTE * inv_lfs_sq_integral / side**2
-
-
-def mesh_candidates(shape, eps: float, sigma: float, rng: np.random.Generator) -> Candidates:
-    """Candidates on every triangle of ``shape`` (a mesh shape, module docstring), with the
-    feature corners and edges of the shape first.
-
-    ``shape`` provides ``corners`` (t, 3, 3), ``triangle_lipschitz`` (t,), ``lfs_at(triangle,
-    bary, points)`` and ``range_reach(eps, sigma)`` (t,) (0 where it does not apply), and
-    optionally ``feature_segments`` (k, 2, 3) and ``corner_points`` (c, 3).
-
-    Raises
-    ------
-    InputError
-        When the lattice would exceed ``MAX_CANDIDATES``, or L is not positive.
-    """
-    s = sigma * (1 + SPARSITY_SLACK)
-    if not s < 1:
-        raise InputError(f"sigma must be below 1 for a maximal sparse set to cover, got {sigma}")
-    lam = np.asarray(shape.triangle_lipschitz, dtype=float)
-    # The size the advice predicts (the same estimate): refuse before evaluating L on millions
-    # of cells, and exactly where `vorobound advise` says the sample cannot be made.
-    expected = expected_candidates(shape.counts().inv_lfs_sq_integral, eps, sigma, float(lam.max()))
-    if not expected <= MAX_CANDIDATES:
-        raise candidate_limit_error(expected, eps, about=True)
-    k = (1 - s) * eps / (1 + lam * s * eps)
-    frames = _Frames(shape.corners)
-    by_range = np.maximum(np.asarray(shape.range_reach(eps, sigma), dtype=float), 0.0)
-    parts = [_corner_candidates(shape), _edge_candidates(shape, eps, s, rng)]
-    faces, ratio = _face_candidates(shape, frames, k, lam, by_range, eps, rng, parts)
-    parts.append(faces)
-    points = np.concatenate([p[0] for p in parts])
-    lfs = np.concatenate([p[1] for p in parts])
-    priority = np.concatenate(
-        [np.full(len(p[0]), level, dtype=np.int8) for level, p in enumerate(parts)]
-    )
-    return Candidates(points, lfs, ratio, priority)
 
 
 class _Frames:
@@ -163,56 +125,6 @@ class _Frames:
             out_x[todo] = np.where(better, cx, out_x[todo])
             out_y[todo] = np.where(better, cy, out_y[todo])
         return out_x, out_y
-
-
-def _face_candidates(shape, frames, k, lam, by_range, eps, rng, earlier):
-    """Adaptive cells on every triangle (module docstring); (points, L) and the reach ratio."""
-    count = len(frames.w)
-    centroid = shape.corners.mean(axis=1)
-    bary = np.full((count, 3), 1 / 3)
-    first_lfs = _positive(shape.lfs_at(np.arange(count), bary, centroid), shape)
-    side = np.minimum(
-        np.maximum(frames.w, frames.h),
-        FIRST_CELLS * np.maximum(k * first_lfs / (1 + k * lam), by_range) / math.sqrt(2),
-    )
-    cells = _first_cells(frames, side, eps)
-    done_points, done_lfs, ratio = [], [], 0.0
-    total = sum(len(p[0]) for p in earlier)
-    for _ in range(MAX_LEVELS):
-        if not len(cells[0]):
-            break
-        t, x0, y0, cw, ch = cells
-        px = x0 + rng.random(len(t)) * cw
-        py = y0 + rng.random(len(t)) * ch
-        qx, qy = frames.closest(t, px, py)
-        points = frames.embed(t, qx, qy)
-        lfs = _positive(shape.lfs_at(t, frames.barycentric(t, qx, qy), points), shape)
-        diagonal = np.hypot(cw, ch)
-        allowed = np.maximum(k[t] * lfs / (1 + k[t] * lam[t]), by_range[t])
-        ok = diagonal <= allowed
-        if ok.any():
-            done_points.append(points[ok])
-            done_lfs.append(lfs[ok])
-            total += int(ok.sum())
-            floor = np.maximum(lfs[ok] - lam[t[ok]] * diagonal[ok], 0)
-            with np.errstate(divide="ignore"):
-                reach = np.where(by_range[t[ok]] >= diagonal[ok], 0, diagonal[ok] / (eps * floor))
-            ratio = max(ratio, float(reach.max()))
-        bad = ~ok
-        if not bad.any():
-            cells = (t[:0],) * 5
-            break
-        cut = np.ceil(diagonal[bad] / allowed[bad] * (1 + 1e-9)).astype(np.int64)
-        cut = np.maximum(cut, 2)
-        pending = total + float((cut.astype(float) ** 2).sum())
-        if not pending <= MAX_CANDIDATES:
-            raise candidate_limit_error(pending, eps, at_least=True)
-        cells = _cut(frames, t[bad], x0[bad], y0[bad], cw[bad], ch[bad], cut)
-    else:
-        raise InputError(f"{shape.name}: the lattice did not settle (L too small somewhere)")
-    if not done_points:
-        raise InputError(f"{shape.name}: no candidates on the mesh")
-    return (np.concatenate(done_points), np.concatenate(done_lfs)), ratio
 
 
 def _first_cells(frames, side, eps: float):
