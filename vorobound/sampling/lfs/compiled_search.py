@@ -329,7 +329,7 @@ def _tangent_kernel(
                         continue
                     value = _tangent_radius(x0, x1, x2, d0, d1, d2, pieces[p])
                     if value < r:
-                        r = value
+                        r = max(value, 0.0)  # rounding below 0: x lies on the piece
                 continue
             right = node_child[node, 1]
             near = _box_gap(node_low, node_high, left, c0, c1, c2)
