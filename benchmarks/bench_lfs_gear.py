@@ -64,8 +64,11 @@ def pole_baseline(points: np.ndarray) -> np.ndarray:
     corners = points[tets]
     a = corners[:, 1:] - corners[:, :1]
     rhs = 0.5 * (a * a).sum(axis=2)
+    # Flat tetrahedra (coplanar vertices of a CAD part's caps) have no circumcentre.
+    centre = np.full((len(tets), 3), np.nan)
+    solid = np.abs(np.linalg.det(a)) > 1e-12 * scale**3
     with np.errstate(all="ignore"):
-        centre = corners[:, 0] + np.linalg.solve(a, rhs[..., None])[..., 0]
+        centre[solid] = corners[solid, 0] + np.linalg.solve(a[solid], rhs[solid][..., None])[..., 0]
     good = np.isfinite(centre).all(axis=1)
     owner = tets[good].reshape(-1)
     centres = np.repeat(centre[good], 4, axis=0)
