@@ -64,8 +64,11 @@ def pole_baseline(points: np.ndarray) -> np.ndarray:
     corners = points[tets]
     a = corners[:, 1:] - corners[:, :1]
     rhs = 0.5 * (a * a).sum(axis=2)
+    # Flat tetrahedra (coplanar vertices of a CAD part's caps) have no circumcentre.
+    centre = np.full((len(tets), 3), np.nan)
+    solid = np.abs(np.linalg.det(a)) > 1e-12 * scale**3
     with np.errstate(all="ignore"):
-        centre = corners[:, 0] + np.linalg.solve(a, rhs[..., None])[..., 0]
+        centre[solid] = corners[solid, 0] + np.linalg.solve(a[solid], rhs[solid][..., None])[..., 0]
     good = np.isfinite(centre).all(axis=1)
     owner = tets[good].reshape(-1)
     centres = np.repeat(centre[good], 4, axis=0)
@@ -128,11 +131,27 @@ def child(kind: str, spec: str, profile: bool) -> None:
 
         profiler = cProfile.Profile()
         profiler.enable()
+    stages: dict[str, float] = {}
+    began = [0.0]
+
+    def progress(task: str, done: int, total) -> None:
+        """CPU seconds per stage, summed over the rounds; each finished step is written to
+        stderr at once, so that a run stopped by the watcher still tells how far it got."""
+        now = time.process_time()
+        if done == 0:
+            began[0] = now
+            stages.setdefault(task, 0.0)
+            return
+        stages[task] = stages.get(task, 0.0) + now - began[0]
+        began[0] = now
+        peak_now = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+        print(f"STAGE {task}\t{now - start[1]:.1f}\t{peak_now:.2f}", file=sys.stderr, flush=True)
+
     start = (time.perf_counter(), time.process_time())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", VoroboundWarning)
         if kind == "lfs":
-            values = estimate_lfs(mesh).lfs
+            values = estimate_lfs(mesh, progress=progress).lfs
         elif kind == "balls":
             values = balls(*queries)
         else:
@@ -149,6 +168,7 @@ def child(kind: str, spec: str, profile: bool) -> None:
         "wall": wall,
         "peak_gb": peak,
         "median_lfs": float(np.median(values)),
+        "stages": {name: round(value, 1) for name, value in stages.items() if value >= 0.05},
     }
     print(json.dumps(report))
 
@@ -182,8 +202,12 @@ def run(kind: str, spec: str, timeout: float, max_gb: float, profile: bool) -> d
         time.sleep(0.25)
     out, err = process.communicate()
     if profile:
-        sys.stderr.write(err[-12000:])
+        sys.stderr.write("".join(x for x in err[-12000:].splitlines(True) if "STAGE " not in x))
     if stopped or process.returncode:
+        reached = [line.split("\t") for line in err.splitlines() if line.startswith("STAGE ")]
+        if reached:  # how far it got: the last finished step, its CPU seconds and peak memory
+            name, cpu, gb = reached[-1]
+            stopped = f"{stopped or 'failed'} (last step: {name[6:]} at {cpu} CPU-s, {gb} GB)"
         return {"stopped": stopped or f"failed: {err.strip().splitlines()[-1:]}"}
     return json.loads(out.strip().splitlines()[-1])
 
@@ -239,6 +263,9 @@ def main() -> None:
             + "; ".join(checks),
             flush=True,
         )
+        if found.get("stages"):
+            split = ", ".join(f"{name} {value:.1f}" for name, value in found["stages"].items())
+            print(f"{'':20s} stages (CPU s): {split}", flush=True)
     print(f"load average {os.getloadavg()[0]:.2f}")
 
 

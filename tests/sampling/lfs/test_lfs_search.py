@@ -283,3 +283,69 @@ def test_faces_nearer_than_a_bound_are_the_nearest_faces_of_the_mesh(seed):
 
     again = point_triangle_distance(queries[inside][tied], other[:, 0], other[:, 1], other[:, 2])
     np.testing.assert_allclose(again, distance[inside][tied], rtol=1e-12, atol=1e-12)
+
+
+def test_compiled_and_numpy_searches_agree(monkeypatch):
+    """The compiled tree (numba) and the numpy searches give the same tangent balls (to the
+    last bit: the same operations in the same order) and the same nearest distances on a CAD
+    export's long thin triangles (issue 35)."""
+    pytest.importorskip("numba")
+    from vorobound.sampling.lfs.tangent_ball import TangentBalls
+    from vorobound.sampling.lfs.thickness import RayCaster
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    mesh = gear(teeth=20, faces=2000, bore=3.0)
+    rng = np.random.default_rng(3)
+    triangles = mesh.points[mesh.triangles]
+    group = rng.integers(0, 3, len(triangles))
+    allowed = (rng.random((3, 3)) < 0.7) & ~np.eye(3, dtype=bool)  # never the site's own
+    count = 800
+    face = rng.integers(0, len(triangles), count)
+    points = triangles[face].mean(axis=1)
+    directions = rng.normal(size=(count, 3))
+    directions /= np.linalg.norm(directions, axis=1)[:, None]
+    point_group = group[face]
+    limit = rng.choice([0.3, 2.0, 20.0, np.inf], count)
+    queries = rng.uniform(mesh.points.min(axis=0), mesh.points.max(axis=0), (800, 3))
+    bound = rng.uniform(0.1, 5.0, len(queries))
+    answers = []
+    for numpy_only in ("", "1"):
+        monkeypatch.setenv("VOROBOUND_PURE_NUMPY", numpy_only)
+        balls = TangentBalls(triangles, group, allowed)
+        radius = balls(points, directions, point_group, limit)
+        distance, _ = RayCaster(mesh.points, mesh.triangles).nearer_than(queries, bound)
+        assert (balls._compiled is False) == bool(numpy_only)
+        answers.append((radius, distance))
+    (radius, distance), (radius_np, distance_np) = answers
+    assert (radius < limit).any() and np.isfinite(distance).any()
+    assert np.array_equal(radius, radius_np)
+    assert np.array_equal(distance, distance_np)
+
+
+def test_feature_gap_beyond_the_nearest_points_is_exact():
+    """Feature sites whose nearest few hundred feature points all lie on their own or related
+    curves (a cylinder's rim, sampled finely) get the nearest point of another curve, as a
+    loop over all of them gives (the search is bounded by the related curves' points)."""
+    from vorobound.sampling.lfs import features
+    from vorobound.sampling.lfs.face_sites import edge_sites
+    from vorobound.sampling.lfs.mesh_quality import prepare_mesh
+    from vorobound.sampling.lfs.patches import find_patches
+    from vorobound.sampling.surfaces.cad_meshes import capped_cylinder
+
+    prepared = prepare_mesh(capped_cylinder(radius=10.0, length=10.0, segments=64))
+    patches = find_patches(prepared, 30.0)
+    spacing = 0.001
+    feature = edge_sites(
+        prepared.points, patches.feature_edges, lambda x, e: np.full(len(x), spacing)
+    )
+    assert len(feature.points) > 1000
+    curves = patches.edge_curve[feature.edge][:, None]
+    radius = np.full(len(feature.points), np.inf)
+    got = features.feature_lfs(feature.points, curves, radius, patches, feature)
+    related = patches.curve_adjacent | np.eye(patches.curves, dtype=bool)
+    expected = np.empty(len(feature.points))
+    for i, point in enumerate(feature.points):
+        far = ~related[curves[i, 0], patches.edge_curve[feature.edge]]
+        expected[i] = np.linalg.norm(feature.points[far] - point, axis=1).min() / 2
+    assert np.isfinite(expected).all()
+    np.testing.assert_array_equal(got, expected)

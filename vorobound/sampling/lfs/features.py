@@ -84,6 +84,10 @@ def patch_limit(site_points, site_patches, raw, kind, queries) -> np.ndarray:
     return out
 
 
+FEATURE_PAIRS = 4_000_000
+"""(site, feature point) pairs looked at together by :func:`feature_lfs` (its memory bound)."""
+
+
 def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -> np.ndarray:
     """L_F at feature sites: min(the curve's radius of curvature, half the distance to the
     nearest point of a non-adjacent curve: neither one of the site's curves nor sharing a
@@ -105,8 +109,31 @@ def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -
             near |= hit & valid[:, None]
         return ~near
 
-    neighbours = (16, 64, 256, len(feature.points))
-    gap, _ = nearest_allowed(cKDTree(feature.points), query_points, far, neighbours)
+    tree = cKDTree(feature.points)
+    gap, found = nearest_allowed(tree, query_points, far, (16, 64, 256))
+    # The rest: among the k nearest points, k one more than the points on the site's own and
+    # related curves, one is on a curve that counts (exact, and bounded by the curves' sizes,
+    # not by all feature points at once).
+    todo = np.flatnonzero(found < 0)
+    if len(todo):
+        per_curve = np.bincount(target_curve, minlength=patches.curves)
+        related_points = related.astype(np.int64) @ per_curve
+        curves = query_curves[todo]
+        need = np.where(curves >= 0, related_points[np.maximum(curves, 0)], 0).sum(axis=1) + 1
+        need = np.minimum(need, len(feature.points))
+        width = 2 ** np.ceil(np.log2(need)).astype(np.int64)
+        for k in np.unique(width):
+            rows = todo[width == k]
+            step = max(1, FEATURE_PAIRS // int(k))
+            for lo in range(0, len(rows), step):
+                chunk = rows[lo : lo + step]
+
+                def far_chunk(sub, index, chunk=chunk):
+                    return far(chunk[sub], index)
+
+                gap[chunk], _ = nearest_allowed(
+                    tree, query_points[chunk], far_chunk, (int(min(k, len(feature.points))),)
+                )
     return np.minimum(radius, gap / 2)
 
 

@@ -15,6 +15,9 @@ x, so once every triangle within 2r_best of x has been tried the answer is final
 
 from __future__ import annotations
 
+import functools
+import os
+
 import numpy as np
 
 from ...geometry.threads import thread_count
@@ -132,8 +135,14 @@ class TangentBalls:
         self._groups: dict[int, list[_PieceBin]] = {}
         self._length: np.ndarray | None = None
         self._boxes: dict[int, np.ndarray] = {}
+        self._compiled = None
 
     def __call__(self, points, directions, point_group, limit) -> np.ndarray:
+        tree = self._tree()
+        if tree is not None:
+            return tree.tangent_radii(
+                points, directions, point_group, limit, self.allowed, MEET_SLACK
+            )
         best = np.asarray(limit, dtype=float).copy()
         point_group = np.asarray(point_group)
         for group in np.unique(self.triangle_group):
@@ -149,6 +158,16 @@ class TangentBalls:
             for piece_bin in self._group(int(group)) if len(users) else ():
                 piece_bin.shrink(points, directions, users, best)
         return best
+
+    def _tree(self):
+        """The compiled tree of all pieces (:mod:`.compiled_search`), or None without numba."""
+        if self._compiled is None:
+            self._compiled = False
+            search = compiled_search()
+            if search is not None and len(self.triangles):
+                pieces, owner = split_long(self.triangles, piece_length(self.triangles))
+                self._compiled = search.PieceTree(pieces, self.triangle_group[owner])
+        return self._compiled or None
 
     def _box(self, group: int) -> np.ndarray:
         if group not in self._boxes:
@@ -171,6 +190,24 @@ class TangentBalls:
                 _PieceBin(pieces[which == k]) for k in range(SIZE_CLASSES) if (which == k).any()
             ]
         return self._groups[group]
+
+
+@functools.cache
+def _load_compiled_search():
+    try:
+        from . import compiled_search as module
+    except (ImportError, RuntimeError, OSError):  # no numba, or one that cannot cache
+        return None
+    return module
+
+
+def compiled_search():
+    """The compiled searches (:mod:`.compiled_search`), or None: numba is missing, or the
+    environment variable ``VOROBOUND_PURE_NUMPY`` is set (then the numpy searches below run;
+    both give the same answers up to ties)."""
+    if os.environ.get("VOROBOUND_PURE_NUMPY"):
+        return None
+    return _load_compiled_search()
 
 
 SIZE_CLASSES = 4

@@ -80,6 +80,7 @@ class RayCaster:
         diagonal = float(np.linalg.norm(self.points.max(axis=0) - self.points.min(axis=0)))
         self.start = RAY_START_RTOL * diagonal
         self._bins: list[tuple[Any, np.ndarray, np.ndarray, float]] | None = None
+        self._tree: Any = None
 
     def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
         """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
@@ -116,6 +117,11 @@ class RayCaster:
         circle) costs nothing when that distance is above ``bound``."""
         queries = np.asarray(queries, dtype=float)
         bound = np.broadcast_to(np.asarray(bound, dtype=float), len(queries))
+        compiled = self._piece_tree()
+        if compiled is not None:
+            tree, owner = compiled
+            distance, piece = tree.nearest_within(queries, bound)
+            return distance, np.where(piece >= 0, owner[np.maximum(piece, 0)], -1)
         distance = np.full(len(queries), np.inf)
         face = np.full(len(queries), -1, dtype=np.int64)
         for tree, pieces, owner, pad in self._piece_bins():
@@ -142,6 +148,19 @@ class RayCaster:
                 distance[r[first][better]] = d[first][better]
                 face[r[first][better]] = owner[q[first][better]]
         return distance, face
+
+    def _piece_tree(self):
+        """(the compiled tree of the pieces, their faces), or None without numba."""
+        from .tangent_ball import compiled_search, piece_length, split_long
+
+        if self._tree is None:
+            self._tree = False
+            search = compiled_search()
+            if search is not None and len(self.faces):
+                triangles = self.points[self.faces]
+                pieces, owner = split_long(triangles, piece_length(triangles))
+                self._tree = (search.PieceTree(pieces), owner)
+        return self._tree or None
 
     def _piece_bins(self):
         """(k-d tree of centroids, pieces, their faces, largest circle radius) per size bin."""
