@@ -44,7 +44,8 @@ CASES = {
 }
 """name ↦ (surface, dimensions, ε). The cube is the CAD cube [−1, 1]³ of issue 32
 (``cad_meshes.cube()`` written as STL, L estimated from the mesh as ``vorobound reconstruct
---mesh cube.stl`` does), at the issue's ε = 0.0094977 (advised: 0.0094976) and at 2 and 4 times it."""
+--mesh cube.stl`` does), at the issue's ε = 0.0094977 (advised: 0.0094976) and at 2 and 4
+times it."""
 CUBE_CASES = "cube-0.038,cube-0.019,cube-0.0095"
 """The cases of ``--cube`` (issue 32: reconstruct ≤ 60 CPU-s and ≤ 2.5 GB at ε = 0.0094977)."""
 CUBE_TARGET_CPU = 60.0
