@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import functools
 import os
+from typing import Any
 
 import numpy as np
 
@@ -135,7 +136,7 @@ class TangentBalls:
         self._groups: dict[int, list[_PieceBin]] = {}
         self._length: np.ndarray | None = None
         self._boxes: dict[int, np.ndarray] = {}
-        self._compiled = None
+        self._compiled: Any = None  # None: not built yet; False: no numba
 
     def __call__(self, points, directions, point_group, limit) -> np.ndarray:
         tree = self._tree()

@@ -162,24 +162,29 @@ def sparsity_in_blocks(points: np.ndarray, lfs: np.ndarray, eps: float, sigma: f
     order = np.argsort(points[:, axis], kind="stable")
     coord = points[order, axis]
     halo = HALO_RATIO * sigma * eps * float(lfs.max())
-    best, violations, worst, worst_values = None, 0, [], []
+    best: tuple[float, tuple[int, int]] | None = None
+    violations = 0
+    worst: list[np.ndarray] = []
+    worst_values: list[np.ndarray] = []
     for start in range(0, len(points), BLOCK_SAMPLES):
         stop = min(len(points), start + BLOCK_SAMPLES)
         end = int(np.searchsorted(coord, coord[stop - 1] + halo, side="right"))
         rows = order[start:end]
         report = sparsity(points[rows], lfs[rows], eps, sigma)
         if best is None or report.extreme < best[0]:
-            best = (report.extreme, tuple(int(rows[i]) for i in report.extreme_pair))
+            first, second = report.extreme_pair
+            best = (report.extreme, (int(rows[first]), int(rows[second])))
         if report.violations:
             pairs, ratio = _pairs_below_one(points[rows], lfs[rows], eps, sigma)
             own = pairs.min(axis=1) < stop - start
             violations += int(own.sum())
             worst.append(rows[pairs[own]])
             worst_values.append(ratio[own])
-    worst = np.concatenate([np.empty((0, 2), dtype=np.int64), *worst])
-    worst_values = np.concatenate([np.empty(0), *worst_values])
-    listed = np.argsort(worst_values)[:WORST_LISTED]
-    return PairReport(best[0], best[1], violations, worst[listed], worst_values[listed])
+    assert best is not None  # at least one block
+    pairs_found = np.concatenate([np.empty((0, 2), dtype=np.int64), *worst])
+    values = np.concatenate([np.empty(0), *worst_values])
+    listed = np.argsort(values)[:WORST_LISTED]
+    return PairReport(best[0], best[1], violations, pairs_found[listed], values[listed])
 
 
 def _pairs_below_one(points, lfs, eps, sigma):

@@ -219,10 +219,10 @@ class _Greedy:
         self.kept_lfs: list[np.ndarray] = []
         self.features = (np.zeros((0, 3)), np.zeros(0))
         self.last = (np.zeros((0, 3)), np.zeros(0))
-        self.fixed = None  # (tree, points, lfs) of features + last closed slab
+        self.fixed: tuple | None = None  # (tree, points, lfs) of features + last closed slab
         self.open_points: list[np.ndarray] = []
         self.open_lfs: list[np.ndarray] = []
-        self.open_tree = None
+        self.open_tree: tuple | None = None
         self.first = True
 
     def close_slab(self) -> None:
