@@ -356,7 +356,7 @@ def main() -> None:
         print(json.dumps(globals()[f"child_{sys.argv[2]}"](*sys.argv[3:])))
         return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=["check", "tile", "reconstruct"])
+    parser.add_argument("what", choices=["check", "tile", "reconstruct", "tiny"])
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
     parser.add_argument(
@@ -364,7 +364,11 @@ def main() -> None:
     )
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
     args = parser.parse_args()
-    if args.what == "check":
+    if args.what == "tiny":  # CI: every measurement at a size that takes seconds
+        bench_check(args.data, [20_000])
+        bench_tile(args.data, 20_000)
+        bench_reconstruct("0.3", True)
+    elif args.what == "check":
         bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
     elif args.what == "tile":
         bench_tile(args.data, int(float(args.sizes.split(",")[-1])))

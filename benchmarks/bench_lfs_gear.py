@@ -223,7 +223,16 @@ def main() -> None:
         "--balls", action="store_true", help="time the tangent-ball stage alone instead"
     )
     parser.add_argument("--no-baseline", action="store_true", help="leave out the baseline")
+    parser.add_argument(
+        "--tiny",
+        action="store_true",
+        help="CI: a 48x16 torus only (even a small gear takes tens of CPU seconds); exit 1 if "
+        "a run stops",
+    )
     args = parser.parse_args()
+    if args.tiny:
+        args.gear, args.torus, args.timeout = [], ["48x16"], 300.0
+    stopped = False
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores (shared machine)")
     print(
         f"{'mesh':20s} {'vertices':>9s} {'faces':>9s} | {'lfs CPU':>8s} {'wall':>7s} {'GB':>5s} |"
@@ -236,6 +245,7 @@ def main() -> None:
         kind = spec.split(":")[0]
         if "stopped" in found:
             print(f"{spec:20s} lfs {found['stopped']}", flush=True)
+            stopped = True
             continue
         cells = f"{found['cpu']:7.1f}s {found['wall']:6.1f}s {found['peak_gb']:5.2f}"
         if base and "stopped" not in base:
@@ -267,6 +277,8 @@ def main() -> None:
             split = ", ".join(f"{name} {value:.1f}" for name, value in found["stages"].items())
             print(f"{'':20s} stages (CPU s): {split}", flush=True)
     print(f"load average {os.getloadavg()[0]:.2f}")
+    if args.tiny and stopped:
+        sys.exit(1)
 
 
 if __name__ == "__main__":
