@@ -171,16 +171,13 @@ def main(argv=None) -> int:
     )
     args = parser.parse_args(argv)
     args.runs.mkdir(parents=True, exist_ok=True)
-    parts = {}
     if args.tiny:
         parts = recorded_parts(args.runs)
-        args.no_advised = True
-    elif args.upstream is not None:
-        parts |= upstream_parts(args.runs, args.upstream)
-    if not args.tiny:
+    else:
+        parts = {} if args.upstream is None else upstream_parts(args.runs, args.upstream)
         parts |= our_parts(args.runs)
-    if not args.no_advised:
-        parts |= advised_part(args.runs)
+        if not args.no_advised:
+            parts |= advised_part(args.runs)
     rows = [measure(label, part) for label, part in parts.items()]
     header = list(rows[0])
     print("| " + " | ".join(header) + " |")
