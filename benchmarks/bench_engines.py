@@ -1,7 +1,8 @@
 """Each stage against the engine underneath, side by side in the same run (issue 35).
 
 Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6``,
-``python benchmarks/bench_engines.py tile --sizes 1e6`` and
+``python benchmarks/bench_engines.py tile --sizes 1e6``,
+``python benchmarks/bench_engines.py binding --sizes 1e5`` and
 ``python benchmarks/bench_engines.py reconstruct --eps 0.03 [--stages]``. Every measurement runs
 in its own fresh process; printed are CPU and wall seconds and the load average before and after
 (the machine is shared: CPU seconds are the steadier measure).
@@ -15,6 +16,13 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
   timed apart against CGAL's triangulation of the same tile: filler points, CGAL, GUDHI's
   simplex tree, its serialization, reading the triangles, freeing both, the seeds (their
   geometry and the coverage queries) and the 16 nearest neighbours of the pair conditions.
+* ``binding``: the other maintained CGAL binding on PyPI, the SWIG bindings of the ``cgal``
+  package (not a dependency: the task prints a skip line when it is not installed), on the same
+  balls and filler points as ``check``: its own regular triangulation, then the two ways it can
+  hand the triangles over (a Python loop over ``finite_facets`` mapping every vertex back to its
+  ball, or ``write_to_file`` read back with numpy, the vertices mapped by a Python loop over
+  ``finite_vertices``), against GUDHI's ``DelaunayComplex`` with its simplex tree read by
+  :mod:`vorobound.sampling.simplex_kernel`, the route ``check`` takes.
 * ``reconstruct``: the seeds of the torus (3, 1) at ε (0.03: about 5.4·10⁵ seeds), CGAL's
   Delaunay tetrahedralization of them (``DelaunayComplex`` built; then with its simplex tree)
   against M̂ from the seeds (:func:`vorobound.sampling.reconstruct.facets.inout_facets`, CGAL
@@ -85,6 +93,70 @@ def child_cgal_balls(path: str) -> dict:
     with_tree = (_cpu() - cpu, time.perf_counter() - wall)
     return {"balls": len(centers), "filler": len(filler), "built": built, "tree": with_tree,
             "simplices": int(tree.num_simplices())}  # fmt: skip
+
+
+def child_binding(path: str) -> dict:
+    """The ``cgal`` package's SWIG regular triangulation and its two ways out, against GUDHI."""
+    import gudhi
+    import numpy as np
+
+    from vorobound.sampling.guides.triangles import filler_points
+    from vorobound.sampling.simplices import tree_simplices
+
+    try:
+        from CGAL.CGAL_Kernel import Point_3, Weighted_point_3
+        from CGAL.CGAL_Triangulation_3 import Regular_triangulation_3
+    except ImportError:
+        return {"skipped": "the cgal package (SWIG bindings) is not installed"}
+    centers, radii = _read_balls(path)
+    filler = filler_points(centers, float(radii.max()))
+    points = np.vstack([centers, filler])
+    weights = np.concatenate([radii**2, np.zeros(len(filler))])
+    seconds: dict[str, float] = {}
+
+    def lap(name: str, start: float) -> float:
+        seconds[name] = _cpu() - start
+        return _cpu()
+
+    start = _cpu()
+    tree = gudhi.DelaunayComplex(points=points, weights=weights, precision="fast")
+    start = lap("GUDHI DelaunayComplex (built)", start)
+    gudhi_triangles = tree_simplices(tree.create_simplex_tree(), tetrahedra=False)[0]
+    start = lap("GUDHI simplex tree + bulk read (check's route)", start)
+    wrapped = [
+        Weighted_point_3(Point_3(*map(float, p)), float(w))
+        for p, w in zip(points, weights, strict=True)
+    ]
+    start = lap("SWIG: weighted points made in Python", start)
+    triangulation = Regular_triangulation_3()
+    triangulation.insert(wrapped)
+    start = lap("SWIG: Regular_triangulation_3 (built)", start)
+    index = {tuple(p): i for i, p in enumerate(points.tolist())}
+
+    def ball(vertex) -> int:
+        p = vertex.point().point()
+        return index[(p.x(), p.y(), p.z())]
+
+    looped = []
+    for cell, opposite in triangulation.finite_facets():
+        looped.append([ball(cell.vertex(k)) for k in range(4) if k != opposite])
+    start = lap("SWIG: loop over finite_facets", start)
+    with tempfile.TemporaryDirectory() as folder:
+        text = os.path.join(folder, "triangulation.txt")
+        triangulation.write_to_file(text)
+        order = [-1] + [ball(v) for v in triangulation.finite_vertices()]
+        with open(text) as stream:
+            stream.readline()
+            n_vertices = int(stream.readline())
+            for _ in range(n_vertices):
+                stream.readline()
+            n_cells = int(stream.readline())
+            cells = np.loadtxt(stream, dtype=np.int64, max_rows=n_cells, ndmin=2)
+        start = lap("SWIG: write_to_file, read back, vertices mapped", start)
+    mapped = np.asarray(order)[cells]
+    return {"balls": len(centers), "filler": len(filler), "seconds": seconds,
+            "triangles": {"gudhi": int(len(gudhi_triangles)), "swig loop": len(looped)},
+            "cells": int((mapped >= 0).all(axis=1).sum())}  # fmt: skip
 
 
 def child_check(path: str, eps: str) -> dict:
@@ -322,6 +394,24 @@ def bench_tile(data: str, count: int) -> None:
         print(f"  {name:36s} {spent:6.2f} CPU-s  {spent / base:5.2f}× CGAL")
 
 
+def bench_binding(data: str, count: int) -> None:
+    sys.path.insert(0, os.path.dirname(__file__))
+    from bench_scale import sample_file
+
+    path, _ = sample_file(data, count)
+    found = _child("binding", str(path))
+    if "skipped" in found:
+        print(f"binding: skipped ({found['skipped']})")
+        return
+    seconds = found["seconds"]
+    base = seconds["GUDHI DelaunayComplex (built)"]
+    print(f"{found['balls']:,} balls (+{found['filler']:,} filler points); triangles: "
+          f"{found['triangles']}; finite cells read back: {found['cells']:,}; load "
+          f"{found['load'][0]:.1f} → {found['load'][1]:.1f}")  # fmt: skip
+    for name, spent in seconds.items():
+        print(f"  {name:50s} {spent:7.2f} CPU-s  {spent / base:5.2f}× GUDHI's CGAL")
+
+
 def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
     with tempfile.TemporaryDirectory() as folder:
         seeds = os.path.join(folder, "seeds.npy")
@@ -356,7 +446,7 @@ def main() -> None:
         print(json.dumps(globals()[f"child_{sys.argv[2]}"](*sys.argv[3:])))
         return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=["check", "tile", "reconstruct", "tiny"])
+    parser.add_argument("what", choices=["check", "tile", "binding", "reconstruct", "tiny"])
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
     parser.add_argument(
@@ -367,9 +457,12 @@ def main() -> None:
     if args.what == "tiny":  # CI: every measurement at a size that takes seconds
         bench_check(args.data, [20_000])
         bench_tile(args.data, 20_000)
+        bench_binding(args.data, 20_000)
         bench_reconstruct("0.3", True)
     elif args.what == "check":
         bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
+    elif args.what == "binding":
+        bench_binding(args.data, int(float(args.sizes.split(",")[-1])))
     elif args.what == "tile":
         bench_tile(args.data, int(float(args.sizes.split(",")[-1])))
     else:
