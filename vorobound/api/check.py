@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from ..reports.check import CheckReport
     from ..reports.check_outputs import CheckOutputs
     from ..reports.check_tiled import TiledCheckReport
+    from .check_summary import CheckSummary
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -108,6 +109,13 @@ class CheckResult(Result):
     @property
     def failures(self) -> dict[str, int]:
         return failures(self.report.summary())
+
+    @property
+    def summary(self) -> CheckSummary:
+        """What the check found as typed fields (the numbers of :meth:`to_dict`)."""
+        from .check_summary import CheckSummary
+
+        return CheckSummary.of(self.to_dict())
 
     @property
     def ok(self) -> bool:

@@ -14,9 +14,8 @@ from pathlib import Path
 from ..bounds.params import Mode, QualityParams, SamplingParams
 from ..errors import NoAdmissibleEps, NoGuideTriangles
 from ..progress import Counter, Progress
-from ..sampling.guides.triangles import Engine
 from ..sampling.surfaces.base import ExpectedTopology
-from .reconstruct import ReconstructReport, reconstruct_surface
+from .reconstruct import MhatOptions, ReconstructReport, reconstruct_surface
 
 SWEEP_FIGURE_STEM = "sweep"
 """File name (without extension) of the sweep's figure."""
@@ -159,9 +158,7 @@ def reconstruct_sweep(
     eps_values: list[float],
     quality: QualityParams,
     seed: int = 0,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> ReconstructSweep:
     """:func:`reconstruct_surface` at each ε (a row per ε; an ε without guide triangles is a
@@ -169,9 +166,7 @@ def reconstruct_sweep(
     counter = Counter(progress, "ε values", len(eps_values))
     rows = []
     for eps in eps_values:
-        rows.append(
-            sweep_row(shape, eps, quality, seed, half_covered, engine, compare_sheets, progress)
-        )
+        rows.append(sweep_row(shape, eps, quality, seed, options, progress))
         counter.step()
     return ReconstructSweep(
         source=shape.name,
@@ -188,17 +183,13 @@ def sweep_row(
     eps: float,
     quality: QualityParams,
     seed: int = 0,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> SweepRow:
     """What a sweep keeps of :func:`reconstruct_surface` at one ε and seed (a row without M̂
     when there is no guide triangle)."""
     try:
-        report = reconstruct_surface(
-            shape, eps, quality, seed, half_covered, engine, compare_sheets, progress
-        )
+        report = reconstruct_surface(shape, eps, quality, seed, options, progress)
     except NoGuideTriangles as exc:
         return SweepRow.failed(SamplingParams(eps, quality).eps, str(exc))
     return SweepRow.of(report)

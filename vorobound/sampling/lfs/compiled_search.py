@@ -84,8 +84,10 @@ class PieceTree:
             return best
 
         def task(bounds):
+            lo, hi = bounds
             _tangent_kernel(
-                *bounds,
+                lo,
+                hi,
                 points,
                 directions,
                 point_group,
@@ -110,7 +112,8 @@ class PieceTree:
             return distance, found
 
         def task(bounds):
-            _nearest_kernel(*bounds, queries, bound, distance, found, self.arrays)
+            lo, hi = bounds
+            _nearest_kernel(lo, hi, queries, bound, distance, found, self.arrays)
 
         run_in_threads(task, chunk_bounds(len(queries), QUERY_CHUNK))
         hit = found >= 0
