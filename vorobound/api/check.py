@@ -16,7 +16,7 @@ from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.check import checked_table
 from .arguments import checked_arguments
-from .result import Result, checked_outputs, frame, params_json, sample_lfs
+from .result import Result, checked_outputs, frame, params_json, sample_lfs, typed_view
 
 if TYPE_CHECKING:
     from ..mesh import TriangleMesh
@@ -320,14 +320,10 @@ def check(
 def _result(report, asked: dict) -> CheckResult:
     """The result of a check report (whole or tiled: the same summary)."""
     summary = report.summary()
-    return CheckResult(
+    return typed_view(
+        CheckResult,
+        summary,
         source=report.source,
-        n_samples=summary["n_samples"],
-        n_guide_triangles=summary["n_guide_triangles"],
-        n_half_covered=summary["n_half_covered"],
-        gap_ratio_max=summary["gap_ratio_max"],
-        ratio_max=summary["ratio_max"],
-        coverage_max=summary["coverage_max"],
         n_failures=sum(failures(summary).values()),
         report=report,
         asked=asked,
