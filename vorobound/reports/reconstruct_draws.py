@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..progress import Counter, Progress
 from ..sampling.surfaces.base import ExpectedTopology
 from .reconstruct import MhatOptions
-from .reconstruct_sweep import SWEEP_COLUMNS, EpsMark, SweepRow, bound_marks, csv_line, sweep_row
+from .reconstruct_sweep import SWEEP_COLUMNS, EpsMark, SweepRow, bound_marks, csv_line, sweep_rows
 
 DRAWS_CSV = "draws.csv"
 """File name of the table with one line per draw and ε."""
@@ -171,9 +171,9 @@ def reconstruct_draws(
     seeds = tuple(seed + k for k in range(repeats))
     per_eps: list[list[SweepRow]] = [[] for _ in eps_values]
     for draw_seed in seeds:
-        for rows, eps in zip(per_eps, eps_values, strict=True):
-            rows.append(sweep_row(shape, eps, quality, draw_seed, options, progress))
-            counter.step()
+        drawn = sweep_rows(shape, eps_values, quality, draw_seed, options, progress, counter)
+        for rows, row in zip(per_eps, drawn, strict=True):
+            rows.append(row)
     return ReconstructDraws(
         source=shape.name,
         quality=quality,

@@ -164,10 +164,7 @@ def reconstruct_sweep(
     """:func:`reconstruct_surface` at each ε (a row per ε; an ε without guide triangles is a
     row without M̂), and every bound's ε* (:func:`bound_marks`)."""
     counter = Counter(progress, "ε values", len(eps_values))
-    rows = []
-    for eps in eps_values:
-        rows.append(sweep_row(shape, eps, quality, seed, options, progress))
-        counter.step()
+    rows = sweep_rows(shape, eps_values, quality, seed, options, progress, counter)
     return ReconstructSweep(
         source=shape.name,
         quality=quality,
@@ -176,6 +173,23 @@ def reconstruct_sweep(
         rows=rows,
         marks=bound_marks(quality),
     )
+
+
+def sweep_rows(
+    shape,
+    eps_values: list[float],
+    quality: QualityParams,
+    seed: int,
+    options: MhatOptions,
+    progress: Progress | None,
+    counter: Counter,
+) -> list[SweepRow]:
+    """:func:`sweep_row` at each ε with one seed, a step of ``counter`` each."""
+    rows = []
+    for eps in eps_values:
+        rows.append(sweep_row(shape, eps, quality, seed, options, progress))
+        counter.step()
+    return rows
 
 
 def sweep_row(
