@@ -384,12 +384,12 @@ def _saved(result, out, figure_format: str):
 
     if out is None:
         return result
-    write = {
-        ReconstructResult: _write_outputs,
-        ReconstructSweepResult: _write_sweep,
-        ReconstructDrawsResult: _write_draws,
-    }[type(result)]
-    return write(result, ensure_folder(out), figure_format)
+    folder = ensure_folder(out)
+    if isinstance(result, ReconstructSweepResult):
+        return _write_sweep(result, folder, figure_format)
+    if isinstance(result, ReconstructDrawsResult):
+        return _write_draws(result, folder, figure_format)
+    return _write_outputs(result, folder, figure_format)
 
 
 def _write_outputs(result: ReconstructResult, folder, figure_format: str) -> ReconstructResult:
