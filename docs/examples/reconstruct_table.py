@@ -18,6 +18,7 @@ from collections import Counter
 from pathlib import Path
 
 from vorobound.bounds.params import QualityParams
+from vorobound.reports.reconstruct import MhatOptions
 from vorobound.reports.reconstruct_draws import DrawsRow, ReconstructDraws, reconstruct_draws
 from vorobound.reports.reconstruct_sweep import SweepRow, bound_marks
 from vorobound.rounding import format_down
@@ -142,7 +143,9 @@ def cell(shape, eps: float, quality, cache: Path | None) -> DrawsRow:
         return DrawsRow(
             data["eps"], tuple(SweepRow(**d) for d in data["draws"]), tuple(data["seeds"])
         )
-    row = reconstruct_draws(shape, [eps], quality, 0, REPEATS, compare_sheets=True).rows[0]
+    row = reconstruct_draws(
+        shape, [eps], quality, 0, REPEATS, MhatOptions(compare_sheets=True)
+    ).rows[0]
     if path is not None:
         data = {"eps": row.eps, "draws": [vars(d) for d in row.draws], "seeds": row.seeds}
         path.write_text(json.dumps(data))

@@ -291,22 +291,28 @@ def test_a_terminal_without_unicode_gets_plain_ascii():
 
 
 def test_reconstruct_reads_the_numbers_that_need_it():
+    from dataclasses import replace
+
+    import vorobound
     from vorobound.cli.reconstruct_cmd import READING_DOC, readings
 
-    summary = {
-        "collapsed_facets": 1_987_675,
-        "edge_ratio_min": 6.372e-9,
-        "min_angle_min_deg": 0.0,
-        "normal_deviation_max_deg": 84.42,
-        "flipped_facets": 4,
-    }
+    measured = vorobound.reconstruct(eps=0.3, sphere=1.0).summary
+    summary = replace(
+        measured,
+        collapsed_facets=1_987_675,
+        edge_ratio_min=6.372e-9,
+        min_angle_min_deg=0.0,
+        normal_deviation_max_deg=84.42,
+        flipped_facets=4,
+    )
     lines = readings(summary)
     assert len(lines) == 3 and all(READING_DOC in line for line in lines)
     assert "1,987,675 in/out pairs with no area" in lines[0] and "harmless" in lines[0]
     assert "min edge ratio 6.37e-09" in lines[1] and "sliver" in lines[1]
     assert "4 facets above 90° face inward" in lines[2] and "matters" in lines[2]
-    fine = readings(summary | {"collapsed_facets": 0, "edge_ratio_min": 0.3,
-                               "min_angle_min_deg": 20.0, "flipped_facets": 0})  # fmt: skip
+    fine = replace(summary, collapsed_facets=0, edge_ratio_min=0.3, min_angle_min_deg=20.0,
+                   flipped_facets=0)  # fmt: skip
+    fine = readings(fine)
     assert len(fine) == 2 and "no sliver facets" in fine[0] and "faces outward" in fine[1]
 
 

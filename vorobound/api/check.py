@@ -16,13 +16,14 @@ from ..constants import PAPER_DELTA_RATIO, PAPER_RHO_F, PAPER_SIGMA
 from ..progress import Progress
 from ..reports.check import checked_table
 from .arguments import checked_arguments
-from .result import Result, checked_outputs, frame, params_json, sample_lfs
+from .result import Result, checked_outputs, frame, params_json, sample_lfs, typed_view
 
 if TYPE_CHECKING:
     from ..mesh import TriangleMesh
     from ..reports.check import CheckReport
     from ..reports.check_outputs import CheckOutputs
     from ..reports.check_tiled import TiledCheckReport
+    from .check_summary import CheckSummary
 
 PROVEN_MODES = ("rigorous", "tight", "tight_lipschitz")
 """Modes whose bound a guide triangle must not exceed (the paper's printed chain is invalid,
@@ -108,6 +109,13 @@ class CheckResult(Result):
     @property
     def failures(self) -> dict[str, int]:
         return failures(self.report.summary())
+
+    @property
+    def summary(self) -> CheckSummary:
+        """What the check found as typed fields (the numbers of :meth:`to_dict`)."""
+        from .check_summary import CheckSummary
+
+        return CheckSummary.of(self.to_dict())
 
     @property
     def ok(self) -> bool:
@@ -312,14 +320,10 @@ def check(
 def _result(report, asked: dict) -> CheckResult:
     """The result of a check report (whole or tiled: the same summary)."""
     summary = report.summary()
-    return CheckResult(
+    return typed_view(
+        CheckResult,
+        summary,
         source=report.source,
-        n_samples=summary["n_samples"],
-        n_guide_triangles=summary["n_guide_triangles"],
-        n_half_covered=summary["n_half_covered"],
-        gap_ratio_max=summary["gap_ratio_max"],
-        ratio_max=summary["ratio_max"],
-        coverage_max=summary["coverage_max"],
         n_failures=sum(failures(summary).values()),
         report=report,
         asked=asked,

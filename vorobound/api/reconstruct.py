@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from ..reports.reconstruct import ReconstructReport
     from ..reports.reconstruct_draws import ReconstructDraws
     from ..reports.reconstruct_sweep import ReconstructSweep
+    from .reconstruct_summary import ReconstructSummary
 
 REPEATS_MAX = 10_000
 """Most draws per ε (``repeats``)."""
@@ -65,19 +66,33 @@ class ReconstructResult(Result):
             return "M̂ is not a closed 2-manifold (see the boundary and non-manifold counts)"
         return f"M̂ has the wrong topology (Euler characteristic {self.euler_characteristic})"
 
+    @property
+    def summary(self) -> ReconstructSummary:
+        """M̂ as typed fields (the numbers of :meth:`to_dict`)."""
+        from .reconstruct_summary import ReconstructSummary
+
+        return ReconstructSummary.of(self.to_dict())
+
     def payload(self) -> dict:
         summary = self.report.summary()
         eps = summary.pop("eps")
         summary.pop("seed", None)
-        summary["params"] = params_json(self.quality, eps, **self.asked)
-        for key in ("rho_f", "lipschitz", "target"):
-            summary["params"].pop(key, None)
+        summary["params"] = _mhat_params(self.quality, eps, self.asked)
         info = self.report.sample
         if info is not None and info.lfs_range is not None:
             summary |= sample_lfs(summary["params"], info.lfs_range)
         else:  # seeds alone: no ball radius, so no L of the balls
             summary["params"]["lfs"] = None
         return summary | self.extra | {"ok": self.ok, "written": list(self.written)}
+
+
+def _mhat_params(quality: QualityParams | None, eps, asked: dict) -> dict:
+    """The ``params`` object of M̂'s JSON (:func:`~vorobound.api.result.params_json` without
+    ρ_f, λ and the target, which M̂ does not use)."""
+    params = params_json(quality, eps, **asked)
+    for key in ("rho_f", "lipschitz", "target"):
+        params.pop(key, None)
+    return params
 
 
 def _rows_lfs(params: dict, rows) -> dict:
@@ -114,9 +129,7 @@ class ReconstructSweepResult(Result):
     def payload(self) -> dict:
         summary = self.sweep.summary()
         summary.pop("seed", None)
-        params = params_json(self.sweep.quality, [r.eps for r in self.sweep.rows], **self.asked)
-        for key in ("rho_f", "lipschitz", "target"):
-            params.pop(key, None)
+        params = _mhat_params(self.sweep.quality, [r.eps for r in self.sweep.rows], self.asked)
         summary["params"] = params
         summary |= _rows_lfs(params, self.sweep.rows)
         return summary | {"ok": self.ok, "written": list(self.written)}
@@ -163,9 +176,7 @@ class ReconstructDrawsResult(Result):
     def payload(self) -> dict:
         summary = self.draws.summary()
         eps = [r.eps for r in self.draws.rows]
-        params = params_json(self.draws.quality, eps[0] if len(eps) == 1 else eps, **self.asked)
-        for key in ("rho_f", "lipschitz", "target"):
-            params.pop(key, None)
+        params = _mhat_params(self.draws.quality, eps[0] if len(eps) == 1 else eps, self.asked)
         summary["params"] = params
         summary |= _rows_lfs(params, [row for r in self.draws.rows for row in r.draws])
         if self.share_correct is not None:
@@ -250,6 +261,7 @@ def reconstruct(
     Theorem 1 (the seeds of a guide triangle), Section 4.1 (VoroCrust's sampling conditions).
     """
     from ..checks import SEED_MAX, checked_count, checked_seed
+    from ..reports.reconstruct import MhatOptions
     from .surfaces import Surface
 
     checked_outputs(out, figure_format)
@@ -286,40 +298,24 @@ def reconstruct(
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")
     asked = {"seed": seed if sampled else None, "engine": engine}
+    options = MhatOptions(half_covered, engine, compare_sheets)
     if repeats is not None:
-        return _draws(
-            shape,
-            values,
-            quality,
-            seed,
-            repeats,
-            (half_covered, engine, compare_sheets),
-            out,
-            figure_format,
-            asked | {"repeats": repeats},
-            progress,
-        )
+        asked |= {"repeats": repeats}
+        draws = _draws(shape, values, quality, seed, repeats, options, asked, progress)
+        return _saved(draws, out, figure_format)
     if values is not None and len(values) > 1:
-        return _sweep(
-            shape,
-            values,
-            quality,
-            seed,
-            half_covered,
-            engine,
-            compare_sheets,
-            out,
-            figure_format,
-            asked,
-            progress,
-        )
+        sweep = _sweep(shape, values, quality, seed, options, asked, progress)
+        return _saved(sweep, out, figure_format)
     params = None if values is None else quality.at(values[0])
-    report = _one(
-        shape, params, quality, seed, balls, seeds, half_covered, engine, compare_sheets, progress
-    )
+    report = _one(shape, params, quality, seed, balls, seeds, options, progress)
+    return _saved(_result(report, quality, asked), out, figure_format)
+
+
+def _result(report: ReconstructReport, quality, asked: dict, extra=None) -> ReconstructResult:
+    """The result of one reconstruction."""
     top = report.topology
     measures = report.summary()
-    result = ReconstructResult(
+    return ReconstructResult(
         source=report.source,
         closed_manifold=top.closed_manifold,
         euler_characteristic=top.euler_characteristic,
@@ -330,10 +326,8 @@ def reconstruct(
         report=report,
         quality=quality,
         asked=asked,
+        extra=extra or {},
     )
-    if out is not None:
-        result = _write_outputs(result, out, figure_format)
-    return result
 
 
 def _vorocrust(vorocrust, surface, alone, compare, seed, out, figure_format, progress):
@@ -349,33 +343,19 @@ def _vorocrust(vorocrust, surface, alone, compare, seed, out, figure_format, pro
     report = reconstruct_run(
         vorocrust=vorocrust, surface=surface, seed=checked_seed(seed), progress=progress
     )
-    top, measures = report.topology, report.summary()
-    result = ReconstructResult(
-        source=report.source,
-        closed_manifold=top.closed_manifold,
-        euler_characteristic=top.euler_characteristic,
-        n_facets=report.facets.surface.n_facets,
-        topology_correct=report.topology_correct,
-        hausdorff_over_eps_lfs=measures.get("hausdorff_over_eps_lfs"),
-        normal_deviation_max_deg=measures.get("normal_deviation_max_deg"),
-        report=report,
-        quality=None,
-        asked={"seed": None, "engine": None, "vorocrust": os.fspath(vorocrust)},
-        extra={"distance_unit": DISTANCE_UNIT},
-    )
-    if out is not None:
-        result = _write_outputs(result, out, figure_format)
-    return result
+    asked = {"seed": None, "engine": None, "vorocrust": os.fspath(vorocrust)}
+    result = _result(report, None, asked, {"distance_unit": DISTANCE_UNIT})
+    return _saved(result, out, figure_format)
 
 
-def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compare, progress):
+def _one(shape, params, quality, seed, balls, seeds, options, progress):
     """The report of one reconstruction, from a sample, balls or seeds."""
     from ..reports import reconstruct as workflow
 
     if seeds is not None:
         from ..sampling.reconstruct.seeds import read_seed_file
 
-        if half_covered or compare:
+        if options.half_covered or options.compare_sheets:
             raise InputError("half_covered and compare_sheets need balls, not seeds")
         return workflow.reconstruct_seeds(read_seed_file(seeds), shape, params, seed, progress)
     if balls is not None:
@@ -389,21 +369,33 @@ def _one(shape, params, quality, seed, balls, seeds, half_covered, engine, compa
             given,
             params,
             shape,
-            half_covered,
-            engine,
+            options.half_covered,
+            options.engine,
             os.path.basename(os.fspath(balls)),
-            compare,
+            options.compare_sheets,
             progress,
         )
-    return workflow.reconstruct_surface(
-        shape, params.eps, quality, seed, half_covered, engine, compare, progress
-    )
+    return workflow.reconstruct_surface(shape, params.eps, quality, seed, options, progress)
 
 
-def _write_outputs(result: ReconstructResult, out, figure_format: str) -> ReconstructResult:
+def _saved(result, out, figure_format: str):
+    """``result`` with its output set written into ``out`` (as it is without ``out``)."""
+    from ..files import ensure_folder
+
+    if out is None:
+        return result
+    folder = ensure_folder(out)
+    if isinstance(result, ReconstructSweepResult):
+        return _write_sweep(result, folder, figure_format)
+    if isinstance(result, ReconstructDrawsResult):
+        return _write_draws(result, folder, figure_format)
+    return _write_outputs(result, folder, figure_format)
+
+
+def _write_outputs(result: ReconstructResult, folder, figure_format: str) -> ReconstructResult:
     """M̂ (VTU, PLY), the seeds (VTU, CSV), summary.json (the result's JSON) and the quality
     figure, written as one set."""
-    from ..files import ensure_folder, write_set
+    from ..files import write_set
     from ..plotting import figure_writer, plot_reconstruct_quality
     from ..reports.reconstruct_files import (
         QUALITY_FIGURE_STEM,
@@ -412,7 +404,6 @@ def _write_outputs(result: ReconstructResult, out, figure_format: str) -> Recons
     )
 
     report = result.report
-    folder = ensure_folder(out)
     writers = output_writers(report, folder)
     figure = plot_reconstruct_quality(quality_distributions(report), f"M̂ of {report.source}")
     writers[folder / f"{QUALITY_FIGURE_STEM}.{figure_format}"] = figure_writer(
@@ -429,14 +420,12 @@ def _summary_writer(writers: dict, folder, result: Result) -> None:
     writers[folder / "summary.json"] = lambda path: path.write_text(text, encoding="utf-8")
 
 
-def _sweep(
-    shape, values, quality, seed, half_covered, engine, compare, out, figure_format, asked, progress
-) -> ReconstructSweepResult:
+def _sweep(shape, values, quality, seed, options, asked, progress) -> ReconstructSweepResult:
     from ..reports.reconstruct_sweep import reconstruct_sweep
 
-    sweep = reconstruct_sweep(shape, values, quality, seed, half_covered, engine, compare, progress)
+    sweep = reconstruct_sweep(shape, values, quality, seed, options, progress)
     correct = [r.eps for r in sweep.rows if r.ok]
-    result = ReconstructSweepResult(
+    return ReconstructSweepResult(
         source=sweep.source,
         n_eps=len(sweep.rows),
         all_correct=all(r.ok for r in sweep.rows),
@@ -444,18 +433,13 @@ def _sweep(
         sweep=sweep,
         asked=asked,
     )
-    if out is not None:
-        result = _write_sweep(result, out, figure_format)
-    return result
 
 
-def _write_sweep(result: ReconstructSweepResult, out, figure_format: str):
-    from ..files import ensure_folder
+def _write_sweep(result: ReconstructSweepResult, folder, figure_format: str):
     from ..plotting import plot_reconstruct_sweep
     from ..reports.reconstruct_sweep import sweep_writers
 
     sweep = result.sweep
-    folder = ensure_folder(out)
     rows = sweep.rows
     panels = {
         "Hausdorff / (εL)": [r.hausdorff for r in rows],
@@ -494,15 +478,12 @@ def _written(result, folder, writers: dict, figure, figure_format: str):
 
 
 def _draws(
-    shape, values, quality, seed, repeats, options, out, figure_format, asked, progress
+    shape, values, quality, seed, repeats, options, asked, progress
 ) -> ReconstructDrawsResult:
     from ..reports.reconstruct_draws import reconstruct_draws
 
-    half_covered, engine, compare = options
-    draws = reconstruct_draws(
-        shape, values, quality, seed, repeats, half_covered, engine, compare, progress
-    )
-    result = ReconstructDrawsResult(
+    draws = reconstruct_draws(shape, values, quality, seed, repeats, options, progress)
+    return ReconstructDrawsResult(
         source=draws.source,
         repeats=repeats,
         n_eps=len(draws.rows),
@@ -512,18 +493,13 @@ def _draws(
         draws=draws,
         asked=asked,
     )
-    if out is not None:
-        result = _write_draws(result, out, figure_format)
-    return result
 
 
-def _write_draws(result: ReconstructDrawsResult, out, figure_format: str):
-    from ..files import ensure_folder
+def _write_draws(result: ReconstructDrawsResult, folder, figure_format: str):
     from ..plotting import plot_reconstruct_draws
     from ..reports.reconstruct_draws import draws_writers
 
     draws = result.draws
-    folder = ensure_folder(out)
     rows = draws.rows
     figure = None
     if len(rows) > 1:

@@ -51,6 +51,15 @@ def params_json(quality=None, eps: float | Sequence[float] | None = None, **aske
     return out
 
 
+def typed_view(cls, data: Mapping, **given):
+    """The frozen dataclass ``cls`` read from a command's JSON object ``data`` by field name:
+    each field takes the value of the key of its name (its default where ``data`` lacks the
+    key); ``given`` sets fields that are not read from ``data``. The CLI renders such views, so
+    its tables show the numbers of ``--json`` and name each one once, as a typed field."""
+    values = {f.name: data[f.name] for f in dataclasses.fields(cls) if f.name in data}
+    return cls(**(values | given))
+
+
 CONSTANT_LFS_RTOL = 1e-12
 """A sample's L counts as one value when its spread is within this share of its largest."""
 

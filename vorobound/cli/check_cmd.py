@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -23,6 +24,9 @@ from .options import (
     TableChoice,
 )
 from .render import fmt, print_table
+
+if TYPE_CHECKING:
+    from ..api.check_summary import BoundAtEps, CheckSummary
 
 
 @grouped
@@ -146,39 +150,32 @@ def check(
 
 
 def _show(result) -> None:
-    data = result.to_dict()
-    _print_summary(data)
-    if "realized" in data:
-        _print_realized(data)
+    summary = result.summary
+    _print_summary(summary)
+    if summary.realized is not None:
+        _print_realized(summary)
     for path in result.written:
         print(f"wrote {path}")
 
 
-def _print_classes(s: dict) -> None:
+def _print_classes(s: CheckSummary) -> None:
     """Smooth-patch and feature triangles apart: only the first decide the exit code."""
-    smooth, features = s["violations_smooth"], s["violations_at_features"]
-    n_features = features["n_guide_triangles"]
-    worst = features["worst"].get("h3_ratio")
+    worst = s.at_features.worst_h3_centroid
+    notes = (
+        "decides the exit code",
+        "reported only"
+        + ("" if worst is None else ("; worst H3 at " + ", ".join(f"{x:.6g}" for x in worst))),
+    )
     rows = [
         (
-            "smooth patches",
-            f"{s['n_guide_triangles'] - n_features:,}",
-            *(f"{smooth[k]:,}" for k in ("outside_constraint_set", "quality", "ratio")),
-            f"{smooth['proven_bound']:,}",
-            "decides the exit code",
-        ),
-        (
-            "at sharp features",
-            f"{n_features:,}",
-            *(f"{features[k]:,}" for k in ("outside_constraint_set", "quality", "ratio")),
-            f"{features['proven_bound']:,}",
-            "reported only"
-            + (
-                ""
-                if worst is None
-                else ("; worst H3 at " + ", ".join(f"{x:.6g}" for x in worst["centroid"]))
-            ),
-        ),
+            where,
+            f"{c.n_guide_triangles:,}",
+            *(f"{n:,}" for n in (c.outside_constraint_set, c.quality, c.ratio, c.proven_bound)),
+            note,
+        )
+        for where, c, note in zip(
+            ("smooth patches", "at sharp features"), (s.smooth, s.at_features), notes, strict=True
+        )
     ]
     print_table(
         "Guide triangles by where they sit",
@@ -193,135 +190,117 @@ def _print_classes(s: dict) -> None:
         ),
         rows,
     )
-    print(f"rule: {s['by_class']['feature_rule']}")
+    print(f"rule: {s.feature_rule}")
 
 
-def _print_summary(s: dict) -> None:
-    p = s["params"]
-    title = (
-        f"Check of {s['source']} at ε = {p['eps']:g} "
-        f"(σ = {p['sigma']:g}, δ = {p['delta_ratio']:g}ε)"
-    )
-    share = s["half_covered_share"]
+def _print_summary(s: CheckSummary) -> None:
+    p = s.params
+    title = f"Check of {s.source} at ε = {p.eps:g} (σ = {p.sigma:g}, δ = {p.delta_ratio:g}ε)"
+    share = s.half_covered_share
     print_table(
         title,
         ("quantity", "value", "required / meaning"),
         [
-            ("samples", f"{s['n_samples']:,}", ""),
-            ("guide triangles", f"{s['n_guide_triangles']:,}", f"engine {s['engine']}"),
+            ("samples", f"{s.n_samples:,}", ""),
+            ("guide triangles", f"{s.n_guide_triangles:,}", f"engine {s.engine}"),
             (
                 "half-covered",
-                f"{s['n_half_covered']:,}",
+                f"{s.n_half_covered:,}",
                 "one seed covered" + ("" if share is None else f" ({100 * share:.2f} % of seeded)"),
             ),
-            ("coverage_max", fmt(s["coverage_max"], 6), s.get("coverage_note", "< 1 (measured)")),
+            ("coverage_max", fmt(s.coverage_max, 6), s.coverage_note or "< 1 (measured)"),
             (
                 "sparsity_min",
-                fmt(s["sparsity_min"], 10),
-                f"≥ 1 ({s['sparsity_violations']} pairs below)",
+                fmt(s.sparsity_min, 10),
+                f"≥ 1 ({s.sparsity_violations} pairs below)",
             ),
             (
                 "Lipschitz of L",
-                fmt(s["lipschitz_realized"], 6),
-                f"≤ λ = {fmt(s['lipschitz'])} ({s['lipschitz_violations']} pairs above)",
+                fmt(s.lipschitz_realized, 6),
+                f"≤ λ = {fmt(s.lipschitz)} ({s.lipschitz_violations} pairs above)",
             ),
             (
                 "max R/(δL_i)",
-                fmt(s["rho_max"], 6),
-                f"≤ ρ_f = {p['rho_f']:g} ({s['quality_violations']} above)",
+                fmt(s.rho_max, 6),
+                f"≤ ρ_f = {p.rho_f:g} ({s.quality_violations} above)",
             ),
-            ("max (R − R̂)/(εL_i)", fmt(s["gap_ratio_max"], 6), "realized gap (Theorem 1)"),
+            ("max (R − R̂)/(εL_i)", fmt(s.gap_ratio_max, 6), "realized gap (Theorem 1)"),
             (
                 "max R/R̂",
-                fmt(s["ratio_max"], 6),
-                f"≤ ρ_f = {p['rho_f']:g}, eq. (54) ({s['ratio_violations']} above)",
+                fmt(s.ratio_max, 6),
+                f"≤ ρ_f = {p.rho_f:g}, eq. (54) ({s.ratio_violations} above)",
             ),
             (
                 "max R(1−ε)/(εL_i)",
-                fmt(s["h3_ratio_max"], 6),
-                f"≤ 1 if H3 holds (an assumption; {s['h3_violations']} above)",
+                fmt(s.h3_ratio_max, 6),
+                f"≤ 1 if H3 holds (an assumption; {s.h3_violations} above)",
             ),
             (
                 "outside constraint set",
-                f"{s['outside_constraint_set']:,}",
-                ", ".join(f"{k}: {v}" for k, v in s["constraint_violations"].items() if v)
-                or "none",
+                f"{s.outside_constraint_set:,}",
+                ", ".join(f"{k}: {v}" for k, v in s.constraint_violations.items() if v) or "none",
             ),
         ],
     )
-    _bounds_table("Bounds on (R − R̂)/(εL_i) at this ε", s["bound"], "gap_ratio", s, "n/a")
+    _bounds_table("Bounds on (R − R̂)/(εL_i) at this ε", s.gap_bounds, s.gap_ratio_max, "n/a")
     _bounds_table(
-        "Bounds on R/R̂ at this ε (ratio target, eq. (54))", s["ratio_bound"], "value", s, "none (∞)"
+        "Bounds on R/R̂ at this ε (ratio target, eq. (54))", s.ratio_bounds, s.ratio_max, "none (∞)"
     )
     _print_classes(s)
-    for name, key in (("sparsity", "sparsity_worst"), ("Lipschitz", "lipschitz_worst")):
-        rows = s[key]
-        if rows:
+    for name, pairs in (("sparsity", s.sparsity_worst), ("Lipschitz", s.lipschitz_worst)):
+        if pairs:
             print_table(
                 f"Worst {name} violations",
                 ("i", "j", "ratio", "where (midpoint)"),
                 [
-                    (
-                        str(r["i"]),
-                        str(r["j"]),
-                        fmt(r["ratio"], 8),
-                        ", ".join(f"{x:.6g}" for x in r["where"]),
-                    )
-                    for r in rows
+                    (str(r.i), str(r.j), fmt(r.ratio, 8), ", ".join(f"{x:.6g}" for x in r.where))
+                    for r in pairs
                 ],
             )
 
 
-BOUND_TABLE = {
-    "gap_ratio": ("gap_ratio_max", "violations"),
-    "value": ("ratio_max", "ratio_bound_violations"),
-}
-"""Per kind of bound: the realized maximum it is compared with and the counts above it."""
-
-
-def _bounds_table(title: str, bounds: dict, key: str, s: dict, unbounded: str) -> None:
-    """Every mode's bound at this ε (``key`` of each entry of ``bounds``) against the realized
-    maximum, and how many triangles exceed it."""
-    realized_key, above_key = BOUND_TABLE[key]
-    realized, above = s[realized_key], s[above_key]
-    rows = []
-    for mode, b in bounds.items():
-        value, count = b[key], above.get(mode, 0)
-        rows.append(
-            (
-                mode + ("" if b["lipschitz"] is None else f" (λ = {b['lipschitz']:g})"),
-                b["claim"],
-                unbounded if value is None else format_up(value, 6),
-                "n/a" if not value or realized is None else fmt(realized / value, 4),
-                "n/a (not defined)" if count is None else f"{count:,}",
-            )
+def _bounds_table(
+    title: str, bounds: Sequence[BoundAtEps], realized: float | None, unbounded: str
+) -> None:
+    """Every mode's bound at this ε against the ``realized`` maximum, and how many triangles
+    exceed it."""
+    rows = [
+        (
+            b.mode + ("" if b.lipschitz is None else f" (λ = {b.lipschitz:g})"),
+            b.claim,
+            unbounded if b.value is None else format_up(b.value, 6),
+            "n/a" if not b.value or realized is None else fmt(realized / b.value, 4),
+            "n/a (not defined)" if b.above is None else f"{b.above:,}",
         )
+        for b in bounds
+    ]
     columns = ("mode", "claim", "bound", "realized max / bound", "triangles above")
     print_table(title, columns, rows)
 
 
-def _print_realized(s: dict) -> None:
+def _print_realized(s: CheckSummary) -> None:
     """What the balls realize and the guarantee (check without --eps, or --vorocrust)."""
-    from ..rounding import format_down, format_up
+    from ..rounding import format_down
 
-    r, g, m = s["realized"], s["guarantee"], s["realized"]["measured"]
+    r, g = s.realized, s.guarantee
+    assert r is not None and g is not None, "balls whose parameters were inferred"
     print_table(
         "Parameters the balls realize (docs/vorocrust.md)",
         ("parameter", "value", "from"),
         [
-            ("ε", format_up(r["eps"]), f"coverage {fmt(m['coverage_over_lfs_max'], 6)} (measured)"),
-            ("δ/ε", format_up(r["delta_ratio"]), f"max r/L {fmt(m['radius_over_lfs_max'], 6)}"),
-            ("σ", format_down(r["sigma"]), f"min |p−q|/r {fmt(m['spacing_over_radius_min'], 6)}"),
-            ("λ", format_up(r["lipschitz"]), f"max |Δr|/|p−q| {fmt(m['radius_lipschitz'], 6)}"),
+            ("ε", format_up(r.eps), f"coverage {fmt(r.coverage_over_lfs_max, 6)} (measured)"),
+            ("δ/ε", format_up(r.delta_ratio), f"max r/L {fmt(r.radius_over_lfs_max, 6)}"),
+            ("σ", format_down(r.sigma), f"min |p−q|/r {fmt(r.spacing_over_radius_min, 6)}"),
+            ("λ", format_up(r.lipschitz), f"max |Δr|/|p−q| {fmt(r.radius_lipschitz, 6)}"),
         ],
     )
-    rho = g["rho_f"]
     print(
-        f"Guarantee ({g['target']} target): "
+        f"Guarantee ({g.target} target): "
         + (
-            f"R ≤ {format_up(rho)}·R̂ for every guide triangle, {g['claim']}"
-            if rho is not None
-            else f"none proven: {g['failed_condition']} fails"
+            f"R ≤ {format_up(g.rho_f)}·R̂ for every guide triangle, {g.claim}"
+            if g.rho_f is not None
+            else f"none proven: {g.failed_condition} fails"
         )
     )
-    print(f"strata: {', '.join(f'{k} {v}' for k, v in s['strata'].items() if v is not None)}")
+    strata = s.strata or {}
+    print(f"strata: {', '.join(f'{k} {v}' for k, v in strata.items() if v is not None)}")

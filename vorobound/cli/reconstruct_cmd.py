@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -23,6 +24,12 @@ from .options import (
     parse_values,
 )
 from .render import fmt, print_footer, print_table
+
+if TYPE_CHECKING:
+    from ..api.reconstruct import ReconstructDrawsResult
+    from ..api.reconstruct_summary import ReconstructSummary
+    from ..reports.reconstruct_draws import Spread
+    from ..reports.reconstruct_sweep import EpsMark, ReconstructSweep
 
 
 @grouped
@@ -136,22 +143,20 @@ def reconstruct(
 
 
 def _show(result) -> None:
-    data = result.to_dict()
     if hasattr(result, "draws"):
-        _print_draws(data)
+        _print_draws(result)
     elif hasattr(result, "sweep"):
-        _print_sweep(data)
+        _print_sweep(result.sweep)
     else:
-        _print_summary(data)
+        _print_summary(result.summary)
     for path in result.written:
         print(f"wrote {path}")
 
 
-def _topology_text(s: dict) -> str:
-    expected = s["expected_euler_characteristic"]
-    if expected is None:
+def _topology_text(s: ReconstructSummary) -> str:
+    if s.expected_euler_characteristic is None:
         return "no surface to compare with"
-    return f"surface: χ = {expected}, {s['expected_components']} component(s)"
+    return f"surface: χ = {s.expected_euler_characteristic}, {s.expected_components} component(s)"
 
 
 def _verdict(correct: bool | None) -> str:
@@ -160,65 +165,60 @@ def _verdict(correct: bool | None) -> str:
     return "right" if correct else "WRONG"
 
 
-def _print_summary(s: dict) -> None:
-    eps = s["params"].get("eps")
-    eps = "" if eps is None else f" at ε = {eps:g}"
+def _print_summary(s: ReconstructSummary) -> None:
+    eps = "" if s.eps is None else f" at ε = {s.eps:g}"
     rows = []
-    if s["n_samples"] is not None:
+    if s.n_samples is not None:
         rows += [
-            ("balls", f"{s['n_samples']:,}", ""),
-            ("guide triangles", f"{s['n_guide_triangles']:,}", f"engine {s['engine']}"),
-            ("half-covered", f"{s['n_half_covered']:,}", "triples with one seed covered"),
+            ("balls", f"{s.n_samples:,}", ""),
+            ("guide triangles", f"{s.n_guide_triangles:,}", f"engine {s.engine}"),
+            ("half-covered", f"{s.n_half_covered:,}", "triples with one seed covered"),
         ]
-    seeds_note = f"{s['n_inside_seeds']:,} inside; labels from the {s['labels']}"
-    if s["sheet_label_disagreements"] is not None:
-        seeds_note += f" ({s['sheet_label_disagreements']} differ by the union's sheets)"
+    seeds_note = f"{s.n_inside_seeds:,} inside; labels from the {s.labels}"
+    if s.sheet_label_disagreements is not None:
+        seeds_note += f" ({s.sheet_label_disagreements} differ by the union's sheets)"
     rows += [
-        ("seeds", f"{s['n_seeds']:,}", seeds_note),
-        (
-            "facets of M̂",
-            f"{s['n_facets']:,}",
-            f"{s['collapsed_facets']:,} in/out pairs with no area",
-        ),
+        ("seeds", f"{s.n_seeds:,}", seeds_note),
+        ("facets of M̂", f"{s.n_facets:,}", f"{s.collapsed_facets:,} in/out pairs with no area"),
         (
             "closed 2-manifold",
-            "yes" if s["closed_manifold"] else "no",
-            f"{s['boundary_edges']} boundary and {s['nonmanifold_edges']} non-manifold edges, "
-            f"{s['nonmanifold_vertices']} pinched vertices, {s['unbounded_facets']} facets at "
+            "yes" if s.closed_manifold else "no",
+            f"{s.boundary_edges} boundary and {s.nonmanifold_edges} non-manifold edges, "
+            f"{s.nonmanifold_vertices} pinched vertices, {s.unbounded_facets} facets at "
             "infinity",
         ),
-        ("Euler characteristic", str(s["euler_characteristic"]), _topology_text(s)),
-        ("components", str(s["components"]), f"genus {fmt(s['genus'])}"),
-        ("topology", _verdict(s["topology_correct"]), ""),
+        ("Euler characteristic", str(s.euler_characteristic), _topology_text(s)),
+        ("components", str(s.components), f"genus {fmt(s.genus)}"),
+        ("topology", _verdict(s.topology_correct), ""),
         (
             "min edge ratio",
-            fmt(s["edge_ratio_min"], 4),
-            f"median {fmt(s['edge_ratio_median'], 4)} (shortest / longest edge)",
+            fmt(s.edge_ratio_min, 4),
+            f"median {fmt(s.edge_ratio_median, 4)} (shortest / longest edge)",
         ),
         (
             "min angle (°)",
-            fmt(s["min_angle_min_deg"], 4),
-            f"median {fmt(s['min_angle_median_deg'], 4)}",
+            fmt(s.min_angle_min_deg, 4),
+            f"median {fmt(s.min_angle_median_deg, 4)}",
         ),
     ]
-    if "hausdorff_over_eps_lfs" in s:
+    if s.measured:
         rows += [
             (
                 "Hausdorff / (εL)",
-                fmt(s["hausdorff_over_eps_lfs"], 4),
-                f"M̂ → surface {fmt(s['mhat_to_surface_over_eps_lfs'], 4)}, surface → M̂ "
-                f"{fmt(s['surface_to_mhat_over_eps_lfs'], 4)} (measured)",
+                fmt(s.hausdorff_over_eps_lfs, 4),
+                f"M̂ → surface {fmt(s.mhat_to_surface_over_eps_lfs, 4)}, surface → M̂ "
+                f"{fmt(s.surface_to_mhat_over_eps_lfs, 4)} (measured)",
             ),
             (
                 "max normal deviation (°)",
-                fmt(s["normal_deviation_max_deg"], 4),
-                f"median {fmt(s['normal_deviation_median_deg'], 4)}; "
-                f"{s['flipped_facets']} facets above 90°",
+                fmt(s.normal_deviation_max_deg, 4),
+                f"median {fmt(s.normal_deviation_median_deg, 4)}; "
+                f"{s.flipped_facets} facets above 90°",
             ),
         ]
-    print_table(f"M̂ of {s['source']}{eps}", ("quantity", "value", "meaning"), rows)
-    if s.get("note"):
-        print_footer(s["note"])
+    print_table(f"M̂ of {s.source}{eps}", ("quantity", "value", "meaning"), rows)
+    if s.note:
+        print_footer(s.note)
     for line in readings(s):
         print_footer(line)
 
@@ -230,17 +230,17 @@ SLIVER_ANGLE_DEG = 1.0
 """Facets with an angle below this many degrees are slivers."""
 
 
-def readings(s: dict) -> list[str]:
+def readings(s: ReconstructSummary) -> list[str]:
     """One line per measurement a reader cannot judge alone (facets without area, slivers,
     normal deviation): whether it matters, and where the docs explain it."""
     lines = []
-    if s["collapsed_facets"]:
+    if s.collapsed_facets:
         lines.append(
-            f"reading: {s['collapsed_facets']:,} in/out pairs with no area are seeds on one "
+            f"reading: {s.collapsed_facets:,} in/out pairs with no area are seeds on one "
             "ball's sphere meeting in a Voronoi vertex, not a facet (VoroCrust's seeds are "
             f"cospherical by construction); no part of M̂ is missing, harmless ({READING_DOC})"
         )
-    ratio, angle = s["edge_ratio_min"], s["min_angle_min_deg"]
+    ratio, angle = s.edge_ratio_min, s.min_angle_min_deg
     if ratio is not None and angle is not None:
         measured = f"min edge ratio {fmt(ratio, 3)}, min angle {fmt(angle, 3)}°"
         if ratio < SLIVER_EDGE_RATIO or angle < SLIVER_ANGLE_DEG:
@@ -252,8 +252,8 @@ def readings(s: dict) -> list[str]:
             )
         else:
             lines.append(f"reading: {measured}: no sliver facets ({READING_DOC})")
-    if s.get("normal_deviation_max_deg") is not None:
-        deviation, flipped = s["normal_deviation_max_deg"], s["flipped_facets"]
+    if s.normal_deviation_max_deg is not None:
+        deviation, flipped = s.normal_deviation_max_deg, s.flipped_facets
         if flipped:
             lines.append(
                 f"reading: {flipped:,} facets above 90° face inward: M̂ folds there "
@@ -270,10 +270,10 @@ def readings(s: dict) -> list[str]:
     return lines
 
 
-def _print_sweep(s: dict) -> None:
+def _print_sweep(sweep: ReconstructSweep) -> None:
+    q = sweep.quality
     print_table(
-        f"M̂ of {s['source']} against ε (σ = {s['params']['sigma']:g}, "
-        f"δ = {s['params']['delta_ratio']:g}ε)",
+        f"M̂ of {sweep.source} against ε (σ = {q.sigma:g}, δ = {q.delta_ratio:g}ε)",
         (
             "ε",
             "samples",
@@ -286,41 +286,41 @@ def _print_sweep(s: dict) -> None:
         ),
         [
             (
-                f"{r['eps']:.4g}",
-                "" if r["samples"] is None else f"{r['samples']:,}",
-                f"{r['facets']:,}",
-                _verdict(r["topology_correct"]) + ("" if r["closed_manifold"] else " (not closed)"),
-                str(r["euler_characteristic"]),
-                fmt(r["hausdorff"], 4),
-                fmt(r["normal_deviation_max"], 4),
-                fmt(r["min_angle_min"], 4),
+                f"{r.eps:.4g}",
+                "" if r.samples is None else f"{r.samples:,}",
+                f"{r.facets:,}",
+                _verdict(r.topology_correct) + ("" if r.closed_manifold else " (not closed)"),
+                str(r.euler_characteristic),
+                fmt(r.hausdorff, 4),
+                fmt(r.normal_deviation_max, 4),
+                fmt(r.min_angle_min, 4),
             )
-            for r in s["rows"]
+            for r in sweep.rows
         ],
     )
-    _print_marks(s["eps_star"])
-    for r in s["rows"]:
-        if r["note"]:
-            print_footer(f"ε = {r['eps']:g}: {r['note']}")
+    _print_marks(sweep.marks)
+    for r in sweep.rows:
+        if r.note:
+            print_footer(f"ε = {r.eps:g}: {r.note}")
 
 
-def _print_marks(marks: list[dict]) -> None:
+def _print_marks(marks: Sequence[EpsMark]) -> None:
     print_table(
         "Every bound's ε*",
         ("bound", "target", "ε*", "claim"),
-        [(m["label"], m["target"], format_down(m["eps_star"]), m["claim"]) for m in marks],
+        [(m.label, m.target, format_down(m.eps_star), m.claim) for m in marks],
     )
 
 
-def _spread(spread: dict) -> tuple[str, str]:
-    return fmt(spread["median"], 4), fmt(spread["max"], 4)
+def _spread(spread: Spread) -> tuple[str, str]:
+    return fmt(spread.median, 4), fmt(spread.max, 4)
 
 
-def _print_draws(s: dict) -> None:
-    first, last = s["seed_range"]
+def _print_draws(result: ReconstructDrawsResult) -> None:
+    d, q = result.draws, result.draws.quality
     print_table(
-        f"M̂ of {s['source']} over {s['repeats']} draws per ε (seeds {first}–{last}; "
-        f"σ = {s['params']['sigma']:g}, δ = {s['params']['delta_ratio']:g}ε)",
+        f"M̂ of {d.source} over {d.repeats} draws per ε (seeds {d.seed}–{d.seed + d.repeats - 1}; "
+        f"σ = {q.sigma:g}, δ = {q.delta_ratio:g}ε)",
         (
             "ε",
             "right",
@@ -332,20 +332,20 @@ def _print_draws(s: dict) -> None:
         ),
         [
             (
-                f"{r['eps']:.4g}",
-                f"{r['correct']}/{r['draws']}",
-                f"{r['share_correct']:.3g}",
-                *_spread(r["hausdorff"]),
-                *_spread(r["normal_deviation_max"]),
+                f"{r.eps:.4g}",
+                f"{r.correct}/{len(r.draws)}",
+                f"{r.share_correct:.3g}",
+                *_spread(r.hausdorff),
+                *_spread(r.normal_deviation_max),
             )
-            for r in s["rows"]
+            for r in d.rows
         ],
     )
-    if len(s["rows"]) > 1:
-        _print_marks(s["eps_star"])
-        print(_band_text(s["largest_all_correct_eps"], s["smallest_none_correct_eps"]))
+    if len(d.rows) > 1:
+        _print_marks(d.marks)
+        print(_band_text(d.largest_all_correct_eps, d.smallest_none_correct_eps))
     else:
-        print(f"share of draws with the right topology: {s['share_correct']:.3g}")
+        print(f"share of draws with the right topology: {result.share_correct:.3g}")
 
 
 def _band_text(all_right: float | None, none_right: float | None) -> str:

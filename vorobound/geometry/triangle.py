@@ -15,8 +15,6 @@ and, if still ill-conditioned, with exact rational arithmetic, so the relative e
 from __future__ import annotations
 
 import functools
-import importlib.util
-import os
 import warnings
 
 import numpy as np
@@ -24,6 +22,7 @@ import numpy as np
 from ..errors import InputError, VoroboundWarning
 from .inputs import real_array
 from .invariants import invariants_from_edges, invariants_from_points
+from .kernels import load_kernel, pure_numpy
 from .precision import EPS64, ERROR_GROWTH, REFINE_TOLERANCE, tiered
 from .result import WeightedTriangles
 from .threads import chunk_bounds, run_in_threads, thread_count
@@ -337,23 +336,12 @@ def compiled_available() -> bool:
     Setting the environment variable ``VOROBOUND_PURE_NUMPY`` to a non-empty value forces
     the numpy path.
     """
-    if os.environ.get("VOROBOUND_PURE_NUMPY"):
-        return False
-    return importlib.util.find_spec("numba") is not None and _load_compiled() is not None
+    return not pure_numpy() and _load_compiled() is not None
 
 
 @functools.cache
 def _load_compiled():
-    try:
-        from . import compiled
-    except (ImportError, RuntimeError, OSError) as exc:  # e.g. a numba that cannot cache
-        warnings.warn(
-            f"the compiled kernel could not be loaded ({exc}); using the numpy path",
-            VoroboundWarning,
-            stacklevel=3,
-        )
-        return None
-    return compiled
+    return load_kernel(f"{__package__}.compiled", "the compiled kernel", "the numpy path")
 
 
 def theorem1_from_edges(edges, weights) -> WeightedTriangles:

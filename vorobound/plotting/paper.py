@@ -31,21 +31,12 @@ def plot_figure3(data: Figure3Data, ax=None):
 
     with matplotlib.rc_context(STYLE):
         fig, ax = axes_of(ax, legend_rows=3)
-        ax.plot(data.eps, data.bound_acute, label=r"bound, $\theta \leq \pi/2$", color="C0")
-        ax.plot(
-            data.eps,
-            data.bound_obtuse,
-            label=r"bound, $\theta > \pi/2$",
-            color="C1",
-            linestyle="--",
-        )
-        ax.plot(
-            data.eps,
-            data.target,
-            label=r"target $(\rho_f-1)\,\delta L_i$",
-            color="k",
-            linestyle=":",
-        )
+        for values, label, color, style in (
+            (data.bound_acute, r"bound, $\theta \leq \pi/2$", "C0", "-"),
+            (data.bound_obtuse, r"bound, $\theta > \pi/2$", "C1", "--"),
+            (data.target, r"target $(\rho_f-1)\,\delta L_i$", "k", ":"),
+        ):
+            ax.plot(data.eps, values, label=label, color=color, linestyle=style)
         for eps_mark, label, color in (
             (data.eps_baseline, r"$\epsilon = 1/500$", "C2"),
             (data.eps_star, rf"$\epsilon^* = {format_down(data.eps_star)}$", "C3"),
@@ -96,6 +87,20 @@ def _drawn(curve, values):
     return exact, upper
 
 
+def _upper_and_star(ax, curve, upper, colour, upper_label: str, star: tuple) -> bool:
+    """A curve's upper-bound-only part (dotted; see :func:`_drawn`) and its ε* marker, ``star``
+    = (height, marker, label); True when there was an upper-bound-only part to draw."""
+    import numpy as np
+
+    drawn = bool(np.isfinite(upper).any())
+    if drawn:
+        ax.plot(curve.eps, upper, color=colour, linestyle=":", linewidth=0.9, label=upper_label)
+    if curve.eps_star is not None:
+        height, marker, label = star
+        ax.plot([curve.eps_star], [height], marker, color=colour, markersize=3.5, label=label)
+    return drawn
+
+
 def _star_label(curve) -> str:
     from ..rounding import format_down
 
@@ -116,7 +121,6 @@ def plot_comparison(data: TargetFigureData, ax=None):
     Eq. (29)–(30), (33)–(55); docs/tight.md.
     """
     import matplotlib
-    import numpy as np
     from matplotlib.lines import Line2D
 
     modes = list(dict.fromkeys(c.mode for c in data.curves))
@@ -133,25 +137,9 @@ def plot_comparison(data: TargetFigureData, ax=None):
                 linestyle=style,
                 label=f"_{curve.mode} {curve.target}",
             )
-            if np.isfinite(upper).any():
-                upper_drawn = True
-                ax.plot(
-                    curve.eps,
-                    upper,
-                    color=colour,
-                    linestyle=":",
-                    linewidth=0.9,
-                    label=f"_{curve.mode} {curve.target} upper bound",
-                )
-            if curve.eps_star is not None:
-                ax.plot(
-                    [curve.eps_star],
-                    [1.0],
-                    STAR_MARKERS[curve.target],
-                    color=colour,
-                    markersize=3.5,
-                    label=f"_{curve.mode} {curve.target} ε*",
-                )
+            name = f"_{curve.mode} {curve.target}"
+            star = (1.0, STAR_MARKERS[curve.target], f"{name} ε*")
+            upper_drawn |= _upper_and_star(ax, curve, upper, colour, f"{name} upper bound", star)
         ax.axhline(1.0, color="k", linewidth=0.8, label="_target met below 1")
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -222,24 +210,11 @@ def plot_ratio(data: TargetFigureData, ax=None):
             ax.plot(
                 curve.eps, exact, color=colour, label=f"{curve.mode}: {_star_label(curve)}{claim}"
             )
-            if np.isfinite(upper).any():
-                ax.plot(
-                    curve.eps,
-                    upper,
-                    color=colour,
-                    linestyle=":",
-                    linewidth=0.9,
-                    label=f"{curve.mode}: proven upper bound only",
-                )
+            star = (data.rho_f, "o", f"_{curve.mode} ε*")
+            _upper_and_star(
+                ax, curve, upper, colour, f"{curve.mode}: proven upper bound only", star
+            )
             if curve.eps_star is not None:
-                ax.plot(
-                    [curve.eps_star],
-                    [data.rho_f],
-                    "o",
-                    color=colour,
-                    markersize=3.5,
-                    label=f"_{curve.mode} ε*",
-                )
                 ax.axvline(
                     curve.eps_star,
                     color=colour,

@@ -52,6 +52,19 @@ class SampleInfo:
 
 
 @dataclass(frozen=True)
+class MhatOptions:
+    """How M̂ is built from the balls, whatever their source (``vorobound reconstruct``'s
+    --half-covered, --engine and --compare-sheets)."""
+
+    half_covered: bool = False
+    """Also use the uncovered seed of each half-covered triple."""
+    engine: Engine | str = Engine.auto
+    """Source of candidate triples (as for ``vorobound check``)."""
+    compare_sheets: bool = False
+    """Also label the seeds by the union's sheets and count the disagreements."""
+
+
+@dataclass(frozen=True)
 class ReconstructReport:
     """M̂ of one seed set and everything measured on it."""
 
@@ -227,9 +240,7 @@ def reconstruct_surface(
     eps: float,
     quality: QualityParams,
     seed: int = 0,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> ReconstructReport:
     """Sample ``shape`` at ``eps`` (σ-sparse ε-sample, balls r = δL), take the seeds of the
@@ -245,12 +256,8 @@ def reconstruct_surface(
         σ and δ/ε (ρ_f and L_i are not used).
     seed : int
         Random seed of the sampler and of the surface probes.
-    half_covered : bool
-        Also use the uncovered seed of each half-covered triple.
-    engine : Engine
-        Source of candidate triples (as for ``vorobound check``).
-    compare_sheets : bool
-        Also label the seeds by the union's sheets and count the disagreements.
+    options : MhatOptions
+        Which seeds, which engine, whether to compare the sheets' labels.
     progress : Progress, optional
 
     References
@@ -264,18 +271,7 @@ def reconstruct_surface(
     sample = sample_surface(shape, eps, quality.sigma, seed, progress)
     balls = make_balls(sample.points, params.delta * sample.lfs, shape.name)
     clock.lap("sample")
-    return _from_balls(
-        balls,
-        params,
-        shape,
-        seed,
-        half_covered,
-        engine,
-        compare_sheets,
-        clock,
-        shape.name,
-        progress,
-    )
+    return _from_balls(balls, params, shape, seed, options, clock, shape.name, progress)
 
 
 def reconstruct_balls(
@@ -290,21 +286,21 @@ def reconstruct_balls(
 ) -> ReconstructReport:
     """M̂ of balls made elsewhere: seeds of their guide triangles, labelled by ``shape`` when
     given (then also measured against it at ``params.eps``), else by the union's sheets."""
-    clock = _Clock()
+    options = MhatOptions(half_covered, engine, compare_sheets)
     return _from_balls(
-        balls, params, shape, 0, half_covered, engine, compare_sheets, clock, source, progress
+        balls, params, shape, 0, options, clock=_Clock(), source=source, progress=progress
     )
 
 
 def _from_balls(
-    balls, params, shape, seed, half_covered, engine, compare_sheets, clock, source, progress
+    balls, params, shape, seed, options: MhatOptions, clock, source, progress
 ) -> ReconstructReport:
     from ..sampling.reconstruct.labels import NotTwoSheets, sheet_labels
 
     cospherical = bool(getattr(shape, "equal_radii_on_sphere", False)) and equal_radii_on_sphere(
         balls, shape.radius
     )
-    search = find_guide_triangles(balls, engine, cospherical, progress)
+    search = find_guide_triangles(balls, options.engine, cospherical, progress)
     guides = len(search.guide.triples)
     if guides == 0:
         raise NoGuideTriangles(
@@ -312,7 +308,7 @@ def _from_balls(
             f"of balls meet in a seed pair, {search.half_covered:,} of them half-covered)"
         )
     clock.lap("guide triangles")
-    found = triangle_seeds(balls, search.seeded, half_covered)
+    found = triangle_seeds(balls, search.seeded, options.half_covered)
     disagreements = sheet_note = None
     if shape is None:
         Counter(progress, "labels from the union's sheets", None)
@@ -320,7 +316,7 @@ def _from_balls(
         labels = "sheets"
     else:
         inside, labels = shape.inside(found.points), "surface"
-        if compare_sheets:
+        if options.compare_sheets:
             Counter(progress, "labels from the union's sheets", None)
             try:
                 by_sheets = sheet_labels(balls, search.seeded)[found.rows, found.side]
@@ -338,7 +334,16 @@ def _from_balls(
         )
     info = SampleInfo(len(balls), guides, search.half_covered, search.engine, lfs_range)
     report = _finish(
-        seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress
+        seeds,
+        shape,
+        params,
+        seed,
+        info,
+        options.half_covered,
+        disagreements,
+        clock,
+        source,
+        progress,
     )
     return replace(report, sheet_note=sheet_note)
 

@@ -21,9 +21,9 @@ import numpy as np
 from ..bounds.params import QualityParams
 from ..errors import InputError
 from ..progress import Counter, Progress
-from ..sampling.guides.triangles import Engine
 from ..sampling.surfaces.base import ExpectedTopology
-from .reconstruct_sweep import SWEEP_COLUMNS, EpsMark, SweepRow, bound_marks, csv_line, sweep_row
+from .reconstruct import MhatOptions
+from .reconstruct_sweep import SWEEP_COLUMNS, EpsMark, SweepRow, bound_marks, csv_line, sweep_rows
 
 DRAWS_CSV = "draws.csv"
 """File name of the table with one line per draw and ε."""
@@ -136,9 +136,7 @@ def reconstruct_draws(
     quality: QualityParams,
     seed: int = 0,
     repeats: int = 8,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> ReconstructDraws:
     """:func:`vorobound.reports.reconstruct_sweep.sweep_row` at each ε for each of
@@ -156,7 +154,7 @@ def reconstruct_draws(
         Seed of the first draw.
     repeats : int
         Draws per ε.
-    half_covered, engine, compare_sheets, progress
+    options, progress
         As for :func:`vorobound.reports.reconstruct.reconstruct_surface`.
 
     References
@@ -173,13 +171,9 @@ def reconstruct_draws(
     seeds = tuple(seed + k for k in range(repeats))
     per_eps: list[list[SweepRow]] = [[] for _ in eps_values]
     for draw_seed in seeds:
-        for rows, eps in zip(per_eps, eps_values, strict=True):
-            rows.append(
-                sweep_row(
-                    shape, eps, quality, draw_seed, half_covered, engine, compare_sheets, progress
-                )
-            )
-            counter.step()
+        drawn = sweep_rows(shape, eps_values, quality, draw_seed, options, progress, counter)
+        for rows, row in zip(per_eps, drawn, strict=True):
+            rows.append(row)
     return ReconstructDraws(
         source=shape.name,
         quality=quality,

@@ -14,9 +14,8 @@ from pathlib import Path
 from ..bounds.params import Mode, QualityParams, SamplingParams
 from ..errors import NoAdmissibleEps, NoGuideTriangles
 from ..progress import Counter, Progress
-from ..sampling.guides.triangles import Engine
 from ..sampling.surfaces.base import ExpectedTopology
-from .reconstruct import ReconstructReport, reconstruct_surface
+from .reconstruct import MhatOptions, ReconstructReport, reconstruct_surface
 
 SWEEP_FIGURE_STEM = "sweep"
 """File name (without extension) of the sweep's figure."""
@@ -159,20 +158,13 @@ def reconstruct_sweep(
     eps_values: list[float],
     quality: QualityParams,
     seed: int = 0,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> ReconstructSweep:
     """:func:`reconstruct_surface` at each ε (a row per ε; an ε without guide triangles is a
     row without M̂), and every bound's ε* (:func:`bound_marks`)."""
     counter = Counter(progress, "ε values", len(eps_values))
-    rows = []
-    for eps in eps_values:
-        rows.append(
-            sweep_row(shape, eps, quality, seed, half_covered, engine, compare_sheets, progress)
-        )
-        counter.step()
+    rows = sweep_rows(shape, eps_values, quality, seed, options, progress, counter)
     return ReconstructSweep(
         source=shape.name,
         quality=quality,
@@ -183,22 +175,35 @@ def reconstruct_sweep(
     )
 
 
+def sweep_rows(
+    shape,
+    eps_values: list[float],
+    quality: QualityParams,
+    seed: int,
+    options: MhatOptions,
+    progress: Progress | None,
+    counter: Counter,
+) -> list[SweepRow]:
+    """:func:`sweep_row` at each ε with one seed, a step of ``counter`` each."""
+    rows = []
+    for eps in eps_values:
+        rows.append(sweep_row(shape, eps, quality, seed, options, progress))
+        counter.step()
+    return rows
+
+
 def sweep_row(
     shape,
     eps: float,
     quality: QualityParams,
     seed: int = 0,
-    half_covered: bool = False,
-    engine: Engine | str = Engine.auto,
-    compare_sheets: bool = False,
+    options: MhatOptions = MhatOptions(),
     progress: Progress | None = None,
 ) -> SweepRow:
     """What a sweep keeps of :func:`reconstruct_surface` at one ε and seed (a row without M̂
     when there is no guide triangle)."""
     try:
-        report = reconstruct_surface(
-            shape, eps, quality, seed, half_covered, engine, compare_sheets, progress
-        )
+        report = reconstruct_surface(shape, eps, quality, seed, options, progress)
     except NoGuideTriangles as exc:
         return SweepRow.failed(SamplingParams(eps, quality).eps, str(exc))
     return SweepRow.of(report)

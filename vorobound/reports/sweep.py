@@ -238,6 +238,12 @@ def _chain_rows(spec: SweepSpec, mode: Mode, target: Target) -> Iterator[SweepRo
     shape = tuple(len(a) for a in axes)
     total = math.prod(shape)
     claim = CHAIN_CLAIM[mode.value]
+
+    def row(sigma, rho_f, ratio, **found) -> SweepRow:
+        """A row of this mode and target (no λ: the chain has none)."""
+        values = (float(sigma), float(rho_f), float(ratio))
+        return SweepRow(mode.value, target.value, None, *values, claim=claim, **found)
+
     for start in range(0, total, CHUNK_ROWS):
         index = np.unravel_index(np.arange(start, min(start + CHUNK_ROWS, total)), shape)
         sigma, rho_f, ratio = (axis[i] for axis, i in zip(axes[:3], index[:3], strict=True))
@@ -245,17 +251,8 @@ def _chain_rows(spec: SweepSpec, mode: Mode, target: Target) -> Iterator[SweepRo
             stars, status = solve_eps_star_batch(sigma, ratio, rho_f, mode, target=target)
             for s, q, r, star, code in zip(sigma, rho_f, ratio, stars, status, strict=True):
                 ok = code == STATUS_OK
-                yield SweepRow(
-                    mode.value,
-                    target.value,
-                    None,
-                    float(s),
-                    float(q),
-                    float(r),
-                    eps_star=float(star) if ok else None,
-                    claim=claim,
-                    note="" if ok else STATUS_REASONS[int(code)],
-                )
+                note = "" if ok else STATUS_REASONS[int(code)]
+                yield row(s, q, r, eps_star=float(star) if ok else None, note=note)
         else:
             eps = axes[3][index[3]]
             with np.errstate(invalid="ignore"):
@@ -272,19 +269,8 @@ def _chain_rows(spec: SweepSpec, mode: Mode, target: Target) -> Iterator[SweepRo
                     note = "the chain is not defined at this eps"
                 else:
                     note = "no finite bound on R/R^: the bound on (R - R^)/R reaches 1"
-                yield SweepRow(
-                    mode.value,
-                    target.value,
-                    None,
-                    float(s),
-                    float(q),
-                    float(r),
-                    eps=float(e),
-                    bound=float(b) if defined else None,
-                    limit=float(t),
-                    claim=claim,
-                    note=note,
-                )
+                bound = float(b) if defined else None
+                yield row(s, q, r, eps=float(e), bound=bound, limit=float(t), note=note)
 
 
 def _tight_tasks(spec: SweepSpec) -> Iterator[tuple]:

@@ -36,6 +36,23 @@ def _word(data, pos):
     )
 
 
+@njit(inline="always")
+def _write_block(data, path, block, depth, children, out, found):
+    """The simplices a block at ``depth`` closes (the open path's vertices, then each member's)
+    into ``out`` from row ``found``, or only counted when ``out`` has no rows; returns the new
+    count, −1 when ``out`` is too short."""
+    if out.shape[0] == 0:
+        return found + children
+    if found + children > out.shape[0]:
+        return -1
+    for j in range(children):
+        for k in range(depth):
+            out[found, k] = path[k]
+        out[found, depth] = _word(data, block + RECORD * j)
+        found += 1
+    return found
+
+
 @njit(cache=True, nogil=True)
 def read_tree(data, triangles, tetrahedra):
     """Fill ``triangles`` (m, 3) and ``tetrahedra`` (k, 4) from the serialized tree ``data``
@@ -77,26 +94,11 @@ def read_tree(data, triangles, tetrahedra):
         done[depth] = 0
         pos += 4 + RECORD * children
         if depth == 2:
-            if triangles.shape[0] == 0:
-                found_tri += children
-                continue
-            if found_tri + children > triangles.shape[0]:
+            found_tri = _write_block(data, path, start[2], 2, children, triangles, found_tri)
+            if found_tri < 0:
                 return -1, -1, pos
-            for j in range(children):
-                triangles[found_tri, 0] = path[0]
-                triangles[found_tri, 1] = path[1]
-                triangles[found_tri, 2] = _word(data, start[2] + RECORD * j)
-                found_tri += 1
         elif depth == 3:
-            if tetrahedra.shape[0] == 0:
-                found_tet += children
-                continue
-            if found_tet + children > tetrahedra.shape[0]:
+            found_tet = _write_block(data, path, start[3], 3, children, tetrahedra, found_tet)
+            if found_tet < 0:
                 return -1, -1, pos
-            for j in range(children):
-                tetrahedra[found_tet, 0] = path[0]
-                tetrahedra[found_tet, 1] = path[1]
-                tetrahedra[found_tet, 2] = path[2]
-                tetrahedra[found_tet, 3] = _word(data, start[3] + RECORD * j)
-                found_tet += 1
     return found_tri, found_tet, pos

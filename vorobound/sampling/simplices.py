@@ -16,13 +16,10 @@ compares the alternatives.
 from __future__ import annotations
 
 import functools
-import importlib.util
-import os
-import warnings
 
 import numpy as np
 
-from ..errors import VoroboundWarning
+from ..geometry.kernels import load_kernel, pure_numpy
 
 COMPILED_MIN_VERTICES = 30_000
 """Trees on fewer vertices (about 13 simplices each) are read with GUDHI's iterator (no numba
@@ -53,23 +50,14 @@ def tree_simplices(
 
 def kernel_available() -> bool:
     """True when the compiled reader can run (numba installed, ``VOROBOUND_PURE_NUMPY`` unset)."""
-    if os.environ.get("VOROBOUND_PURE_NUMPY"):
-        return False
-    return importlib.util.find_spec("numba") is not None and _load_kernel() is not None
+    return not pure_numpy() and _load_kernel() is not None
 
 
 @functools.cache
 def _load_kernel():
-    try:
-        from . import simplex_kernel
-    except (ImportError, RuntimeError, OSError) as exc:  # e.g. a numba that cannot cache
-        warnings.warn(
-            f"the compiled simplex reader could not be loaded ({exc}); using GUDHI's iterator",
-            VoroboundWarning,
-            stacklevel=3,
-        )
-        return None
-    return simplex_kernel
+    return load_kernel(
+        f"{__package__}.simplex_kernel", "the compiled simplex reader", "GUDHI's iterator"
+    )
 
 
 def _read_compiled(tree, triangles: bool, tetrahedra: bool):

@@ -59,6 +59,16 @@ class PieceTree:
         self.count = _build(
             self.low, self.high, self.node_low, self.node_high, self.node_range, self.node_child
         )
+        self.arrays = (
+            self.pieces,
+            self.low,
+            self.high,
+            self.node_low,
+            self.node_high,
+            self.node_range,
+            self.node_child,
+        )
+        """The tree as the compiled kernels take it (one tuple)."""
 
     def tangent_radii(
         self, points, directions, point_group, limit, allowed, slack: float
@@ -84,14 +94,8 @@ class PieceTree:
                 allowed,
                 slack,
                 best,
-                self.pieces,
                 self.group,
-                self.low,
-                self.high,
-                self.node_low,
-                self.node_high,
-                self.node_range,
-                self.node_child,
+                self.arrays,
             )
 
         run_in_threads(task, chunk_bounds(len(points), QUERY_CHUNK))
@@ -109,21 +113,7 @@ class PieceTree:
 
         def task(bounds):
             lo, hi = bounds
-            _nearest_kernel(
-                lo,
-                hi,
-                queries,
-                bound,
-                distance,
-                found,
-                self.pieces,
-                self.low,
-                self.high,
-                self.node_low,
-                self.node_high,
-                self.node_range,
-                self.node_child,
-            )
+            _nearest_kernel(lo, hi, queries, bound, distance, found, self.arrays)
 
         run_in_threads(task, chunk_bounds(len(queries), QUERY_CHUNK))
         hit = found >= 0
@@ -203,6 +193,20 @@ def _box_gap(low, high, node, c0, c1, c2):
 
 
 @njit(inline="always", error_model="numpy")
+def _push_children(stack, top, node_low, node_high, node_child, node, c0, c1, c2):
+    """Push the two children of an inner node, the one whose box is nearer to c on top (it
+    is walked first); returns the new top of the stack."""
+    left, right = node_child[node, 0], node_child[node, 1]
+    near = _box_gap(node_low, node_high, left, c0, c1, c2)
+    far = _box_gap(node_low, node_high, right, c0, c1, c2)
+    if near <= far:
+        stack[top + 1], stack[top + 2] = right, left
+    else:
+        stack[top + 1], stack[top + 2] = left, right
+    return top + 2
+
+
+@njit(inline="always", error_model="numpy")
 def _segment(x0, x1, x2, d0, d1, d2, p0, p1, p2, q0, q1, q2):
     """:func:`.tangent_ball._segment_radius` for one pair."""
     w0, w1, w2 = p0 - x0, p1 - x1, p2 - x2
@@ -238,6 +242,20 @@ def _cross(u0, u1, u2, v0, v1, v2):
     return u1 * v2 - u2 * v1, u2 * v0 - u0 * v2, u0 * v1 - u1 * v0
 
 
+@njit(inline="always", error_model="numpy")
+def _inside(t, n0, n1, n2, f0, f1, f2):
+    """Whether f, a point in the plane of triangle t (3, 3), lies inside it or on its edges:
+    each edge's cross product with the way to f points along the normal n (of any length)."""
+    for i in range(3):
+        p0, p1, p2 = t[i, 0], t[i, 1], t[i, 2]
+        j = (i + 1) % 3
+        q0, q1, q2 = t[j, 0], t[j, 1], t[j, 2]
+        s0, s1, s2 = _cross(q0 - p0, q1 - p1, q2 - p2, f0 - p0, f1 - p1, f2 - p2)
+        if not (s0 * n0 + s1 * n1 + s2 * n2 >= 0):
+            return False
+    return True
+
+
 @njit(cache=True, error_model="numpy")
 def _tangent_radius(x0, x1, x2, d0, d1, d2, t):
     """:func:`.tangent_ball.tangent_radius` for one point, direction and triangle t (3, 3)."""
@@ -260,47 +278,19 @@ def _tangent_radius(x0, x1, x2, d0, d1, d2, t):
             if along * side < 0 or along != along:
                 continue
             u0, u1, u2 = m0 - along * n0, m1 - along * n1, m2 - along * n2
-            inside = True
-            for p0, p1, p2, q0, q1, q2 in (
-                (a0, a1, a2, b0, b1, b2),
-                (b0, b1, b2, c0, c1, c2),
-                (c0, c1, c2, a0, a1, a2),
-            ):
-                s0, s1, s2 = _cross(q0 - p0, q1 - p1, q2 - p2, u0 - p0, u1 - p1, u2 - p2)
-                if not (s0 * n0 + s1 * n1 + s2 * n2 >= 0):
-                    inside = False
-            if inside and root < best:
+            if root < best and _inside(t, n0, n1, n2, u0, u1, u2):
                 best = root
-    for p0, p1, p2, q0, q1, q2 in (
-        (a0, a1, a2, b0, b1, b2),
-        (b0, b1, b2, c0, c1, c2),
-        (c0, c1, c2, a0, a1, a2),
-    ):
-        value = _segment(x0, x1, x2, d0, d1, d2, p0, p1, p2, q0, q1, q2)
-        if value < best:
-            best = value
-    return best
+    return min(
+        best,
+        _segment(x0, x1, x2, d0, d1, d2, a0, a1, a2, b0, b1, b2),
+        _segment(x0, x1, x2, d0, d1, d2, b0, b1, b2, c0, c1, c2),
+        _segment(x0, x1, x2, d0, d1, d2, c0, c1, c2, a0, a1, a2),
+    )
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _tangent_kernel(
-    lo,
-    hi,
-    points,
-    directions,
-    point_group,
-    allowed,
-    slack,
-    best,
-    pieces,
-    group,
-    low,
-    high,
-    node_low,
-    node_high,
-    node_range,
-    node_child,
-):
+def _tangent_kernel(lo, hi, points, directions, point_group, allowed, slack, best, group, tree):
+    pieces, low, high, node_low, node_high, node_range, node_child = tree
     stack = np.zeros(256, dtype=np.int64)
     for i in range(lo, hi):
         r = best[i]
@@ -318,8 +308,7 @@ def _tangent_kernel(
             c0, c1, c2 = x0 + r * d0, x1 + r * d1, x2 + r * d2
             if _box_gap(node_low, node_high, node, c0, c1, c2) > reach * reach:
                 continue
-            left = node_child[node, 0]
-            if left < 0:
+            if node_child[node, 0] < 0:  # a leaf
                 for p in range(node_range[node, 0], node_range[node, 1]):
                     if not allowed[g, group[p]]:
                         continue
@@ -331,14 +320,7 @@ def _tangent_kernel(
                     if value < r:
                         r = max(value, 0.0)  # rounding below 0: x lies on the piece
                 continue
-            right = node_child[node, 1]
-            near = _box_gap(node_low, node_high, left, c0, c1, c2)
-            far = _box_gap(node_low, node_high, right, c0, c1, c2)
-            if near <= far:
-                stack[top + 1], stack[top + 2] = right, left
-            else:
-                stack[top + 1], stack[top + 2] = left, right
-            top += 2
+            top = _push_children(stack, top, node_low, node_high, node_child, node, c0, c1, c2)
         best[i] = r
 
 
@@ -354,50 +336,32 @@ def _point_triangle_distance(x0, x1, x2, t):
     u0, u1, u2 = n0 / scale, n1 / scale, n2 / scale
     height = (x0 - a0) * u0 + (x1 - a1) * u1 + (x2 - a2) * u2
     f0, f1, f2 = x0 - height * u0, x1 - height * u1, x2 - height * u2
-    inside = length > 0
-    for p0, p1, p2, q0, q1, q2 in (
-        (a0, a1, a2, b0, b1, b2),
-        (b0, b1, b2, c0, c1, c2),
-        (c0, c1, c2, a0, a1, a2),
-    ):
-        s0, s1, s2 = _cross(q0 - p0, q1 - p1, q2 - p2, f0 - p0, f1 - p1, f2 - p2)
-        if not (s0 * n0 + s1 * n1 + s2 * n2 >= 0):
-            inside = False
+    inside = length > 0 and _inside(t, n0, n1, n2, f0, f1, f2)
     best = abs(height) if inside else np.inf
-    for p0, p1, p2, q0, q1, q2 in (
-        (a0, a1, a2, b0, b1, b2),
-        (b0, b1, b2, c0, c1, c2),
-        (c0, c1, c2, a0, a1, a2),
-    ):
-        e0, e1, e2 = q0 - p0, q1 - p1, q2 - p2
-        ee = e0 * e0 + e1 * e1 + e2 * e2
-        s = ((x0 - p0) * e0 + (x1 - p1) * e1 + (x2 - p2) * e2) / ee if ee > 0 else 0.0
-        if not math.isfinite(s):
-            s = 0.0
-        s = min(max(s, 0.0), 1.0)
-        v0, v1, v2 = x0 - p0 - s * e0, x1 - p1 - s * e1, x2 - p2 - s * e2
-        value = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-        if value < best:
-            best = value
-    return best
+    return min(
+        best,
+        _segment_distance(x0, x1, x2, a0, a1, a2, b0, b1, b2),
+        _segment_distance(x0, x1, x2, b0, b1, b2, c0, c1, c2),
+        _segment_distance(x0, x1, x2, c0, c1, c2, a0, a1, a2),
+    )
+
+
+@njit(inline="always", error_model="numpy")
+def _segment_distance(x0, x1, x2, p0, p1, p2, q0, q1, q2):
+    """Distance from x to the segment pq (a point where p = q)."""
+    e0, e1, e2 = q0 - p0, q1 - p1, q2 - p2
+    ee = e0 * e0 + e1 * e1 + e2 * e2
+    s = ((x0 - p0) * e0 + (x1 - p1) * e1 + (x2 - p2) * e2) / ee if ee > 0 else 0.0
+    if not math.isfinite(s):
+        s = 0.0
+    s = min(max(s, 0.0), 1.0)
+    v0, v1, v2 = x0 - p0 - s * e0, x1 - p1 - s * e1, x2 - p2 - s * e2
+    return math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _nearest_kernel(
-    lo,
-    hi,
-    queries,
-    bound,
-    distance,
-    found,
-    pieces,
-    low,
-    high,
-    node_low,
-    node_high,
-    node_range,
-    node_child,
-):
+def _nearest_kernel(lo, hi, queries, bound, distance, found, tree):
+    pieces, low, high, node_low, node_high, node_range, node_child = tree
     stack = np.zeros(256, dtype=np.int64)
     for i in range(lo, hi):
         r = bound[i]  # strictly nearer than r
@@ -412,8 +376,7 @@ def _nearest_kernel(
             top -= 1
             if _box_gap(node_low, node_high, node, x0, x1, x2) >= r * r:
                 continue
-            left = node_child[node, 0]
-            if left < 0:
+            if node_child[node, 0] < 0:  # a leaf
                 for p in range(node_range[node, 0], node_range[node, 1]):
                     if _box_gap(low, high, p, x0, x1, x2) >= r * r:
                         continue
@@ -422,13 +385,6 @@ def _nearest_kernel(
                         best, which = value, p
                         r = value
                 continue
-            right = node_child[node, 1]
-            near = _box_gap(node_low, node_high, left, x0, x1, x2)
-            far = _box_gap(node_low, node_high, right, x0, x1, x2)
-            if near <= far:
-                stack[top + 1], stack[top + 2] = right, left
-            else:
-                stack[top + 1], stack[top + 2] = left, right
-            top += 2
+            top = _push_children(stack, top, node_low, node_high, node_child, node, x0, x1, x2)
         distance[i] = best
         found[i] = which

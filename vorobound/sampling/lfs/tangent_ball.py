@@ -16,11 +16,11 @@ x, so once every triangle within 2r_best of x has been tried the answer is final
 from __future__ import annotations
 
 import functools
-import os
 from typing import Any
 
 import numpy as np
 
+from ...geometry.kernels import load_kernel, pure_numpy
 from ...geometry.threads import thread_count
 
 NEAREST = 16
@@ -195,20 +195,14 @@ class TangentBalls:
 
 @functools.cache
 def _load_compiled_search():
-    try:
-        from . import compiled_search as module
-    except (ImportError, RuntimeError, OSError):  # no numba, or one that cannot cache
-        return None
-    return module
+    return load_kernel(f"{__package__}.compiled_search")
 
 
 def compiled_search():
     """The compiled searches (:mod:`.compiled_search`), or None: numba is missing, or the
     environment variable ``VOROBOUND_PURE_NUMPY`` is set (then the numpy searches below run;
     both give the same answers up to ties)."""
-    if os.environ.get("VOROBOUND_PURE_NUMPY"):
-        return None
-    return _load_compiled_search()
+    return None if pure_numpy() else _load_compiled_search()
 
 
 SIZE_CLASSES = 4

@@ -508,15 +508,10 @@ def _edge_cycles(simplices, neighbors, inside) -> _Cycles:
 
 def _facets_kernel():
     """:mod:`.facets_kernel`, or None where numba is missing (or ``VOROBOUND_PURE_NUMPY`` set)."""
+    from ...geometry.kernels import load_kernel
     from ..simplices import kernel_available
 
-    if not kernel_available():
-        return None
-    try:
-        from . import facets_kernel
-    except (ImportError, RuntimeError, OSError):  # e.g. a numba that cannot cache
-        return None
-    return facets_kernel
+    return load_kernel(f"{__package__}.facets_kernel") if kernel_available() else None
 
 
 def _compiled_cycles(kernel, points, simplices, neighbors, inside) -> _Cycles:

@@ -164,6 +164,21 @@ def _edge_bit(p, q):
 
 
 @njit(inline="always")
+def _next(tets, neighbors, previous, current, a, b):
+    """One step of the walk around the edge ab, arriving in ``current`` from ``previous``:
+    the next tetrahedron (−1 past the boundary), the vertex it shares with ``current``
+    besides a and b, and the bit of the edge in ``current`` (:func:`_edge_bit`; 0 when
+    ``current`` does not hold the edge)."""
+    row = tets[current]
+    p, q, c, d = _slot(row, a, b)
+    bit = _edge_bit(p, q) if p >= 0 and q >= 0 else 0
+    one, two = neighbors[current, c], neighbors[current, d]
+    if one != previous:
+        return one, row[d], bit
+    return two, row[c], bit
+
+
+@njit(inline="always")
 def _turn(points, a, b, x, y):
     """det(b − a, x − a, y − a)."""
     ax, ay, az = points[a, 0], points[a, 1], points[a, 2]
@@ -211,16 +226,10 @@ def find_edges(points, tets, neighbors, inside):
             steps = 0
             open_ = False
             while True:
-                row = tets[current]
-                p2, q2, c2, d2 = _slot(row, u, v)
-                if p2 < 0 or q2 < 0 or seen[current] & _edge_bit(p2, q2):
+                nxt, exit_, bit = _next(tets, neighbors, previous, current, u, v)
+                if bit == 0 or seen[current] & bit:
                     return first_tet, inner, outer, length, turn, found, False
-                seen[current] |= _edge_bit(p2, q2)
-                one, two = neighbors[current, c2], neighbors[current, d2]
-                if one != previous:
-                    nxt, exit_ = one, row[d2]
-                else:
-                    nxt, exit_ = two, row[c2]
+                seen[current] |= bit
                 if steps == exits.shape[0]:
                     exits = _grown(exits, 2 * steps)
                 exits[steps] = exit_
@@ -235,13 +244,10 @@ def find_edges(points, tets, neighbors, inside):
                 # The rest of the fan, walked the other way from t, is marked as seen.
                 previous, current = t, neighbors[t, d]
                 while current >= 0 and current != t:
-                    row = tets[current]
-                    p2, q2, c2, d2 = _slot(row, u, v)
-                    if p2 < 0 or q2 < 0 or seen[current] & _edge_bit(p2, q2):
+                    nxt, _, bit = _next(tets, neighbors, previous, current, u, v)
+                    if bit == 0 or seen[current] & bit:
                         return first_tet, inner, outer, length, turn, found, False
-                    seen[current] |= _edge_bit(p2, q2)
-                    one, two = neighbors[current, c2], neighbors[current, d2]
-                    nxt = one if one != previous else two
+                    seen[current] |= bit
                     previous, current = current, nxt
                 length[found] = -1
                 turn[found] = 0.0
@@ -266,11 +272,7 @@ def write_cycles(tets, neighbors, first_tet, inner, outer, reverse, offsets, out
         low, high = offsets[e], offsets[e + 1]
         for step in range(high - low):
             out[high - 1 - step if reverse[e] else low + step] = current
-            row = tets[current]
-            _, _, c2, d2 = _slot(row, a, b)
-            one, two = neighbors[current, c2], neighbors[current, d2]
-            nxt = one if one != previous else two
-            previous, current = current, nxt
+            previous, current = current, _next(tets, neighbors, previous, current, a, b)[0]
 
 
 @njit(inline="always")
