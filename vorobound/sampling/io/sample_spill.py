@@ -26,7 +26,6 @@ class SampleSpill:
         self.file = Path(folder) / "samples.f8"
         self.count, self.blocks = 0, []
         self.lfs_min, self.lfs_max = np.inf, -np.inf
-        self._table: np.ndarray | None = None
         try:
             self.handle = open(self.file, "wb")
         except OSError as exc:
@@ -47,18 +46,14 @@ class SampleSpill:
     def close(self) -> None:
         self.handle.close()
 
-    def table(self) -> np.ndarray:
-        """The rows (count, 4) as a read-only memory map (the file is closed first)."""
-        if self._table is None:
-            self.close()
-            self._table = (
-                np.memmap(self.file, dtype="<f8", mode="r", shape=(self.count, COLUMNS))
-                if self.count
-                else np.zeros((0, COLUMNS))
-            )
-        return self._table
-
     def read(self, ids) -> tuple[np.ndarray, np.ndarray]:
-        """(points, L) of the rows ``ids`` (a slice or indices) in memory."""
-        rows = np.asarray(self.table()[ids], dtype=float)
+        """(points, L) of the rows ``ids`` (a slice or indices) in memory. The file is mapped
+        for this read only: pages of a mapping held open would count towards the process's
+        memory until the whole spill had been read."""
+        self.close()
+        if not self.count:
+            return np.zeros((0, 3)), np.zeros(0)
+        table = np.memmap(self.file, dtype="<f8", mode="r", shape=(self.count, COLUMNS))
+        rows = np.array(table[ids], dtype=float)
+        del table
         return rows[:, :3], rows[:, 3]
