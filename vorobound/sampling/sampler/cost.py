@@ -4,10 +4,11 @@ The cost is counted in plain-lattice candidates, :func:`.mesh_lattice.expected_c
 (∝ ∫dA/L²/ε²), the count `advise` shows; the slab sampler (:mod:`.slabs`) makes about a
 quarter of them. CPU time grows linearly in that count; memory grows with it up to one slab
 (``SLAB_CANDIDATES``) and then slowly (slabs in flight, the coverage probes up to their cap;
-the samples are streamed to the file). With ``--workers N`` each worker holds its slabs. The constants are measured by
-``python benchmarks/bench_sample_cost.py`` (the CAD cube at ε = 0.05, 0.025, 0.0125: 0.39,
-1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU s, 169, 222 and 346 MB on the
-2-core machine shared with other jobs; fitted as base + slope × candidates) and
+the samples are streamed to the file). With ``--workers N`` each worker holds its slabs.
+The constants are measured by ``python benchmarks/bench_sample_cost.py`` (the CAD cube at
+ε = 0.05, 0.025, 0.0125: 0.39, 1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU
+s, 169, 222 and 346 MB on the 2-core machine shared with other jobs; fitted as base + slope ×
+candidates) and
 ``python benchmarks/bench_sample_slabs.py --parts cylinder`` (the 100-long cylinder at
 ε = 0.0094977: 482 CPU s before streaming; 427.6 CPU s and 920 MiB streamed, 1 worker);
 they are estimates, not bounds.
