@@ -17,7 +17,7 @@ from .result import Result, params_json, sample_lfs
 
 if TYPE_CHECKING:
     from ..mesh import TriangleMesh
-    from ..reports.sample import SampleReport
+    from ..reports.sample import SampleReport, StreamedSampleReport
 
 
 @dataclass(frozen=True, repr=False)
@@ -41,8 +41,10 @@ class SampleResult(Result):
     reach_ratio: float = field(repr=False)
     coverage_probes: int = field(repr=False)
     quality: QualityParams = field(repr=False)
-    report: SampleReport = field(repr=False)
-    """:class:`vorobound.reports.sample.SampleReport`."""
+    report: SampleReport | StreamedSampleReport = field(repr=False)
+    """:class:`vorobound.reports.sample.SampleReport`, or for a mesh (streamed to the file)
+    :class:`vorobound.reports.sample.StreamedSampleReport`."""
+    workers: int = field(default=1, repr=False)
 
     @property
     def ok(self) -> bool:
@@ -63,7 +65,7 @@ class SampleResult(Result):
             params.pop(key)
         return {
             "params": params,
-            **sample_lfs(params, self.report.sample.lfs),
+            **sample_lfs(params, self.report.lfs_range),
             "surface": self.surface,
             "n_samples": self.n_samples,
             "n_candidates": self.n_candidates,
@@ -73,6 +75,7 @@ class SampleResult(Result):
             "sparsity_min": self.sparsity_min,
             "sparsity_violations": self.sparsity_violations,
             "lipschitz": self.lipschitz,
+            "workers": self.workers,
             "ok": self.ok,
             "seconds": round(self.seconds, 3),
             "output": self.output,
@@ -92,6 +95,8 @@ def sample(
     sigma: float = PAPER_SIGMA,
     delta_ratio: float = PAPER_DELTA_RATIO,
     seed: int = 0,
+    workers: int = 1,
+    scheduler: str | None = None,
     progress: Progress | None = None,
 ) -> SampleResult:
     """Sample a surface: σ-sparse, and an ε-sample by construction; write the balls.
@@ -99,33 +104,50 @@ def sample(
     The sample is a maximal σ-sparse subset of a jittered candidate lattice fine enough that
     maximality implies coverage; a mesh is sampled slab by slab, a cell also being done once a
     sample provably covers it (docs/samples.md). ``output`` (.npz, .vtu or .csv) holds x, y,
-    z, the ball radius r = δ·L and L per point; :func:`vorobound.check` reads it back.
+    z, the ball radius r = δ·L and L per point; :func:`vorobound.check` reads it back. A mesh's
+    slabs are sampled on ``workers`` local processes (1: here) or a dask ``scheduler``, the
+    same sample for any number, and streamed to the file (memory: a few slabs).
 
     References
     ----------
     The sampling conditions of Section 4.1.
     """
-    from ..checks import checked_seed
-    from ..reports.sample import sample_report
+    from ..checks import checked_count, checked_seed
+    from ..reports.sample import sample_report, streamed_sample_report
     from ..sampling.io.balls import checked_output, write_balls
+    from ..sampling.surfaces.analytic import RevolutionShape
     from .surfaces import Surface
 
     output = checked_output(os.fspath(output))
     seed = checked_seed(seed)
+    workers = checked_count(workers, "workers", 1, 1 << 16)
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
     start = time.perf_counter()
     shape = Surface(sphere, torus, mesh, lfs, sizing).shape(progress=progress)
+    streamed = not isinstance(shape, RevolutionShape)
+    if not streamed and (workers != 1 or scheduler is not None):
+        raise InputError("workers and scheduler go with mesh (a sphere or torus is one lattice)")
     try:
-        report = sample_report(shape, params, seed, progress)
+        if streamed:
+            report = streamed_sample_report(
+                shape, params, output, seed, workers, scheduler, progress
+            )
+        else:
+            report = sample_report(shape, params, seed, progress)
     except LatticeTooLarge as err:
         raise LatticeTooLarge(_with_smallest_eps(str(err), shape, quality)) from None
+    if streamed:
+        samples, candidates, reach = report.samples, report.candidates, report.reach_ratio
+    else:
+        write_balls(output, report.balls, {"lfs": report.sample.lfs})
+        samples, candidates = len(report.balls), report.sample.candidates
+        reach = report.sample.reach_ratio
     seconds = time.perf_counter() - start
-    write_balls(output, report.balls, {"lfs": report.sample.lfs})
     return SampleResult(
         surface=shape.name,
-        n_samples=len(report.balls),
-        n_candidates=report.sample.candidates,
+        n_samples=samples,
+        n_candidates=candidates,
         coverage_max=report.coverage_max,
         sparsity_min=report.sparsity.extreme,
         sparsity_violations=report.sparsity.violations,
@@ -134,10 +156,11 @@ def sample(
         eps=params.eps,
         seed=seed,
         lipschitz=shape.lipschitz,
-        reach_ratio=report.sample.reach_ratio,
+        reach_ratio=reach,
         coverage_probes=report.coverage_probes,
         quality=quality,
         report=report,
+        workers=workers,
     )
 
 

@@ -36,13 +36,33 @@ def sample(
     sigma: Sigma = PAPER_SIGMA,
     delta_ratio: DeltaRatio = PAPER_DELTA_RATIO,
     seed: Seed = 0,
+    workers: Annotated[
+        int,
+        typer.Option(
+            "--workers",
+            metavar="N",
+            help="Sample a mesh's slabs on this many local processes (1: one after another "
+            "in this process): the same sample for any N. At most one process per CPU runs "
+            "at once.",
+        ),
+    ] = 1,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            metavar="ADDRESS",
+            help="Sample a mesh's slabs on a dask.distributed cluster, e.g. "
+            "tcp://127.0.0.1:8786 (needs the dask extra of vorobound).",
+        ),
+    ] = None,
     as_json: Json = False,
 ) -> int:
     """Sample a surface: σ-sparse, and an ε-sample by construction.
 
     The sample is a maximal σ-sparse subset of a jittered candidate lattice fine enough that
     maximality implies coverage; a mesh is sampled slab by slab, where a cell is also done once
-    a sample provably covers it (docs/samples.md), so memory is bounded by a slab. The file
+    a sample provably covers it (docs/samples.md), each finished slab streamed to the file, so
+    memory is bounded by a few slabs (--workers N: slabs on N processes). The file
     holds x, y, z, the ball radius r = δ·L (δ = (δ/ε)·ε) and L per point; `vorobound check
     --balls` reads it back. Reported: coverage_max (max distance to the sample over εL at random
     probe points, < 1 required) and sparsity_min (min |p_i − p_j|/(σε·min L) over all pairs,

@@ -28,7 +28,7 @@ import numpy as np
 from ...errors import InputError, ReadError
 from ...files import checked_destination, write_set
 from ..balls import Balls, make_balls
-from .columns import columns_writer
+from .columns import columns_writer, fill_csv_chunks, fill_npz_chunks
 from .meshes import quiet_meshio
 from .npz import RADIUS_NAMES, npz_chunks
 from .tables import DELIMITER_NAMES, read_number_table
@@ -238,6 +238,31 @@ def write_balls(path: str | Path, balls: Balls, point_data: dict[str, np.ndarray
     radius = "r" if path.suffix.lower() == ".csv" else "radius"
     columns = {"x": x, "y": y, "z": z, radius: balls.radii, **point_data}
     return write_set({path: columns_writer(path, columns)})[0]
+
+
+def write_balls_streamed(path: str | Path, count: int, blocks) -> Path:
+    """:func:`write_balls` of ``count`` balls that ``blocks()`` yields block by block as
+    (centers, radii, extra per-ball arrays), atomically. NPZ and CSV are written as the blocks
+    come (memory: a block); a VTU is gathered whole first (meshio writes whole meshes)."""
+    path = checked_output(path)
+    suffix = path.suffix.lower()
+    radius = "r" if suffix == ".csv" else "radius"
+
+    def columns():
+        for centers, radii, extra in blocks():
+            x, y, z = np.asarray(centers, dtype=float).T
+            yield {"x": x, "y": y, "z": z, radius: radii, **extra}
+
+    if suffix == ".vtu":
+        parts = list(blocks())
+        extra = {name: np.concatenate([p[2][name] for p in parts]) for name in parts[0][2]}
+        centers = np.concatenate([p[0] for p in parts])
+        balls = Balls(centers, np.concatenate([p[1] for p in parts]))
+        return write_balls(path, balls, extra)
+    if suffix == ".csv":
+        return write_set({path: partial(fill_csv_chunks, chunks=columns)})[0]
+    names = list(next(columns()))
+    return write_set({path: partial(fill_npz_chunks, names=names, count=count, chunks=columns)})[0]
 
 
 def checked_output(path: str | Path) -> Path:

@@ -9,7 +9,7 @@ each, snappy-compressed; needs pyarrow). Each ``fill_*`` fills the path it is gi
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -54,6 +54,37 @@ def fill_parquet(path: Path, columns: dict[str, np.ndarray], precision: int | No
         ) from None
     table = pa.table({name: np.asarray(a) for name, a in columns.items()})
     pq.write_table(table, path, compression="snappy")
+
+
+def fill_csv_chunks(
+    path: Path, chunks: Callable[[], Iterator[dict[str, np.ndarray]]], precision=FULL_PRECISION
+) -> None:
+    """:func:`fill_csv` of the columns that ``chunks()`` yields block by block (float columns;
+    the same text as the whole columns would give)."""
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        for number, block in enumerate(chunks()):
+            if not number:
+                handle.write(",".join(block) + "\n")
+            if len(next(iter(block.values()))):
+                table = np.column_stack([np.asarray(a, dtype=float) for a in block.values()])
+                np.savetxt(handle, table, fmt=f"%.{precision}g", delimiter=",")
+
+
+def fill_npz_chunks(
+    path: Path, names: list[str], count: int, chunks: Callable[[], Iterator[dict]]
+) -> None:
+    """:func:`fill_npz` of float columns ``names`` of ``count`` rows that ``chunks()`` yields
+    block by block: each member is written as the blocks come (one pass per column), so
+    memory holds a block, and ``np.load`` reads the arrays :func:`fill_npz` would write."""
+    import zipfile
+
+    header = {"descr": np.lib.format.dtype_to_descr(np.dtype("<f8")), "fortran_order": False}
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as archive:
+        for name in names:
+            with archive.open(f"{name}.npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array_header_1_0(member, {**header, "shape": (count,)})
+                for block in chunks():
+                    member.write(np.ascontiguousarray(block[name], dtype="<f8").tobytes())
 
 
 FILLERS: dict[str, Callable] = {".csv": fill_csv, ".npz": fill_npz, ".parquet": fill_parquet}

@@ -144,13 +144,9 @@ def sparsity(
 
 
 def sparsity_in_blocks(points: np.ndarray, lfs: np.ndarray, eps: float, sigma: float) -> PairReport:
-    """:func:`sparsity` of a large sample, block by block along its longest axis.
-
-    Each block of ``BLOCK_SAMPLES`` consecutive samples (in the order of the axis) is measured
-    with the samples up to HALO_RATIO·σε·max L beyond it. A pair with ratio r < HALO_RATIO is
-    closer than that along the axis, so it lies in the block of its first point and its halo:
-    the minimum is exact when below HALO_RATIO (else it is the ratio of a pair, at least
-    HALO_RATIO), and pairs below 1 are counted once, in the block of their first point.
+    """:func:`sparsity` of a large sample, block by block along its longest axis: blocks of
+    ``BLOCK_SAMPLES`` consecutive samples in the order of the axis, measured by
+    :func:`sparsity_of_blocks` (exact when the minimum is below HALO_RATIO).
 
     References
     ----------
@@ -160,27 +156,66 @@ def sparsity_in_blocks(points: np.ndarray, lfs: np.ndarray, eps: float, sigma: f
         return sparsity(points, lfs, eps, sigma)
     axis = int(np.argmax(np.ptp(points, axis=0)))
     order = np.argsort(points[:, axis], kind="stable")
-    coord = points[order, axis]
-    halo = HALO_RATIO * sigma * eps * float(lfs.max())
+    blocks = [order[start : start + BLOCK_SAMPLES] for start in range(0, len(order), BLOCK_SAMPLES)]
+
+    def read(ids):
+        return points[ids], lfs[ids]
+
+    return sparsity_of_blocks(blocks, read, axis, eps, sigma, float(lfs.max()))
+
+
+def sparsity_of_blocks(blocks, read, axis: int, eps: float, sigma: float, lfs_max: float):
+    """:func:`sparsity` of a sample given as blocks of row indices (any order, any overlap of
+    their extents), ``read(ids)`` giving (points, L) of rows; memory holds a block and the
+    samples near it.
+
+    Each block is measured with the samples of the earlier blocks within
+    h = HALO_RATIO·σε·``lfs_max`` of its extent along ``axis``. A pair with ratio r <
+    HALO_RATIO is closer than h along the axis, so it is measured in the block of whichever of
+    its points comes later: the minimum is exact when below HALO_RATIO (else it is the ratio of
+    a pair, at least HALO_RATIO), and pairs below 1 are counted once, in that block. Pair
+    indices are rows.
+
+    References
+    ----------
+    The σ-sparsity condition of Section 4.1.
+    """
+    halo = HALO_RATIO * sigma * eps * lfs_max
+    seen: list[tuple[np.ndarray, float, float]] = []
     best: tuple[float, tuple[int, int]] | None = None
     violations = 0
     worst: list[np.ndarray] = []
     worst_values: list[np.ndarray] = []
-    for start in range(0, len(points), BLOCK_SAMPLES):
-        stop = min(len(points), start + BLOCK_SAMPLES)
-        end = int(np.searchsorted(coord, coord[stop - 1] + halo, side="right"))
-        rows = order[start:end]
-        report = sparsity(points[rows], lfs[rows], eps, sigma)
+    for ids in blocks:
+        if not len(ids):
+            continue
+        points, lfs = read(ids)
+        coord = points[:, axis]
+        low, high = float(coord.min()), float(coord.max())
+        near = [e for e, e_low, e_high in seen if e_high >= low - halo and e_low <= high + halo]
+        rows = np.asarray(ids)
+        earlier = 0
+        if near:
+            near_ids = np.concatenate(near)
+            near_points, near_lfs = read(near_ids)
+            keep = np.abs(near_points[:, axis] - (low + high) / 2) <= (high - low) / 2 + halo
+            earlier = int(keep.sum())
+            rows = np.concatenate([near_ids[keep], rows])
+            points = np.concatenate([near_points[keep], points])
+            lfs = np.concatenate([near_lfs[keep], lfs])
+        seen.append((np.asarray(ids), low, high))
+        report = sparsity(points, lfs, eps, sigma)
         if best is None or report.extreme < best[0]:
             first, second = report.extreme_pair
             best = (report.extreme, (int(rows[first]), int(rows[second])))
         if report.violations:
-            pairs, ratio = _pairs_below_one(points[rows], lfs[rows], eps, sigma)
-            own = pairs.min(axis=1) < stop - start
+            pairs, ratio = _pairs_below_one(points, lfs, eps, sigma)
+            own = pairs.max(axis=1) >= earlier
             violations += int(own.sum())
             worst.append(rows[pairs[own]])
             worst_values.append(ratio[own])
-    assert best is not None  # at least one block
+    if best is None:
+        return sparsity(np.zeros((0, 3)), np.zeros(0), eps, sigma)
     pairs_found = np.concatenate([np.empty((0, 2), dtype=np.int64), *worst])
     values = np.concatenate([np.empty(0), *worst_values])
     listed = np.argsort(values)[:WORST_LISTED]
@@ -281,24 +316,73 @@ def coverage(
     return float(ratio[at]), probes[at]
 
 
-def surface_coverage(
-    shape, points: np.ndarray, eps: float, seed: int | None, extra=None
-) -> tuple[float, np.ndarray, int]:
-    """Coverage of ``shape`` by samples at ``points``: :func:`coverage` over random surface
-    points (``PROBES_PER_SAMPLE`` per sample, at least ``MIN_PROBES``, fixed by ``seed``) and
-    the projections onto the surface of ``extra`` points (e.g. circumcenters, near which the
-    largest gaps lie). Returns (max ratio, worst probe, probes used).
-
-    References
-    ----------
-    The ε-sample condition of Section 4.1.
-    """
+def coverage_probes(shape, samples: int, seed: int | None, extra=None):
+    """The probes of :func:`surface_coverage` for a sample of ``samples`` points: random
+    surface points (``PROBES_PER_SAMPLE`` per sample, at least ``MIN_PROBES``, at most
+    ``MAX_PROBES``, fixed by ``seed``) and the projections of ``extra`` onto the surface.
+    Returns (probes, L there)."""
     rng = np.random.default_rng([0 if seed is None else seed, 1])
-    count = max(MIN_PROBES, min(MAX_PROBES, PROBES_PER_SAMPLE * len(points)))
+    count = max(MIN_PROBES, min(MAX_PROBES, PROBES_PER_SAMPLE * samples))
     probes, probe_lfs = shape.random_points(count, rng)
     projected = shape.project(extra) if extra is not None and len(extra) else None
     if projected is not None:  # (shapes without a projection return None)
         probes = np.concatenate([probes, projected[0]])
         probe_lfs = np.concatenate([probe_lfs, projected[1]])
+    return probes, probe_lfs
+
+
+def surface_coverage(
+    shape, points: np.ndarray, eps: float, seed: int | None, extra=None
+) -> tuple[float, np.ndarray, int]:
+    """Coverage of ``shape`` by samples at ``points``: :func:`coverage` over the probes of
+    :func:`coverage_probes` (random surface points and the projections of ``extra`` points,
+    e.g. circumcenters, near which the largest gaps lie). Returns (max ratio, worst probe,
+    probes used).
+
+    References
+    ----------
+    The ε-sample condition of Section 4.1.
+    """
+    probes, probe_lfs = coverage_probes(shape, len(points), seed, extra)
     ratio, where = coverage(points, eps, probes, probe_lfs)
     return ratio, where, len(probes)
+
+
+def coverage_of_blocks(blocks, read, axis: int, eps: float, probes, probe_lfs):
+    """:func:`coverage` of a sample given as blocks of row indices, ``read(ids)`` giving
+    (points, L) of rows; memory holds the probes and the samples near a group of them.
+
+    The probes are taken in groups along ``axis`` (as many as the blocks); a group spanning
+    [a, b] with largest L_max is measured against the samples within [a − εL_max, b + εL_max]
+    along the axis. A probe x whose nearest sample is within εL(x) finds it there, so its
+    ratio is exact when below 1, and at least 1 otherwise: the maximum is exact when below 1
+    and at least 1 when the sample does not cover a probe.
+
+    References
+    ----------
+    The ε-sample condition of Section 4.1.
+    """
+    extents = []
+    for ids in blocks:
+        if len(ids):
+            coord = read(ids)[0][:, axis]
+            extents.append((np.asarray(ids), float(coord.min()), float(coord.max())))
+    order = np.argsort(probes[:, axis], kind="stable")
+    best, where = -np.inf, probes[0]
+    for group in np.array_split(order, max(1, len(extents))):
+        if not len(group):
+            continue
+        coord = probes[group, axis]
+        reach = eps * float(probe_lfs[group].max())
+        low, high = float(coord.min()) - reach, float(coord.max()) + reach
+        near = [ids for ids, e_low, e_high in extents if e_high >= low and e_low <= high]
+        if near:
+            points = read(np.concatenate(near))[0]
+            points = points[(points[:, axis] >= low) & (points[:, axis] <= high)]
+        if not near or not len(points):
+            ratio, at = np.inf, probes[group[0]]
+        else:
+            ratio, at = coverage(points, eps, probes[group], probe_lfs[group])
+        if ratio > best:
+            best, where = ratio, at
+    return float(best), where

@@ -3,12 +3,15 @@
 The cost is counted in plain-lattice candidates, :func:`.mesh_lattice.expected_candidates`
 (∝ ∫dA/L²/ε²), the count `advise` shows; the slab sampler (:mod:`.slabs`) makes about a
 quarter of them. CPU time grows linearly in that count; memory grows with it up to one slab
-(``SLAB_CANDIDATES``) and then only with the samples kept. The constants are measured by
-``python benchmarks/bench_sample_cost.py`` (the CAD cube at ε = 0.05, 0.025, 0.0125: 0.39,
-1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU s, 169, 222 and 346 MB on the
-2-core machine shared with other jobs; fitted as base + slope × candidates) and
+(``SLAB_CANDIDATES``) and then slowly (slabs in flight, the coverage probes up to their cap;
+the samples are streamed to the file). With ``--workers N`` each worker holds its slabs.
+The constants are measured by ``python benchmarks/bench_sample_cost.py`` (the CAD cube at
+ε = 0.05, 0.025, 0.0125: 0.39, 1.5 and 5.8 million plain candidates, 2.65, 4.26 and 11.0 CPU
+s, 169, 222 and 346 MB on the 2-core machine shared with other jobs; fitted as base + slope ×
+candidates) and
 ``python benchmarks/bench_sample_slabs.py --parts cylinder`` (the 100-long cylinder at
-ε = 0.0094977: 482 CPU s, 1.32 GB); they are estimates, not bounds.
+ε = 0.0094977: 482 CPU s before streaming; 427.6 CPU s and 920 MiB streamed, 1 worker);
+they are estimates, not bounds.
 """
 
 from __future__ import annotations
@@ -22,9 +25,10 @@ from .slabs import MAX_EXPECTED_CANDIDATES, SLAB_CANDIDATES
 
 BYTES_PER_CANDIDATE = 32.0
 """Peak memory per plain-lattice candidate within one slab (measured slope, cube)."""
-BYTES_PER_SAMPLED_CANDIDATE = 3.5
-"""Peak memory per plain-lattice candidate beyond one slab: the samples kept, their balls and
-the conditions' arrays (the cylinder at ε = 0.0094977: 2.63·10⁸ plain candidates, 1.32 GB)."""
+BYTES_PER_SAMPLED_CANDIDATE = 2.2
+"""Peak memory per plain-lattice candidate beyond one slab: slabs in flight, the coverage
+probes, the measurement's blocks (the cylinder at ε = 0.0094977, streamed, 1 worker: 2.63·10⁸
+plain candidates, 920 MiB = 965 MB; 1.32 GB and 3.5 bytes before streaming)."""
 BASE_BYTES = 165e6
 """Peak memory of a small ``vorobound sample --mesh`` run (interpreter, numpy, scipy, mesh)."""
 CPU_SECONDS_PER_CANDIDATE = 1.83e-6

@@ -104,7 +104,13 @@ def maximal_sparse_subset(
 
 
 def sample_surface(
-    shape, eps: float, sigma: float, seed: int = 0, progress: Progress | None = None
+    shape,
+    eps: float,
+    sigma: float,
+    seed: int = 0,
+    progress: Progress | None = None,
+    workers: int = 1,
+    scheduler: str | None = None,
 ) -> Sample:
     """A σ-sparse ε-sample of ``shape`` (a surface of revolution or a mesh), fixed by ``seed``.
 
@@ -120,6 +126,9 @@ def sample_surface(
         Seeds the jitter of the lattice and the visiting order.
     progress : Progress, optional
         Reports the stages "lattice" and "sampling".
+    workers, scheduler : int, str
+        A mesh's slabs on this many local processes or a dask cluster (:mod:`.slabs`; the
+        same sample for any number).
 
     References
     ----------
@@ -137,7 +146,8 @@ def sample_surface(
         points, lfs = candidates.points[chosen], candidates.lfs[chosen]
         made, ratio = len(candidates.points), candidates.reach_ratio
     else:
-        points, lfs, made, ratio = slab_sample(shape, eps, sigma, rng, progress)
+        run = slab_sample(shape, eps, sigma, rng, progress, workers=workers, scheduler=scheduler)
+        points, lfs, made, ratio = run.points, run.lfs, run.made, run.reach_ratio
     return Sample(
         points=points,
         lfs=lfs,

@@ -3,8 +3,8 @@
 The part is cut into slabs along the longest axis of its bounding box. Feature corners and
 edges are sampled first over the whole part (VoroCrust protects sharp features first); their
 samples stay in memory. The first cells of every triangle (the plane frames of
-:mod:`.mesh_lattice`) go to the slab of their centre, and the slabs are sampled one after the
-other, each refining only its own cells:
+:mod:`.mesh_lattice`) go to the slab of their centre, and each slab refines only its own
+cells (:func:`.slab_job.refine`):
 
 1. Every cell gets a candidate (the point of its triangle nearest a random point of the cell)
    and L there. A cell more than ``COARSE`` times larger than the lattice condition of
@@ -14,17 +14,35 @@ other, each refining only its own cells:
 3. A visited cell is done when it meets the lattice condition (then every point of it is
    within εL of a sample by :func:`.lattice.cell_reach`, whether its candidate was accepted or
    not), or when it is *certified*: with C its centre, d its diagonal, q its candidate and p
-   the accepted sample nearest to C, |C − p| + d/2 < ε(L(q) − λd). Every point x of the cell
-   (within d/2 of C, and of its triangle within d of q) then has |x − p| < εL(x), since L(x)
-   ≥ L(q) − λ|x − q|. Other cells are cut in 2 × 2 and go back to step 1.
+   the accepted sample nearest to C among those the slab searches, |C − p| + d/2 <
+   ε(L(q) − λd). Every point x of the cell (within d/2 of C, and of its triangle within d of
+   q) then has |x − p| < εL(x), since L(x) ≥ L(q) − λ|x − q|. Other cells are cut in 2 × 2
+   and go back to step 1.
+
+The slabs are two-coloured: first every even slab is sampled, compared with the feature
+samples and its own samples only; then every odd slab i, compared with the feature samples,
+the samples of slabs i − 1 and i + 1 (both finished) and its own. Slabs of one colour do not
+depend on one another, so they run concurrently (:func:`vorobound.parallel.task_executor`:
+this process, a local process pool, or a dask cluster), each with a random generator of its
+own seeded by (the run's seed, the slab): the sample is fixed by the seed whatever the number
+of workers and the order in which slabs finish. An odd slab starts as soon as its two
+neighbours are done, and a finished slab is handed on (to a file, :mod:`vorobound.reports.
+sample`) in slab order and dropped once its odd neighbours are done, so memory holds a few
+slabs, not the sample.
 
 Sparsity holds by the greedy rule as long as each candidate is compared with every accepted
-sample within its conflict radius: a slab is at least ``2·σ'ε·L_max + 2m`` thick, m = 1.5 times
-the largest first-cell diagonal bounding how far a candidate lies from its cell's centre
-along the axis, so a candidate of slab i conflicts only with samples of slabs i − 1 and i and
-the feature samples, which are the samples it is compared with. Coverage holds because every
-point of the surface lies in a done cell. Both are proven by construction; the measured
-coverage and sparsity of :mod:`.conditions` only confirm them.
+sample within its conflict radius. A candidate lies within m = 1.5 times the largest
+first-cell diagonal of its cell's centre, so along the axis a candidate of slab i is at least
+w − 2m from any sample of slabs i ± 2 and beyond (w the slab width); slabs are at least
+``4·σ'ε·L_max + 2m`` wide and every candidate's σ'εL(q) is checked against w − 2m (an error,
+never a silent miss). So a candidate of an even slab conflicts with no sample of another even
+slab, and a candidate of an odd slab i can conflict only with samples of slabs i − 1, i, i + 1
+and the features, which are the samples it is compared with; two odd slabs are at least w − 2m
+apart too. The whole run is one visiting order of the greedy rule (features, the even slabs,
+the odd slabs), so the sample is σ-sparse. Coverage holds because every point of the surface
+lies in a done cell, and a certifying sample, whichever slab it belongs to, stays in the
+sample. Both are proven by construction; the measured coverage and sparsity of
+:mod:`.conditions` only confirm them.
 
 Certified cells need no candidates below them: about 6 candidates per sample instead of the
 plain lattice's 30 (σ = 0.75).
@@ -32,29 +50,28 @@ plain lattice's 30 (σ = 0.75).
 
 from __future__ import annotations
 
+import concurrent.futures
 import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import InputError
+from ...parallel import task_executor, task_result
 from ...progress import Counter
-from .greedy import _chunks, _conflicts_with, _first_independent
 from .lattice import SPARSITY_SLACK, candidate_limit_error
 from .mesh_lattice import (
-    MAX_LEVELS,
     _corner_candidates,
-    _cut,
     _edge_candidates,
     _first_cells,
     _Frames,
     _positive,
     expected_candidates,
 )
+from .slab_job import COARSE, Greedy, SlabDone, SlabJob, SlabShared, run_slab
 
-COARSE = 3.0
-"""Candidates are visited in cells up to this many times the diagonal the lattice condition
-allows; larger cells are cut first. Measured on the capped cylinder at ε = 0.03: 2 gives the
-fewest candidates per sample."""
 FIRST_CELL_BUDGET = 100_000
 """First cells are at most sqrt(area / FIRST_CELL_BUDGET) wide (or the coarse cell size at the
 largest L, if larger), so that slabs can be thin: a candidate lies within 1.5 first-cell
@@ -67,17 +84,55 @@ MAX_SLAB_CANDIDATES: float | None = None
 MAX_EXPECTED_CANDIDATES = 4e9
 """Largest plain-lattice count the slab sampler takes on: about 5 CPU-hours and 10⁸ samples
 (cost.py), refused before anything is allocated."""
+SLABS_PER_WORKER = 2
+"""Slabs in flight per worker: enough that a worker rarely waits, few enough that memory holds
+a few slabs."""
+
+Sink = Callable[[np.ndarray, np.ndarray], None]
+"""Receives blocks of samples (points (n, 3), L (n,)): the feature samples, then each slab's
+in slab order."""
 
 
-def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progress=None):
+@dataclass(frozen=True)
+class SlabRun:
+    """What the slab sampler made."""
+
+    made: int
+    """Candidates made."""
+    reach_ratio: float
+    """The largest guaranteed distance of a surface point to a candidate of a lattice cell or
+    to the certifying sample of a certified cell, over ε·L there."""
+    axis: int
+    """The axis along which the part is cut."""
+    borders: np.ndarray
+    """(slabs + 1,) coordinates of the slab borders along the axis (cell centres of slab i
+    lie in [borders[i], borders[i + 1]]; the outer ones are the extreme centres)."""
+    margin: float
+    """m: a sample of slab i lies within m of [borders[i], borders[i + 1]] along the axis."""
+    rows: tuple[int, ...]
+    """Samples handed to the sink in each block: the features, then each slab."""
+    points: np.ndarray | None = None
+    """Every sample (features, then slab by slab) when no sink was given."""
+    lfs: np.ndarray | None = None
+
+
+def slab_sample(
+    shape,
+    eps: float,
+    sigma: float,
+    rng: np.random.Generator,
+    progress=None,
+    *,
+    workers: int = 1,
+    scheduler: str | None = None,
+    sink: Sink | None = None,
+) -> SlabRun:
     """A σ-sparse ε-sample of a mesh shape, slab by slab (module docstring).
 
-    Returns
-    -------
-    (points, lfs, candidates, reach_ratio)
-        The samples, L there, how many candidates were made, and the largest guaranteed
-        distance of a surface point to a candidate of a lattice cell or to the certifying
-        sample of a certified cell, over ε·L there.
+    ``workers`` local processes (1: this process) or a dask ``scheduler`` sample the slabs of
+    one colour concurrently; the sample is the same for any number of workers. With ``sink``
+    the samples are handed to it block by block (features, then slab by slab) and not kept;
+    without, they are returned in :attr:`SlabRun.points`.
 
     Raises
     ------
@@ -96,13 +151,14 @@ def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progr
     k = (1 - s) * eps / (1 + lam * s * eps)
     frames = _Frames(shape.corners)
     by_range = np.maximum(np.asarray(shape.range_reach(eps, sigma), dtype=float), 0.0)
-    greedy = _Greedy(eps, sigma)
+    greedy = Greedy(eps, sigma)
     corners = _corner_candidates(shape)
     edges = _edge_candidates(shape, eps, s, rng)
     for points, lfs in (corners, edges):
         greedy.visit(points, lfs, rng)
-    greedy.close_slab()  # the feature samples stay in every slab's search
+    features = greedy.own()  # compared with every slab's candidates
     made = len(corners[0]) + len(edges[0])
+    base = int(rng.integers(1 << 62))  # the slabs' generators: (base, slab)
 
     count = len(frames.w)
     centroid = shape.corners.mean(axis=1)
@@ -125,11 +181,10 @@ def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progr
     low, high = float(centre.min()), float(centre.max())
     per_slab = SLAB_CANDIDATES if MAX_SLAB_CANDIDATES is None else MAX_SLAB_CANDIDATES
     # Twice the conflict radius at the largest L of the corners: L at a candidate is checked
-    # against the radius actually allowed (below).
+    # against the radius actually allowed (run_slab).
     thick = 4 * s * eps * lfs_high + 2 * reach_margin
     slabs = max(1, min(math.ceil(expected / per_slab), math.floor((high - low) / thick)))
     width = (high - low) / slabs if slabs > 1 else math.inf
-    allowed_radius = (width - 2 * reach_margin) if slabs > 1 else math.inf
     index = (
         np.zeros(len(centre), dtype=np.int64)
         if slabs == 1
@@ -139,154 +194,92 @@ def slab_sample(shape, eps: float, sigma: float, rng: np.random.Generator, progr
     bounds = np.searchsorted(index[order], np.arange(slabs + 1))
     cells = tuple(c[order] for c in cells)
     del centre, index, order
+    borders = low + (high - low) * np.arange(slabs + 1) / slabs
 
-    counter = Counter(progress, "sampling (slabs)", slabs)
-    ratio = 0.0
-    for slab in range(slabs):
-        part = tuple(c[bounds[slab] : bounds[slab + 1]] for c in cells)
-        n, r = _sample_slab(shape, frames, part, k, lam, by_range, eps, greedy, rng, allowed_radius)
-        made += n
-        ratio = max(ratio, r)
-        greedy.close_slab()
-        counter.step()
-    points, lfs = greedy.result()
-    if not len(points):
-        raise InputError(f"{shape.name}: no candidates on the mesh")
-    return points, lfs, made, ratio
-
-
-def _sample_slab(shape, frames, cells, k, lam, by_range, eps, greedy, rng, allowed_radius):
-    """Refine one slab's cells, visiting and certifying (module docstring); returns the
-    candidates made and the largest reach ratio."""
-    s = greedy.s
-    made, ratio = 0, 0.0
-    for _ in range(MAX_LEVELS):
-        if not len(cells[0]):
-            return made, ratio
-        t, x0, y0, cw, ch = cells
-        px = x0 + rng.random(len(t)) * cw
-        py = y0 + rng.random(len(t)) * ch
-        qx, qy = frames.closest(t, px, py)
-        points = frames.embed(t, qx, qy)
-        lfs = _positive(shape.lfs_at(t, frames.barycentric(t, qx, qy), points), shape)
-        made += len(t)
-        if not s * eps * float(lfs.max()) <= allowed_radius:
-            raise InputError(
-                f"{shape.name}: L = {float(lfs.max()):g} at a candidate exceeds what the slabs "
-                "were made for"
-            )
-        diagonal = np.hypot(cw, ch)
-        allowed = np.maximum(k[t] * lfs / (1 + k[t] * lam[t]), by_range[t])
-        big = diagonal > COARSE * allowed
-        visit = np.flatnonzero(~big)
-        greedy.visit(points[visit], lfs[visit], rng)
-        fine = ~big & (diagonal <= allowed)
-        done = fine.copy()
-        if fine.any():
-            floor = np.maximum(lfs[fine] - lam[t[fine]] * diagonal[fine], 0)
-            with np.errstate(divide="ignore"):
-                reach = np.where(
-                    by_range[t[fine]] >= diagonal[fine], 0, diagonal[fine] / (eps * floor)
-                )
-            ratio = max(ratio, float(reach.max()))
-        test = np.flatnonzero(~big & ~fine)
-        if len(test):
-            centre = frames.embed(t[test], x0[test] + cw[test] / 2, y0[test] + ch[test] / 2)
-            gap = greedy.nearest(centre)
-            floor = lfs[test] - lam[t[test]] * diagonal[test]
-            bound = gap + diagonal[test] / 2
-            certified = bound < eps * floor * (1 - 1e-9)
-            done[test[certified]] = True
-            if certified.any():
-                ratio = max(ratio, float((bound[certified] / (eps * floor[certified])).max()))
-        cut = np.where(
-            big, np.ceil(diagonal / (COARSE * np.maximum(allowed, 1e-300)) * (1 + 1e-9)), 2
+    collected: list[tuple[np.ndarray, np.ndarray]] = []
+    hand_on = sink if sink is not None else (lambda p, f: collected.append((p, f)))
+    hand_on(*features)
+    with task_executor(workers, scheduler) as (executor, slots):
+        shared = SlabShared(
+            shape,
+            frames,
+            k,
+            lam,
+            by_range,
+            eps,
+            sigma,
+            (width - 2 * reach_margin) if slabs > 1 else math.inf,
+            # Processes share the cores: one thread each beyond one worker.
+            None if slots == 1 else max(1, (os.cpu_count() or 1) // slots),
         )
-        rest = ~done
-        cut = np.maximum(cut[rest], 2).astype(np.int64)
-        cells = _cut(frames, t[rest], x0[rest], y0[rest], cw[rest], ch[rest], cut)
-    raise InputError(f"{shape.name}: the lattice did not settle (L too small somewhere)")
+        jobs = _Jobs(shared, cells, bounds, base, features)
+        run = _schedule(
+            executor, slots, jobs, slabs, hand_on, Counter(progress, "sampling (slabs)", slabs)
+        )
+    made += run[0]
+    rows = (len(features[0]), *run[2])
+    points = lfs = None
+    if sink is None:
+        points = np.concatenate([p for p, _ in collected])
+        lfs = np.concatenate([f for _, f in collected])
+        if not len(points):
+            raise InputError(f"{shape.name}: no candidates on the mesh")
+    elif not sum(rows):
+        raise InputError(f"{shape.name}: no candidates on the mesh")
+    return SlabRun(made, run[1], axis, borders, reach_margin, rows, points, lfs)
 
 
-class _Greedy:
-    """Accepted samples and the greedy visit (the rule of :mod:`.greedy`): a search tree of
-    the samples of the last closed slab and the features, and one of the open slab's."""
+@dataclass(frozen=True)
+class _Jobs:
+    """Builds the job of a slab from the run's shared data and its neighbours' samples."""
 
-    def __init__(self, eps: float, sigma: float):
-        self.eps, self.sigma = eps, sigma
-        self.s = sigma * (1 + SPARSITY_SLACK)
-        self.kept_points: list[np.ndarray] = []
-        self.kept_lfs: list[np.ndarray] = []
-        self.features = (np.zeros((0, 3)), np.zeros(0))
-        self.last = (np.zeros((0, 3)), np.zeros(0))
-        self.fixed: tuple | None = None  # (tree, points, lfs) of features + last closed slab
-        self.open_points: list[np.ndarray] = []
-        self.open_lfs: list[np.ndarray] = []
-        self.open_tree: tuple | None = None
-        self.first = True
+    shared: SlabShared
+    cells: tuple
+    bounds: np.ndarray
+    base: int
+    features: tuple[np.ndarray, np.ndarray]
 
-    def close_slab(self) -> None:
-        """The open slab's samples become the last slab (features: the first call)."""
-        from scipy.spatial import cKDTree
+    def job(self, slab: int, finished: dict[int, SlabDone]) -> SlabJob:
+        part = tuple(c[self.bounds[slab] : self.bounds[slab + 1]] for c in self.cells)
+        near = [finished[n] for n in (slab - 1, slab + 1) if slab % 2 and n in finished]
+        points = np.concatenate([self.features[0], *(d.points for d in near)])
+        lfs = np.concatenate([self.features[1], *(d.lfs for d in near)])
+        return SlabJob(slab, part, (self.base, slab), points, lfs, self.shared)
 
-        points = np.concatenate([np.zeros((0, 3)), *self.open_points])
-        lfs = np.concatenate([np.zeros(0), *self.open_lfs])
-        if self.first:
-            self.features, self.first = (points, lfs), False
-        else:
-            self.kept_points.append(points)
-            self.kept_lfs.append(lfs)
-            self.last = (points, lfs)
-        fixed_points = np.concatenate([self.features[0], self.last[0]])
-        fixed_lfs = np.concatenate([self.features[1], self.last[1]])
-        self.fixed = (cKDTree(fixed_points), fixed_points, fixed_lfs) if len(fixed_points) else None
-        self.open_points, self.open_lfs, self.open_tree = [], [], None
 
-    def result(self) -> tuple[np.ndarray, np.ndarray]:
-        points = np.concatenate([self.features[0], *self.kept_points])
-        lfs = np.concatenate([self.features[1], *self.kept_lfs])
-        return points, lfs
+def _schedule(executor, slots: int, jobs: _Jobs, slabs: int, hand_on: Sink, counter: Counter):
+    """Run the slabs, even ones first, each odd one once its neighbours are done; hand the
+    finished slabs on in slab order. Returns (candidates made, reach ratio, rows per slab)."""
+    finished: dict[int, SlabDone] = {}
+    pending: dict[concurrent.futures.Future, int] = {}
+    next_even, next_odd, emitted = 0, 1, 0
+    made, ratio, rows = 0, 0.0, []
 
-    def visit(self, points: np.ndarray, lfs: np.ndarray, rng: np.random.Generator) -> None:
-        """Visit the candidates in a random order; accept those without conflict."""
-        count = len(points)
-        if not count:
-            return
-        rank = rng.permutation(count)
-        for start, stop in _chunks(count):
-            ids = np.flatnonzero((rank >= start) & (rank < stop))
-            for tree in (self.fixed, self._open()):
-                if tree is not None and len(ids):
-                    ids = ids[
-                        ~_conflicts_with(tree[0], tree[2], points, lfs, ids, self.eps, self.sigma)
-                    ]
-            if not len(ids):
-                continue
-            ids = ids[np.argsort(rank[ids])]
-            chosen = ids[_first_independent(points[ids], lfs[ids], self.eps, self.sigma)]
-            chosen = np.sort(chosen)
-            self.open_points.append(points[chosen])
-            self.open_lfs.append(lfs[chosen])
-            self.open_tree = None
+    def ready(odd: int) -> bool:
+        return all(n in finished for n in (odd - 1, odd + 1) if n < slabs)
 
-    def _open(self):
-        from scipy.spatial import cKDTree
-
-        if self.open_tree is None and self.open_points:
-            points = np.concatenate(self.open_points)
-            lfs = np.concatenate(self.open_lfs)
-            self.open_points, self.open_lfs = [points], [lfs]
-            self.open_tree = (cKDTree(points, balanced_tree=False), points, lfs)
-        return self.open_tree
-
-    def nearest(self, points: np.ndarray) -> np.ndarray:
-        """Distance from each point to the nearest accepted sample in the searched trees
-        (inf where there is none)."""
-        from ...geometry.threads import thread_count
-
-        gap = np.full(len(points), np.inf)
-        for tree in (self.fixed, self._open()):
-            if tree is not None:
-                dist, _ = tree[0].query(points, k=1, workers=thread_count())
-                gap = np.minimum(gap, dist)
-        return gap
+    while emitted < slabs:
+        while len(pending) < SLABS_PER_WORKER * slots:
+            if next_odd < slabs and ready(next_odd):
+                slab, next_odd = next_odd, next_odd + 2
+            elif next_even < slabs and next_even <= next_odd + 2 * SLABS_PER_WORKER * slots - 1:
+                slab, next_even = next_even, next_even + 2
+            else:
+                break
+            pending[executor.submit(run_slab, jobs.job(slab, finished))] = slab
+        done, _ = concurrent.futures.wait(pending, return_when=concurrent.futures.FIRST_COMPLETED)
+        for future in sorted(done, key=pending.__getitem__):
+            slab = pending.pop(future)
+            finished[slab] = task_result(future, f"slab {slab}")
+            made += finished[slab].made
+            ratio = max(ratio, finished[slab].ratio)
+            counter.step()
+        while emitted in finished and emitted < slabs:
+            hand_on(finished[emitted].points, finished[emitted].lfs)
+            rows.append(len(finished[emitted].points))
+            emitted += 1
+        # An even slab is kept until both odd neighbours are done (their jobs hold its samples).
+        for slab in [s for s in finished if s < emitted]:
+            if slab % 2 or all(n < next_odd for n in (slab - 1, slab + 1) if 0 <= n < slabs):
+                del finished[slab]
+    return made, ratio, rows

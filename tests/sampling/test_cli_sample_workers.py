@@ -1,0 +1,165 @@
+"""``vorobound sample --mesh M --workers N``: the slab sampler streamed to its file, two-coloured
+slabs on workers. The sample is σ-sparse and ε-dense (brute force), the same for 1 and 2
+workers and for a dask cluster, the file equals the in-memory sample, and a failed run leaves
+the previous file as it was."""
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+from scipy.spatial.distance import cdist
+
+import vorobound
+from vorobound.errors import VoroboundWarning
+from vorobound.files import TEMP_PREFIX
+from vorobound.sampling.io.balls import write_balls
+from vorobound.sampling.sampler import conditions, slabs
+from vorobound.sampling.sampler.maximal import sample_surface
+from vorobound.sampling.surfaces import cad_meshes
+
+EPS, SIGMA = 0.2, 0.75
+
+
+@pytest.fixture(scope="module")
+def cylinder():
+    """The 2-ring CAD cylinder (long slivers, sharp rims), 10 long: its L is estimated once
+    and cached on the mesh object."""
+    return cad_meshes.capped_cylinder(length=10.0, rings=2)
+
+
+@pytest.fixture
+def thin_slabs(monkeypatch):
+    """Slabs as thin as the conflict radius allows: about ten on this part."""
+    monkeypatch.setattr(slabs, "MAX_SLAB_CANDIDATES", 1000.0)
+
+
+def _sample(mesh, output, **options):
+    totals = []
+
+    def progress(task, done, total):
+        if task == "sampling (slabs)" and done == 0:
+            totals.append(total)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)  # the rims' sharp-edge warning
+        result = vorobound.sample(mesh=mesh, eps=EPS, output=output, progress=progress, **options)
+    return result, totals[0]
+
+
+def _brute_sparsity(points, lfs):
+    dist = cdist(points, points)
+    np.fill_diagonal(dist, np.inf)
+    return float((dist / (SIGMA * EPS * np.minimum.outer(lfs, lfs))).min())
+
+
+def _shape(mesh):
+    from vorobound.api.surfaces import Surface
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)
+        return Surface(mesh=mesh).shape()
+
+
+def test_one_and_two_workers_give_one_sparse_covering_sample(cylinder, thin_slabs, tmp_path):
+    files = {}
+    for workers in (1, 2):
+        result, count = _sample(cylinder, tmp_path / f"w{workers}.npz", workers=workers)
+        assert count >= 6 and result.ok and result.workers == workers
+        files[workers] = dict(np.load(tmp_path / f"w{workers}.npz"))
+    assert files[1].keys() == {"x", "y", "z", "radius", "lfs"}
+    for name in files[1]:
+        assert np.array_equal(files[1][name], files[2][name]), name
+    points = np.column_stack([files[1][n] for n in "xyz"])
+    lfs = files[1]["lfs"]
+    assert _brute_sparsity(points, lfs) >= 1.0  # every pair, across every slab border
+    probes, probe_lfs = _shape(cylinder).random_points(300_000, np.random.default_rng(5))
+    gap, _ = cKDTree(points).query(probes)
+    assert float((gap / (EPS * probe_lfs)).max()) < 1.0
+    assert result.n_samples == len(points)
+
+
+def test_the_streamed_file_and_measures_equal_the_in_memory_sample(cylinder, thin_slabs, tmp_path):
+    result, _ = _sample(cylinder, tmp_path / "s.csv", workers=2, seed=4)
+    shape = _shape(cylinder)
+    whole = sample_surface(shape, EPS, SIGMA, seed=4)  # in memory, in this process
+    table = np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1)
+    assert np.array_equal(table[:, :3], whole.points) and np.array_equal(table[:, 4], whole.lfs)
+    # The same text as the whole-array writer gives.
+    write_balls(tmp_path / "w.csv", _balls(whole, result.quality.at(EPS).delta), {"lfs": whole.lfs})
+    assert (tmp_path / "s.csv").read_text() == (tmp_path / "w.csv").read_text()
+    # Block-wise measures equal the whole-set ones (same probes).
+    sparse = conditions.sparsity(whole.points, whole.lfs, EPS, SIGMA)
+    assert result.sparsity_min == sparse.extreme and result.sparsity_violations == 0
+    coverage, _, probes = conditions.surface_coverage(shape, whole.points, EPS, 4)
+    assert result.coverage_max == coverage and result.coverage_probes == probes
+
+
+def _balls(sample, delta):
+    from vorobound.sampling.balls import make_balls
+
+    return make_balls(sample.points, delta * sample.lfs)
+
+
+def test_a_vtu_holds_the_same_sample(cylinder, tmp_path):
+    import meshio
+
+    _sample(cylinder, tmp_path / "s.vtu")
+    _sample(cylinder, tmp_path / "s.npz")
+    vtu, npz = meshio.read(tmp_path / "s.vtu"), np.load(tmp_path / "s.npz")
+    assert np.array_equal(vtu.points[:, 0], npz["x"])
+    assert np.array_equal(vtu.point_data["lfs"], npz["lfs"])
+
+
+def test_a_dask_cluster_gives_the_same_sample(cylinder, thin_slabs, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    _sample(cylinder, tmp_path / "one.npz")
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        _sample(cylinder, tmp_path / "dask.npz", scheduler=cluster.scheduler_address)
+    one, remote = np.load(tmp_path / "one.npz"), np.load(tmp_path / "dask.npz")
+    assert all(np.array_equal(one[n], remote[n]) for n in one.files)
+
+
+def test_a_failed_run_leaves_the_previous_file(cylinder, thin_slabs, tmp_path, monkeypatch):
+    target = tmp_path / "s.npz"
+    target.write_bytes(b"previous")
+    calls = []
+    real = slabs.run_slab
+
+    def failing(job):
+        calls.append(job.slab)
+        if len(calls) == 4:
+            raise RuntimeError("slab failed")
+        return real(job)
+
+    monkeypatch.setattr(slabs, "run_slab", failing)
+    with pytest.raises(RuntimeError, match="slab failed"):
+        _sample(cylinder, target)
+    assert target.read_bytes() == b"previous"
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(TEMP_PREFIX)]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--workers", "0"], "workers"),
+        (["--workers", "99999999"], "workers"),
+        (["--workers", "two"], "workers"),
+    ],
+)
+def test_bad_workers_are_one_line(run_cli, tmp_path, args, message):
+    code, out, err = run_cli(
+        "sample", "--sphere", "1", "--eps", "0.2", "-o", str(tmp_path / "s.npz"), *args
+    )
+    assert code == 2 and not out
+    assert len(err.strip().splitlines()) == 1 and message in err
+
+
+def test_workers_go_with_a_mesh(run_cli, tmp_path):
+    code, _, err = run_cli(
+        "sample", "--sphere", "1", "--eps", "0.2", "-o", str(tmp_path / "s.npz"), "--workers", "2"
+    )
+    assert code == 2 and err.count("\n") == 1 and "mesh" in err
+    assert not (tmp_path / "s.npz").exists()
