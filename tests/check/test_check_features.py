@@ -4,15 +4,13 @@ the tiled check split them by the same rule."""
 
 from __future__ import annotations
 
-import io
 import json
-import sys
 import warnings
 
 import meshio
 import numpy as np
 import pytest
-from helpers import assert_one_line_error
+from helpers import assert_one_line_error, run_main
 
 import vorobound
 from vorobound.errors import VoroboundWarning
@@ -77,23 +75,13 @@ CUBE_CHECK = ["--eps", repr(EPS), "--rho-f", "4", "--json"]
 def whole_check(cube):
     """The whole-file check of the cube's balls with its outputs: (exit code, stdout, stderr);
     the two tests below read the one run."""
-    from vorobound.cli import main
-
     mesh, balls, folder = cube
-    capture = pytest.MonkeyPatch()
-    out, err = io.StringIO(), io.StringIO()
-    capture.setattr(sys, "stdout", out)
-    capture.setattr(sys, "stderr", err)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", VoroboundWarning)  # the sharp edges, said elsewhere
-            code = main(
-                ["check", "--balls", str(balls), "--mesh", str(mesh), *CUBE_CHECK]
-                + ["--out", str(folder / "whole")]
-            )
-    finally:
-        capture.undo()
-    return code, out.getvalue(), err.getvalue()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)  # the sharp edges, said elsewhere
+        return run_main(
+            "check", "--balls", str(balls), "--mesh", str(mesh), *CUBE_CHECK,
+            "--out", str(folder / "whole"),
+        )  # fmt: skip
 
 
 def test_cube_edges_are_reported_apart_and_do_not_fail_the_check(cube, whole_check):
