@@ -75,7 +75,11 @@ def test_workers_give_the_untiled_answer(runs):
     assert two["tiles"]["executor"] == "local process pool"
 
 
+@pytest.mark.slow
 def test_scheduler_gives_the_same_answer(run_cli, torus_file, runs):
+    """Slow (a LocalCluster costs seconds): by default, the library's dask path is
+    test_check_tiles.py::test_dask_local_cluster_gives_the_same_summary (every summary field)
+    and ``--scheduler`` reaches it in test_unreachable_scheduler_is_one_line."""
     distributed = pytest.importorskip("distributed")
     base = ["--balls", str(torus_file), "--eps", str(EPS)]
     one = runs["one"]
