@@ -17,7 +17,7 @@ SLOW_EXAMPLES = {
     "lfs_speed",  # estimate_lfs on tori and icospheres: tests/sampling/lfs/test_lfs.py
     "lfs_agreement",  # coarse/fine bar and cube: test_lfs_cad.py::test_coarse_and_fine_*
     "cheng_table",  # cheng_constants(0.3, 2 and 3): tests/studies/test_cheng.py
-    "reproduce_table",  # reproduce(QualityParams()): test_cli_paths.py::test_tight_figures_*
+    "reproduce_table",  # reproduce(QualityParams()): test_printed_numbers.py, `reproduce`
 }
 """Examples whose check takes several seconds (run with -m slow, as CI does)."""
 CASES = [
