@@ -4,6 +4,8 @@ the command line's contracts written once, and the processes the subprocess test
 - ``assert_one_line_error``: bad input is exit 2, nothing on stdout, exactly one line on stderr,
   no traceback (COMMON rule of every command).
 - ``json_of``: a command's ``--json`` output, after asserting it succeeded.
+- ``run_main``: the command line in-process where ``run_cli`` cannot be used (module fixtures
+  that share one run between tests).
 - ``start``, ``start_ready``, ``ReadyStderr``, ``processes_with``, ``wait_until``: commands run
   as child processes (``python -m vorobound``), and the processes that carry a marker.
 The ``run_cli`` fixture (tests/conftest.py) runs the command line in-process.
@@ -44,6 +46,24 @@ def json_of(result: tuple[int, str, str]) -> dict:
     code, out, err = result
     assert code == 0, err
     return json.loads(out)
+
+
+def run_main(*args: str) -> tuple[int, str, str]:
+    """Run ``vorobound`` in-process, outside a test (a module-scoped fixture, where the
+    ``run_cli`` fixture's ``capsys`` is not available): (exit code, stdout, stderr)."""
+    import io
+
+    from vorobound.cli import main
+
+    capture = pytest.MonkeyPatch()
+    out, err = io.StringIO(), io.StringIO()
+    capture.setattr(sys, "stdout", out)
+    capture.setattr(sys, "stderr", err)
+    try:
+        code = main(list(args))
+    finally:
+        capture.undo()
+    return code, out.getvalue(), err.getvalue()
 
 
 def signals_as_from_a_terminal() -> None:

@@ -10,7 +10,7 @@ import warnings
 import meshio
 import numpy as np
 import pytest
-from helpers import assert_one_line_error
+from helpers import assert_one_line_error, run_main
 
 import vorobound
 from vorobound.errors import VoroboundWarning
@@ -68,14 +68,25 @@ def cube(tmp_path_factory):
     return mesh, balls, folder
 
 
-def test_cube_edges_are_reported_apart_and_do_not_fail_the_check(cube, run_cli):
+CUBE_CHECK = ["--eps", repr(EPS), "--rho-f", "4", "--json"]
+
+
+@pytest.fixture(scope="module")
+def whole_check(cube):
+    """The whole-file check of the cube's balls with its outputs: (exit code, stdout, stderr);
+    the two tests below read the one run."""
     mesh, balls, folder = cube
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", VoroboundWarning)  # the sharp edges, said elsewhere
-        code, out, err = run_cli(
-            "check", "--balls", str(balls), "--mesh", str(mesh), "--eps", repr(EPS),
-            "--rho-f", "4", "--json", "--out", str(folder / "whole"),
+        return run_main(
+            "check", "--balls", str(balls), "--mesh", str(mesh), *CUBE_CHECK,
+            "--out", str(folder / "whole"),
         )  # fmt: skip
+
+
+def test_cube_edges_are_reported_apart_and_do_not_fail_the_check(cube, whole_check):
+    mesh, balls, folder = cube
+    code, out, err = whole_check
     data = json.loads(out)
     smooth, features = data["violations_smooth"], data["violations_at_features"]
     assert code == 0 and data["ok"] and not any(smooth.values()), err
@@ -109,11 +120,10 @@ def _rows(folder):
     return {k: data[k] for k in data.files}
 
 
-def test_the_tiled_check_splits_the_triangles_the_same_way(cube, run_cli):
+def test_the_tiled_check_splits_the_triangles_the_same_way(cube, whole_check, run_cli):
     mesh, balls, folder = cube
-    common = ["check", "--balls", str(balls), "--mesh", str(mesh), "--eps", repr(EPS)]
-    common += ["--rho-f", "4", "--json"]
-    code, whole, _ = run_cli(*common)
+    code, whole, _ = whole_check
+    common = ["check", "--balls", str(balls), "--mesh", str(mesh), *CUBE_CHECK]
     code_tiled, tiled, err = run_cli(*common, "--workers", "1", "--out", str(folder / "tiled"))
     assert code == code_tiled == 0, err
     whole, tiled = json.loads(whole), json.loads(tiled)

@@ -128,8 +128,9 @@ def test_violations_and_worst_pairs_are_counted_once(tmp_path):
 
 
 def test_tiles_smaller_than_a_ball(tmp_path):
-    path = _surface_balls(TorusShape(1.5, 1.0), 0.3, tmp_path / "t.npz")
-    report = _compare(path, 0.3, tmp_path, tile_balls=8, chunk_rows=100)
+    # 503 balls in 63 tiles (ε = 0.4; at ε = 0.3 it was 896 balls in 112 tiles, twice the CPU).
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.4, tmp_path / "t.npz")
+    report = _compare(path, 0.4, tmp_path, tile_balls=8, chunk_rows=100)
     assert report.run.tiling.tiles >= len(read_balls(path)) / 8
     # Boxes of about two balls each, halos of several radii: every ball is in many halos.
     assert report.summary()["tiles"]["halo_share"] > 10
@@ -164,11 +165,18 @@ def test_subsample_keeps_every_stride_th_row():
     assert np.array_equal(kept[:, 0] / 3 % sample.stride, np.zeros(len(kept)))
 
 
-def test_dask_local_cluster_gives_the_same_summary(tmp_path):
-    distributed = pytest.importorskip("distributed")
-    path = _surface_balls(TorusShape(1.5, 1.0), 0.12, tmp_path / "t.npz")
+@pytest.fixture(scope="module")
+def torus_in_tiles(tmp_path_factory):
+    """Balls of the torus (1.5, 1) at ε = 0.12 and their check in 7 forced tiles on one worker
+    (in this process): the reference of the two tests below."""
+    path = _surface_balls(TorusShape(1.5, 1.0), 0.12, tmp_path_factory.mktemp("t") / "t.npz")
     params = SamplingParams(0.12, QualityParams(lipschitz=1.0))
-    local = check_ball_file(path, params, tile_balls=800).summary()
+    return path, params, check_ball_file(path, params, workers=1, tile_balls=800).summary()
+
+
+def test_dask_local_cluster_gives_the_same_summary(torus_in_tiles):
+    distributed = pytest.importorskip("distributed")
+    path, params, local = torus_in_tiles
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
     ) as cluster:
@@ -179,13 +187,11 @@ def test_dask_local_cluster_gives_the_same_summary(tmp_path):
         assert remote[key] == local[key], key
 
 
-def test_one_and_two_workers_give_the_same_summary(tmp_path):
+def test_one_and_two_workers_give_the_same_summary(torus_in_tiles):
     """Forced small tiles, the same plan: every field but the timings and the run's own
     description (executor, processes, memory) is identical, candidate counts too."""
-    path = _surface_balls(TorusShape(1.5, 1.0), 0.12, tmp_path / "t.npz")
-    params = SamplingParams(0.12, QualityParams(lipschitz=1.0))
-    one = check_ball_file(path, params, workers=1, tile_balls=300).summary()
-    two = check_ball_file(path, params, workers=2, tile_balls=300).summary()
+    path, params, one = torus_in_tiles
+    two = check_ball_file(path, params, workers=2, tile_balls=800).summary()
     assert one["tiles"]["count"] == two["tiles"]["count"] >= 6
     assert one["tiles"]["halo_share"] == two["tiles"]["halo_share"]
     for key in set(one) - {"timings", "tiles"}:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import run_main
 
 from vorobound.files import TEMP_PREFIX
 from vorobound.sampling.balls import make_balls
@@ -40,16 +41,33 @@ def torus_file(tmp_path_factory):
 
 def _summary(run_cli, *args):
     code, out, err = run_cli("check", *args, "--json")
+    return _checked(code, out, err)
+
+
+def _checked(code, out, err):
     summary = json.loads(out)
     assert code == (0 if summary["ok"] else 1), err  # 1: the check found violations
     return summary
 
 
-def test_workers_give_the_untiled_answer(run_cli, torus_file):
-    base = ["--balls", str(torus_file), "--eps", str(EPS)]
-    untiled = _summary(run_cli, *base)
-    one = _summary(run_cli, *base, "--workers", "1")
-    two = _summary(run_cli, *base, "--workers", "2")
+@pytest.fixture(scope="module")
+def runs(torus_file, tmp_path_factory):
+    """The check of ``torus_file`` untiled, on one worker and on two, each run once for the
+    tests below: the untiled and the two-worker runs write ``--table npz`` rows (into
+    ``folder``/whole and ``folder``/tiled), which test_npz_rows_are_the_untiled_rows reads."""
+    folder = tmp_path_factory.mktemp("runs")
+    base = ["check", "--balls", str(torus_file), "--eps", str(EPS), "--json"]
+    npz = ["--table", "npz", "--out"]
+    return {
+        "untiled": _checked(*run_main(*base, *npz, str(folder / "whole"))),
+        "one": _checked(*run_main(*base, "--workers", "1")),
+        "two": _checked(*run_main(*base, "--workers", "2", *npz, str(folder / "tiled"))),
+        "folder": folder,
+    }
+
+
+def test_workers_give_the_untiled_answer(runs):
+    untiled, one, two = runs["untiled"], runs["one"], runs["two"]
     assert untiled["gap_ratio_max"] > 0
     for key in COMPARED:
         assert one[key] == untiled[key] == two[key], key
@@ -57,10 +75,14 @@ def test_workers_give_the_untiled_answer(run_cli, torus_file):
     assert two["tiles"]["executor"] == "local process pool"
 
 
-def test_scheduler_gives_the_same_answer(run_cli, torus_file):
+@pytest.mark.slow
+def test_scheduler_gives_the_same_answer(run_cli, torus_file, runs):
+    """Slow (a LocalCluster costs seconds): by default, the library's dask path is
+    test_check_tiles.py::test_dask_local_cluster_gives_the_same_summary (every summary field)
+    and ``--scheduler`` reaches it in test_unreachable_scheduler_is_one_line."""
     distributed = pytest.importorskip("distributed")
     base = ["--balls", str(torus_file), "--eps", str(EPS)]
-    one = _summary(run_cli, *base, "--workers", "1")
+    one = runs["one"]
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
     ) as cluster:
@@ -106,22 +128,20 @@ def test_csv_outputs_are_one_set(run_cli, torus_file, tmp_path):
     _no_leftovers(out)
 
 
-def test_npz_rows_are_the_untiled_rows(run_cli, torus_file, tmp_path):
+def test_npz_rows_are_the_untiled_rows(runs):
     """``--table npz`` in tiles: one triangles.npz joined from the tiles' parts, with the rows
     of the untiled check (the same triangles, exactly the same values)."""
-    base = ["--balls", str(torus_file), "--eps", str(EPS), "--table", "npz"]
-    s = _summary(run_cli, *base, "--workers", "2", "--out", str(tmp_path / "tiled"))
-    whole = _summary(run_cli, *base, "--out", str(tmp_path / "whole"))
+    s, whole, folder = runs["two"], runs["untiled"], runs["folder"]
     assert s["rows"] == {
         "table": "npz",
         "triangles": "triangles.npz",
         "vtu_triangles": s["n_guide_triangles"],
         "vtu_selection": "all guide triangles",
     }
-    assert str(tmp_path / "tiled" / "triangles.npz") in s["written"]
+    assert str(folder / "tiled" / "triangles.npz") in s["written"]
     with (
-        np.load(tmp_path / "tiled" / "triangles.npz") as tiled,
-        np.load(tmp_path / "whole" / "triangles.npz") as untiled,
+        np.load(folder / "tiled" / "triangles.npz") as tiled,
+        np.load(folder / "whole" / "triangles.npz") as untiled,
     ):
         assert tiled.files == untiled.files
         assert len(tiled["a_index"]) == s["n_guide_triangles"] == whole["n_guide_triangles"]
@@ -129,7 +149,7 @@ def test_npz_rows_are_the_untiled_rows(run_cli, torus_file, tmp_path):
         want = np.lexsort([untiled[n] for n in ("c_index", "b_index", "a_index")])
         for name in untiled.files:
             assert np.array_equal(tiled[name][order], untiled[name][want], equal_nan=True), name
-    _no_leftovers(tmp_path / "tiled")
+    _no_leftovers(folder / "tiled")
 
 
 def test_parquet_dataset_replaces_the_previous_one(run_cli, torus_file, tmp_path):

@@ -58,7 +58,11 @@ def _closed_form_rows(run_cli, args):
     return rows
 
 
+@pytest.mark.slow
 def test_tight_figures_and_reproduction(run_cli, tmp_path):
+    """Slow (the tight modes and six figures); by default `reproduce --out` with the tight
+    modes runs in test_printed_numbers.py::test_command_tables_round_toward_safety[args0] and
+    `figure --figure-format svg` in test_figures.py::test_figure_command_writes_each_format."""
     code, out, _ = run_cli("reproduce", "--out", str(tmp_path), "--json")
     assert code == 0
     data = json.loads(out)

@@ -429,7 +429,10 @@ def test_repeats_with_seeds_is_refused(run_cli):
     _one_error(*run_cli("reconstruct", "--seeds", str(seeds), "--repeats", "2", "--json"))
 
 
+@pytest.mark.slow
 def test_topology_correct_is_none_without_a_reference(run_cli):
+    """Slow (M̂ of the recorded torus run's seeds); by default the same rule is
+    test_cli_reconstruct.py::test_without_a_reference_surface_the_topology_is_not_judged."""
     code, out, err = run_cli("reconstruct", "--seeds", str(DATA / "torus" / "seeds.csv"), "--json")
     assert code in (0, 1), err
     data = json.loads(out)

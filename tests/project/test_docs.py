@@ -9,7 +9,16 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 import update_docs  # noqa: E402
 
-SLOW_EXAMPLES = {"lfs_points", "lfs_accuracy", "samples_table"}
+SLOW_EXAMPLES = {
+    "lfs_points",
+    "lfs_accuracy",
+    "samples_table",
+    # 2–4 CPU-s each; the code they run is covered by fast tests (named here):
+    "lfs_speed",  # estimate_lfs on tori and icospheres: tests/sampling/lfs/test_lfs.py
+    "lfs_agreement",  # coarse/fine bar and cube: test_lfs_cad.py::test_coarse_and_fine_*
+    "cheng_table",  # cheng_constants(0.3, 2 and 3): tests/studies/test_cheng.py
+    "reproduce_table",  # reproduce(QualityParams()): test_printed_numbers.py, `reproduce`
+}
 """Examples whose check takes several seconds (run with -m slow, as CI does)."""
 CASES = [
     pytest.param(

@@ -14,8 +14,8 @@ import uuid
 from pathlib import Path
 
 import pytest
-from helpers import PYTHON
 from helpers import processes_with as _processes_with
+from helpers import run_main
 from helpers import start as _start
 from helpers import start_ready as _start_ready
 from helpers import wait_until as _wait_until
@@ -24,12 +24,6 @@ from vorobound.errors import WriteError
 from vorobound.files import TEMP_PREFIX, atomic_path, write_set, write_text
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-
-
-def _run(args, timeout=180):
-    done = subprocess.run(PYTHON + args, capture_output=True, text=True, timeout=timeout)
-    assert done.returncode == 0, done.stderr
-    return done
 
 
 # --- the writer itself ---------------------------------------------------------------------
@@ -100,9 +94,10 @@ def _figure_bytes(folder: Path) -> dict:
 def figure_sets(tmp_path_factory):
     """The figure files for two parameter sets (the files depend only on the data)."""
     sets = {}
-    for rho_f in ("1.38", "1.5"):
+    for rho_f in ("1.38", "1.5"):  # in this process: the same files, without a start-up each
         folder = tmp_path_factory.mktemp(f"figures{rho_f}")
-        _run(["figure", "--no-tight", "--rho-f", rho_f, "--out", str(folder)])
+        code, _, err = run_main("figure", "--no-tight", "--rho-f", rho_f, "--out", str(folder))
+        assert code == 0, err
         sets[rho_f] = _figure_bytes(folder)
     assert all(sets["1.38"][name] != sets["1.5"][name] for name in sets["1.38"])
     return sets

@@ -243,7 +243,7 @@ def test_default_sample_is_all_midpoints_or_none(monkeypatch, icosphere_default)
 
 def test_flat_patches_get_no_midpoints():
     """A cube's faces are flat: their thickness bound is exact, so no poles are fitted."""
-    estimate = quiet_estimate(cube_mesh(1.0, 16))
+    estimate = quiet_estimate(cube_mesh(1.0, 8))
     assert estimate.added_samples == 0 and estimate.patches == 6
 
 

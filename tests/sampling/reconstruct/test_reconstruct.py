@@ -23,9 +23,40 @@ PLANE_RTOL = 1e-9
 """Facet vertices lie in their seeds' bisector plane to this fraction of the ball radius."""
 
 
+_MADE: dict = {}
+"""Balls and M̂ already made in this module, by surface, ε (and half-covered): several tests
+read the same ones (their arrays are read-only, so no test changes another's input)."""
+
+
+def _made(key, make):
+    if key not in _MADE:
+        _MADE[key] = make()
+    return _MADE[key]
+
+
 def _balls(shape, eps):
-    sample = sample_surface(shape, eps, QUALITY.sigma, 0)
-    return make_balls(sample.points, QUALITY.delta_ratio * eps * sample.lfs)
+    def make():
+        sample = sample_surface(shape, eps, QUALITY.sigma, 0)
+        balls = make_balls(sample.points, QUALITY.delta_ratio * eps * sample.lfs)
+        balls.centers.flags.writeable = balls.radii.flags.writeable = False
+        return balls
+
+    return _made(("balls", shape.name, eps), make)
+
+
+def _report(shape, eps, half_covered=False):
+    """M̂ of the balls of ``shape`` at ``eps``, labelled by the surface."""
+    return _made(
+        ("report", shape.name, eps, half_covered),
+        lambda: reconstruct_balls(
+            _balls(shape, eps), SamplingParams(eps, QUALITY), shape, half_covered
+        ),
+    )
+
+
+def _surface_report(shape, eps):
+    """``reconstruct_surface`` of ``shape`` at ``eps`` with the default quality."""
+    return _made(("surface", shape.name, eps), lambda: reconstruct_surface(shape, eps, QUALITY))
 
 
 def _polygons(surface: PolygonSurface):
@@ -38,7 +69,7 @@ def _polygons(surface: PolygonSurface):
 def test_seeds_are_mirror_images_and_their_facet_lies_in_the_plane_of_the_samples():
     shape = TorusShape(3, 1)
     balls = _balls(shape, 0.15)
-    report = reconstruct_balls(balls, SamplingParams(0.15, QUALITY), shape)
+    report = _report(shape, 0.15)
     seeds, surface = report.seeds, report.facets.surface
     centers = balls.centers[seeds.triples]
     normal = np.cross(centers[:, 1] - centers[:, 0], centers[:, 2] - centers[:, 0])
@@ -71,7 +102,7 @@ def test_sphere_mhat_is_the_guide_triangles_on_the_ball_centres():
     are the guide triangles (degenerate Voronoi vertices welded)."""
     shape = SphereShape(1)
     balls = _balls(shape, 0.1)
-    report = reconstruct_balls(balls, SamplingParams(0.1, QUALITY), shape)
+    report = _report(shape, 0.1)
     assert report.sample.half_covered == 0
     surface = report.facets.surface
     from scipy.spatial import cKDTree
@@ -88,8 +119,7 @@ def test_sphere_mhat_is_the_guide_triangles_on_the_ball_centres():
 def test_torus_with_half_covered_seeds_has_every_ball_centre_as_a_vertex():
     shape = TorusShape(3, 1)
     balls = _balls(shape, 0.15)
-    params = SamplingParams(0.15, QUALITY)
-    report = reconstruct_balls(balls, params, shape, half_covered=True)
+    report = _report(shape, 0.15, half_covered=True)
     assert report.sample.half_covered > 0 and report.topology_correct
     from scipy.spatial import cKDTree
 
@@ -168,7 +198,7 @@ def test_a_few_hundred_vorocrust_seeds_match_voronoi_and_the_direct_check():
     ids=["sphere", "torus-3-1", "torus-1.5-1"],
 )
 def test_moderate_eps_gives_a_closed_manifold_with_the_surface_topology(shape, eps, chi):
-    report = reconstruct_surface(shape, eps, QUALITY)
+    report = _surface_report(shape, eps)
     top = report.topology
     assert top.closed_manifold and top.misoriented_edges == 0
     assert top.euler_characteristic == chi and top.components == 1
@@ -200,7 +230,7 @@ def test_hausdorff_is_bounded_by_the_ball_radii_inside_the_union():
 
 @pytest.mark.parametrize(
     "shape, eps",
-    [(SphereShape(1), 0.1), (TorusShape(3, 1), 0.1), (TorusShape(1.5, 1), 0.2)],
+    [(SphereShape(1), 0.1), (TorusShape(3, 1), 0.15), (TorusShape(1.5, 1), 0.2)],
     ids=["sphere", "torus-3-1", "torus-1.5-1"],
 )
 def test_labels_from_the_sheets_agree_with_the_surface(shape, eps):
@@ -264,7 +294,7 @@ def test_topology_counts_pinches_holes_and_orientation():
 @pytest.fixture(scope="module")
 def torus_report():
     shape = TorusShape(3, 1)
-    return shape, reconstruct_surface(shape, 0.15, QUALITY)
+    return shape, _surface_report(shape, 0.15)
 
 
 def _write_seed_csv(path, seeds, header=True, order=None, extra=False, region="region_id"):
@@ -413,7 +443,7 @@ def _fixture_seeds(name):
         "torus-3-1-0.15-half": (TorusShape(3, 1), 0.15, True),
         "torus-1.5-1-0.2": (TorusShape(1.5, 1), 0.2, False),
     }[name]
-    report = reconstruct_balls(_balls(shape, eps), SamplingParams(eps, QUALITY), shape, half)
+    report = _report(shape, eps, half)
     return report.seeds.points, report.seeds.inside, report
 
 
