@@ -204,6 +204,7 @@ def inout_facets(
     progress: Progress | None = None,
     triangulation: str = "cgal",
     compiled: bool | None = None,
+    slabs: int | None = None,
 ) -> InOutFacets:
     """The Voronoi facets between seeds labelled inside and seeds labelled outside.
 
@@ -222,6 +223,10 @@ def inout_facets(
         True builds the neighbours, circumcentres and cycles with the compiled kernels of
         :mod:`.facets_kernel` (numba), False with numpy; None (default) compiled where numba
         is installed. Both give the same facets (the tests compare them).
+    slabs : int, optional
+        Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
+        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab). None
+        (default): one slab per ``slabs.SLAB_SEEDS`` seeds; 1: the whole set at once.
 
     Returns
     -------
@@ -246,21 +251,42 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    if triangulation == "cgal":
-        Counter(progress, "Delaunay (CGAL)", None)
-        simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
+    from .slabs import slab_count, slab_fans
+
+    if slabs is None:
+        slabs = slab_count(len(points))
+    elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
+        raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
+    fans = None
+    if triangulation == "cgal" and kernel is not None and slabs > 1:
+        fans = slab_fans(points, inside, kernel, slabs, progress)
+    if fans is not None:
+        duplicates, skipped = _absent_seeds(points, inside, fans.present)
+        counter = Counter(progress, "in/out facets", 3)
+        centres, radius, error = fans.centres, fans.radius, fans.error
+        empty = np.empty((0, 2), dtype=np.int64)
+        cycles = _Cycles(fans.pairs, fans.tets, fans.offsets, empty, len(fans.pairs))
+        tetrahedra = fans.tetrahedra
+        counter.step(2)
     else:
-        Counter(progress, "Delaunay (qhull)", None)
-        simplices, neighbors, present = _qhull_tetrahedra(points)
-    duplicates, skipped = _absent_seeds(points, inside, present)
-    counter = Counter(progress, "in/out facets", 3)
-    centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
-    counter.step()
-    if kernel is None:
-        cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
-    else:
-        cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
-    counter.step()
+        if triangulation == "cgal":
+            Counter(progress, "Delaunay (CGAL)", None)
+            simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
+        else:
+            Counter(progress, "Delaunay (qhull)", None)
+            simplices, neighbors, present = _qhull_tetrahedra(points)
+        duplicates, skipped = _absent_seeds(points, inside, present)
+        counter = Counter(progress, "in/out facets", 3)
+        centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
+        counter.step()
+        if kernel is None:
+            cycles = _edge_cycles(simplices, neighbors, inside)
+            cycles = _oriented(points, simplices, inside, cycles)
+        else:
+            cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
+        tetrahedra = len(simplices)
+        del simplices, neighbors
+        counter.step()
     surface, collapsed, unresolved, non_simple = _weld(
         points, inside, centres, radius, error, cycles, given
     )
@@ -275,7 +301,7 @@ def inout_facets(
         skipped_seeds=skipped,
         duplicate_seeds=duplicates,
         delaunay_edges=cycles.edge_count,
-        tetrahedra=len(simplices),
+        tetrahedra=tetrahedra,
     )
 
 
@@ -312,6 +338,13 @@ def circumcentres(
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
     (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
     computes the circumcentres (else numpy, by chunks)."""
+    centres, radius, error, _ = flat_circumcentres(points, simplices, neighbors, kernel)
+    return centres, radius, error
+
+
+def flat_circumcentres(points, simplices, neighbors, kernel=None):
+    """:func:`circumcentres`, and (t,) which tetrahedra are flat (their circumcentre borrowed
+    from a neighbour)."""
     count = len(simplices)
     if kernel is not None:
         centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
@@ -341,7 +374,7 @@ def circumcentres(
             found |= fits
         todo = todo[~found]
     radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
-    return centres, radius, error
+    return centres, radius, error, flat
 
 
 def _circumcentres(corner: np.ndarray):

@@ -1,0 +1,294 @@
+"""The fans of M̂'s Delaunay edges from overlapping slabs of the seeds: memory bounded by a slab.
+
+CGAL's triangulation of all the seeds and GUDHI's simplex tree of it, alive together, were the
+memory peak of ``reconstruct`` (issue 32: 3.4 GB for the 1.08·10⁶ seeds of the cube at
+ε = 0.0094977). Here the seeds are cut along the longest axis of their box into slabs of about
+``SLAB_SEEDS`` seeds (the *cores*, which partition the axis), each widened by a margin on both
+sides (its *window* W); one window is triangulated at a time, and only what M̂ needs of it is
+kept: the tetrahedra around the in/out edges the slab *owns* (the midpoint of the edge in its
+core), with their circumcentres, in the order they turn.
+
+Why a window gives the whole set's fans (the empty-ball property). Let P be all the seeds and
+Q = P ∩ W. A tetrahedron of the Delaunay triangulation DT(Q) whose circumscribed ball lies in
+W (closed slab) is a tetrahedron of DT(P): the seeds of P left out of Q lie outside W, so
+outside the ball, which stays empty (with CGAL's symbolic perturbation the same holds of the
+perturbed balls: seeds strictly outside a ball are not affected by it). The tetrahedra around
+an owned edge ab in DT(Q) form a closed cycle; when every one is *certified* (its ball, widened
+by its rounding error, inside W) they are tetrahedra of DT(P) that close around ab, hence all
+the tetrahedra around ab in DT(P) (the link of an interior edge is one cycle). The simplex
+tree gives tetrahedra in the lexicographic order of their vertices, and a slab's vertices
+keep the order of the seeds, so the walk around ab starts at the same tetrahedron and the
+circumcentres are computed from the same coordinates in the same order: the cycle, its
+orientation and its circumcentres are the whole set's, bit for bit, and so is M̂ after
+welding (the tetrahedra are numbered in the same lexicographic order). A flat tetrahedron
+borrows its circumcentre from a face neighbour (:func:`.facets.circumcentres`); it is
+certified only when its borrowed ball is in W and its neighbours, and theirs, are certified
+(chains of borrowing longer than two are not covered by this argument; the tests compare the
+slabs with the whole set on cospherical seeds).
+
+Completeness. Every edge of DT(P) whose two seeds lie in W is an edge of DT(Q) (an empty ball
+through them in P is empty in Q). So an in/out edge owned by a slab is missed only when one of
+its seeds is outside the window, at least a margin from its midpoint. The slabs check that
+every in/out edge of every certified tetrahedron was built by the slab owning it: the edges
+missed, if any, then share no tetrahedron with those built, so the built facets are whole
+connected components of M̂ (a component all of whose seed pairs are more than twice the margin
+apart would be missed; the margin is an eighth of a slab at least, far above the spacing of
+VoroCrust's seeds).
+
+Anything a slab cannot certify (an owned edge on the hull of its window, a tetrahedron whose
+ball leaves the window) makes it try again with twice the margin, ``MARGIN_ROUNDS`` times;
+then the caller triangulates the whole set (:func:`slab_fans` returns None). The same happens
+when two slabs computed different circumcentres for one tetrahedron.
+
+References
+----------
+The surface M̂ of VoroCrust (:mod:`.facets`); the empty-ball property of Delaunay
+triangulations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...progress import Counter, Progress
+from .facets import _dense_unique, flat_circumcentres
+
+SLAB_SEEDS = 400_000
+"""Seeds per slab core (more seeds than this are triangulated in slabs)."""
+PROBE_SEEDS = 5_000
+"""Seeds in the core of the probe that measures the balls (:func:`slab_fans`)."""
+PROBE_MARGIN = 4.0
+"""The probe's margin, in widths of its core."""
+FALLBACK_MARGIN = 0.125
+"""The first margin, as a fraction of the mean slab width, when the probe certifies nothing."""
+MARGIN_ROUNDS = 4
+"""Tries per slab, the margin at least doubled each time, before the whole set is
+triangulated."""
+MARGIN_GROWTH = 1.25
+"""The margin is this multiple of twice the largest radius of the certified balls around the
+owned edges (of the probe; of the slab, when it tries again); the next slabs keep it."""
+BALL_RTOL = 1e-6
+"""A ball is widened by this fraction of its radius (and its rounding error) before it is
+compared with the window (a flat tetrahedron's borrowed centre is equidistant from its
+vertices only to ``facets.WELD_RTOL``)."""
+FLAT_LEVELS = 2
+"""Levels of neighbours a flat tetrahedron's certificate looks at (module docstring)."""
+_VALUES = ("centres", "radius", "error", "flat")
+"""The values per tetrahedron that every slab holding it must agree on."""
+
+
+@dataclass(frozen=True)
+class SlabFans:
+    """The fans of the in/out edges, gathered from the slabs."""
+
+    centres: np.ndarray
+    """(T, 3) circumcentre of every tetrahedron around an in/out edge (lexicographic order of
+    their vertices)."""
+    radius: np.ndarray
+    error: np.ndarray
+    flat: np.ndarray
+    """(T,) the tetrahedron's circumcentre is borrowed from a neighbour."""
+    pairs: np.ndarray
+    """(E, 2) inside and outside seed of each in/out edge, in the order of their keys."""
+    tets: np.ndarray
+    """Tetrahedra (rows of ``centres``) around each edge, edge after edge, in turning order."""
+    offsets: np.ndarray
+    present: np.ndarray
+    """(n,) the seed is a vertex of a slab's triangulation."""
+    tetrahedra: int
+    """Tetrahedra of the slabs whose circumcentre lies in the slab's core (the whole set's
+    count when every ball lies in its window; an estimate otherwise)."""
+    slabs: int
+
+
+@dataclass
+class _SlabPart:
+    quads: np.ndarray
+    centres: np.ndarray
+    radius: np.ndarray
+    error: np.ndarray
+    flat: np.ndarray
+    inner: np.ndarray
+    outer: np.ndarray
+    lengths: np.ndarray
+    corners: np.ndarray
+    """Rows of ``quads`` around each owned edge, edge after edge."""
+    required: np.ndarray
+    """Keys of the in/out edges of the certified tetrahedra."""
+    tetrahedra: int
+
+
+def slab_count(seeds: int) -> int:
+    """Slabs for this many seeds (1: the whole set at once)."""
+    return max(1, math.ceil(seeds / SLAB_SEEDS))
+
+
+def slab_fans(
+    points: np.ndarray,
+    inside: np.ndarray,
+    kernel,
+    slabs: int,
+    progress: Progress | None = None,
+) -> SlabFans | None:
+    """The fans of every in/out Delaunay edge of ``points`` (in the frame of
+    :func:`.facets.seed_frame`), triangulated in ``slabs`` overlapping slabs; None when a slab
+    cannot certify its edges (the caller then triangulates the whole set).
+
+    ``kernel`` is :mod:`.facets_kernel` (the slabs need the compiled steps).
+    """
+    axis = int(np.argmax(np.ptp(points, axis=0)))
+    x = np.ascontiguousarray(points[:, axis])
+    cuts = np.quantile(x, np.arange(1, slabs) / slabs) if slabs > 1 else np.empty(0)
+    bounds = np.concatenate([[-np.inf], cuts, [np.inf]])
+    seeds_n = len(points)
+    present = np.zeros(seeds_n, dtype=bool)
+    # A probe (a thin slab in the middle) measures the balls around the in/out edges: a
+    # window that reaches twice their radius past its core holds all those of its edges.
+    share = min(0.5, PROBE_SEEDS / (2 * seeds_n))
+    probe = tuple(np.quantile(x, [0.5 - share, 0.5 + share]))
+    width = PROBE_MARGIN * (probe[1] - probe[0])
+    _, reach = _slab(points, inside, kernel, axis, probe, width, present.copy())
+    if reach is None:  # the probe's window was too thin for any certificate
+        reach = FALLBACK_MARGIN * float(np.ptp(x)) / slabs
+    margin = MARGIN_GROWTH * reach
+    parts = []
+    counter = Counter(progress, "Delaunay (CGAL)", slabs)
+    for k in range(slabs):
+        core = (bounds[k], bounds[k + 1])
+        for _ in range(MARGIN_ROUNDS):
+            part, reach = _slab(points, inside, kernel, axis, core, margin, present)
+            if part is not None or reach is None:
+                break
+            margin = max(2 * margin, MARGIN_GROWTH * reach)
+        if part is None:
+            return None
+        parts.append(part)
+        counter.step()
+    return _merged(parts, present, seeds_n, slabs)
+
+
+def _slab(points, inside, kernel, axis, core, margin, present):
+    """One slab's part (None when a ball around an owned edge leaves its window), and the
+    margin its certified balls need: twice the largest radius (a ball through the two seeds of
+    an edge whose midpoint is in the core reaches at most its diameter past the core). The
+    margin is None when the slab cannot be certified at any margin (an owned edge on the
+    hull)."""
+    from ..simplices import delaunay_simplices
+
+    x = points[:, axis]
+    low, high = core[0] - margin, core[1] + margin
+    window = np.flatnonzero((x >= low) & (x <= high))
+    if len(window) < 5:
+        return None, None
+    _, local, _ = delaunay_simplices(points[window], triangles=False)
+    if not len(local):
+        return None, None
+    neighbours, ok = kernel.face_neighbours(local, len(window))
+    if not ok:
+        return None, None
+    tets = window[local]  # ascending rows stay ascending: the window keeps the seeds' order
+    del local
+    present[tets.reshape(-1)] = True
+    centres, radius, error, flat = flat_circumcentres(points, tets, neighbours, kernel)
+    axis_centre = centres[:, axis]
+    reach = (radius + error) * (1 + BALL_RTOL)
+    with np.errstate(invalid="ignore"):
+        certified = (axis_centre - reach >= low) & (axis_centre + reach <= high)
+    certified &= np.isfinite(axis_centre) & np.isfinite(reach)
+    for _ in range(FLAT_LEVELS):
+        around = certified[np.maximum(neighbours, 0)] & (neighbours >= 0)
+        certified &= ~flat | around.all(axis=1)
+    middle = np.where(np.isfinite(axis_centre), axis_centre, x[tets].mean(axis=1))
+    tetrahedra = int(((middle >= core[0]) & (middle < core[1])).sum())
+    first, inner, outer, length, turn, found, ok = kernel.find_edges(
+        points, tets, neighbours, inside
+    )
+    if not ok:
+        return None, None
+    first, inner, outer, length, turn = (v[:found] for v in (first, inner, outer, length, turn))
+    midpoint = 0.5 * (x[inner] + x[outer])
+    owned = (midpoint >= core[0]) & (midpoint < core[1])
+    first, inner, outer, length, turn = (v[owned] for v in (first, inner, outer, length, turn))
+    if (length < 0).any():
+        return None, None
+    offsets = np.concatenate([[0], np.cumsum(length)])
+    cycle = np.empty(int(offsets[-1]), dtype=np.int64)
+    kernel.write_cycles(tets, neighbours, first, inner, outer, turn < 0, offsets, cycle)
+    sure = cycle[certified[cycle]]
+    needed = 2 * float(reach[sure].max()) if len(sure) else 2 * margin
+    if len(sure) < len(cycle):
+        return None, needed
+
+    used, corners = _dense_unique(cycle, len(tets))
+    quads = tets[used]
+    label = inside[quads]
+    required = []
+    for p, q in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        mixed = label[:, p] != label[:, q]
+        a, b = quads[mixed, p], quads[mixed, q]
+        required.append(np.minimum(a, b) * len(points) + np.maximum(a, b))
+    part = _SlabPart(
+        quads=quads,
+        centres=centres[used],
+        radius=radius[used],
+        error=error[used],
+        flat=flat[used],
+        inner=inner,
+        outer=outer,
+        lengths=length,
+        corners=corners,
+        required=np.unique(np.concatenate(required)),
+        tetrahedra=tetrahedra,
+    )
+    return part, needed
+
+
+def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
+    """The slabs' parts as one set of numbered tetrahedra and edges in key order; None when
+    two slabs disagree on a tetrahedron or an in/out edge of a certified tetrahedron was built
+    by no slab."""
+    quads = np.concatenate([p.quads for p in parts])
+    high = (quads[:, 0] << 32) | quads[:, 1]
+    low = (quads[:, 2] << 32) | quads[:, 3]
+    order = np.lexsort((low, high))
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (high[order][1:] != high[order][:-1]) | (low[order][1:] != low[order][:-1])
+    rank = np.cumsum(new) - 1
+    number = np.empty(len(order), dtype=np.int64)
+    number[order] = rank
+    values = [np.concatenate([getattr(p, name) for p in parts]) for name in _VALUES]
+    pick = order[new]
+    merged = [v[pick] for v in values]
+    for v, m in zip(values, merged, strict=True):
+        if not np.array_equal(v, m[number], equal_nan=True):
+            return None
+    start = np.cumsum([0] + [len(p.quads) for p in parts])
+    tets = np.concatenate([p.corners + s for p, s in zip(parts, start, strict=False)])
+    tets = number[tets]
+    inner = np.concatenate([p.inner for p in parts])
+    outer = np.concatenate([p.outer for p in parts])
+    lengths = np.concatenate([p.lengths for p in parts])
+    key = np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer)
+    required = np.unique(np.concatenate([p.required for p in parts]))
+    if not np.isin(required, key).all():
+        return None
+    order = np.argsort(key, kind="stable")
+    offsets = np.concatenate([[0], np.cumsum(lengths)])
+    new_offsets = np.concatenate([[0], np.cumsum(lengths[order])])
+    index = np.arange(int(new_offsets[-1])) - np.repeat(new_offsets[:-1], lengths[order])
+    tets = tets[np.repeat(offsets[:-1][order], lengths[order]) + index]
+    return SlabFans(
+        centres=merged[0],
+        radius=merged[1],
+        error=merged[2],
+        flat=merged[3],
+        pairs=np.column_stack([inner[order], outer[order]]),
+        tets=tets,
+        offsets=new_offsets,
+        present=present,
+        tetrahedra=sum(p.tetrahedra for p in parts),
+        slabs=slabs,
+    )
