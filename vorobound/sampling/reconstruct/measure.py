@@ -275,7 +275,9 @@ def _from_surface(reference, surface, triangles, eps, count, rng, known=None) ->
             )
             nearby = (closest, surface.vertices, triangles[face])
             distance = np.sqrt(squared)
-            ratio = _probe_ratio(reference, probes, triangle, distance, nearby, known, eps, best.value)
+            ratio = _probe_ratio(
+                reference, probes, triangle, distance, nearby, known, eps, best.value
+            )
         top = _argmax(ratio)
         if ratio[top] > best.value or np.isnan(ratio[top]):
             best = Extreme(float(ratio[top]), probes[top])
@@ -285,9 +287,9 @@ def _from_surface(reference, surface, triangles, eps, count, rng, known=None) ->
 def _probe_ratio(reference, probes, triangle, distance, nearby, known, eps, best):
     """distance/(εL) at the probes that can hold the chunk's largest value above ``best``
     (−inf elsewhere): L is bounded from the vertices of the fan triangle of M̂ nearest to each
-    probe (``nearby``: the nearest point of M̂, M̂'s vertices, the triangle's corners), and a probe whose upper bound is below the largest
-    lower bound of the chunk, or below ``best``, is neither the chunk's largest nor a new
-    largest."""
+    probe (``nearby``: the nearest point of M̂, M̂'s vertices, the triangle's corners), and a
+    probe whose upper bound is below the largest lower bound of the chunk, or below ``best``,
+    is neither the chunk's largest nor a new largest."""
     closest, vertices, corners = nearby
     lower, upper = _lfs_bounds(reference.lipschitz, closest, vertices, corners, known, distance)
     high = _upper_ratio(distance, eps, lower)
