@@ -53,6 +53,7 @@ CUBE_TARGET_GB = 2.5
 STAGE_OF = {
     "lattice": "sample (lattice, sampling)",
     "sampling": "sample (lattice, sampling)",
+    "sampling (slabs)": "sample (lattice, sampling)",
     "regular triangulation": "guide triangles, seeds, labels",
     "seeds": "guide triangles, seeds, labels",
     "Delaunay (CGAL)": "M̂: CGAL, simplex tree, neighbours",

@@ -32,13 +32,17 @@ its seeds is outside the window, at least a margin from its midpoint. The slabs 
 every in/out edge of every certified tetrahedron was built by the slab owning it: the edges
 missed, if any, then share no tetrahedron with those built, so the built facets are whole
 connected components of M̂ (a component all of whose seed pairs are more than twice the margin
-apart would be missed; the margin is an eighth of a slab at least, far above the spacing of
-VoroCrust's seeds).
+apart would be missed).
 
-Anything a slab cannot certify (an owned edge on the hull of its window, a tetrahedron whose
-ball leaves the window) makes it try again with twice the margin, ``MARGIN_ROUNDS`` times;
-then the caller triangulates the whole set (:func:`slab_fans` returns None). The same happens
-when two slabs computed different circumcentres for one tetrahedron.
+The margin. A ball around an edge whose midpoint lies in the core reaches past the core at
+most as far as it reaches from that midpoint along the axis (at most its diameter, as it holds
+the midpoint). A probe (a thin slab of ``PROBE_SEEDS`` seeds in the middle, certified the same
+way) measures the farthest reach of the balls around its in/out edges; the margin is
+``MARGIN_GROWTH`` times it. A slab that still cannot certify an owned edge (a ball that leaves its
+window) tries again with a margin at least twice as wide, ``MARGIN_ROUNDS`` times; an owned
+edge on the hull of its window (an unbounded facet, or the window's own hull) cannot be
+certified at all. Then, or when two slabs computed different circumcentres for one
+tetrahedron, :func:`slab_fans` returns None and the caller triangulates the whole set.
 
 References
 ----------
@@ -61,15 +65,17 @@ SLAB_SEEDS = 400_000
 PROBE_SEEDS = 5_000
 """Seeds in the core of the probe that measures the balls (:func:`slab_fans`)."""
 PROBE_MARGIN = 4.0
-"""The probe's margin, in widths of its core."""
+"""The probe's first margin, in widths of its core (doubled until the balls it measures reach
+less than half of it)."""
 FALLBACK_MARGIN = 0.125
 """The first margin, as a fraction of the mean slab width, when the probe certifies nothing."""
 MARGIN_ROUNDS = 4
 """Tries per slab, the margin at least doubled each time, before the whole set is
 triangulated."""
 MARGIN_GROWTH = 1.25
-"""The margin is this multiple of twice the largest radius of the certified balls around the
-owned edges (of the probe; of the slab, when it tries again); the next slabs keep it."""
+"""The margin is this multiple of the farthest reach of the certified balls around the owned
+edges from their midpoints (of the probe; of the slab, when it tries again); the next slabs
+keep it."""
 BALL_RTOL = 1e-6
 """A ball is widened by this fraction of its radius (and its rounding error) before it is
 compared with the window (a flat tetrahedron's borrowed centre is equidistant from its
@@ -150,7 +156,11 @@ def slab_fans(
     share = min(0.5, PROBE_SEEDS / (2 * seeds_n))
     probe = tuple(np.quantile(x, [0.5 - share, 0.5 + share]))
     width = PROBE_MARGIN * (probe[1] - probe[0])
-    _, reach = _slab(points, inside, kernel, axis, probe, width, present.copy())
+    for _ in range(MARGIN_ROUNDS):
+        _, reach = _slab(points, inside, kernel, axis, probe, width, present.copy())
+        if reach is not None and reach < 0.5 * width:
+            break  # the balls measured are not cut short by the probe's window
+        width *= 2
     if reach is None:  # the probe's window was too thin for any certificate
         reach = FALLBACK_MARGIN * float(np.ptp(x)) / slabs
     margin = MARGIN_GROWTH * reach
@@ -172,10 +182,9 @@ def slab_fans(
 
 def _slab(points, inside, kernel, axis, core, margin, present):
     """One slab's part (None when a ball around an owned edge leaves its window), and the
-    margin its certified balls need: twice the largest radius (a ball through the two seeds of
-    an edge whose midpoint is in the core reaches at most its diameter past the core). The
-    margin is None when the slab cannot be certified at any margin (an owned edge on the
-    hull)."""
+    margin its certified balls need: how far the farthest reaches along the axis from the
+    midpoint of its edge (the midpoint is in the core). The margin is None when the slab
+    cannot be certified at any margin (an owned edge on the hull)."""
     from ..simplices import delaunay_simplices
 
     x = points[:, axis]
@@ -217,9 +226,12 @@ def _slab(points, inside, kernel, axis, core, margin, present):
     offsets = np.concatenate([[0], np.cumsum(length)])
     cycle = np.empty(int(offsets[-1]), dtype=np.int64)
     kernel.write_cycles(tets, neighbours, first, inner, outer, turn < 0, offsets, cycle)
-    sure = cycle[certified[cycle]]
-    needed = 2 * float(reach[sure].max()) if len(sure) else 2 * margin
-    if len(sure) < len(cycle):
+    # How far each certified ball reaches along the axis from its edge's midpoint.
+    sure = certified[cycle]
+    edge_midpoint = np.repeat(midpoint[owned], length)
+    extent = np.abs(axis_centre[cycle] - edge_midpoint) + reach[cycle]
+    needed = float(extent[sure].max()) if sure.any() else 2 * margin
+    if not sure.all():
         return None, needed
 
     used, corners = _dense_unique(cycle, len(tets))
