@@ -61,8 +61,7 @@ def _same(one, two):
 @pytest.mark.parametrize("name", sorted(SEED_SETS))
 @pytest.mark.parametrize("count", [2, 5])
 def test_slabs_give_the_whole_sets_facets(name, count, monkeypatch):
-    """Slabs of a few hundred seeds each (a small probe) build M̂ of the whole set exactly."""
-    monkeypatch.setattr(slabs, "PROBE_SEEDS", 200)
+    """Slabs of a few hundred seeds each build M̂ of the whole set exactly."""
     points, inside = SEED_SETS[name](np.random.default_rng(3))
     whole = inout_facets(points, inside, slabs=1)
     calls = []
@@ -76,18 +75,19 @@ def test_slabs_give_the_whole_sets_facets(name, count, monkeypatch):
         assert surface_topology(split.surface).closed_manifold
 
 
-def test_a_margin_too_small_is_widened(monkeypatch):
-    """A probe that measures nothing useful leaves windows too narrow: each slab tries again
-    with a margin its balls fit in, and M̂ is still the whole set's."""
-    monkeypatch.setattr(slabs, "PROBE_SEEDS", 200)
-    monkeypatch.setattr(slabs, "PROBE_MARGIN", 1e-3)
+def test_edges_left_out_by_a_narrow_window_are_built_in_boxes(monkeypatch):
+    """A probe that measures too short a reach leaves windows too narrow: the edges whose balls
+    leave them are built in boxes with wider margins, and M̂ is still the whole set's."""
     points, inside = SEED_SETS["torus"](None)
-    tries = []
+    real_probe = slabs._probe_reach
+    monkeypatch.setattr(slabs, "_probe_reach", lambda *a: 0.05 * real_probe(*a))
+    calls = []
     real = slabs._slab
-    monkeypatch.setattr(slabs, "_slab", lambda *a: tries.append(a[5]) or real(*a))
+    monkeypatch.setattr(slabs, "_slab", lambda *a: calls.append(a) or real(*a))
     split = inout_facets(points, inside, slabs=3)
-    assert len(tries) > 4  # the probe, three slabs and at least one more try
-    assert max(tries[1:]) > tries[1]
+    boxes = [a for a in calls if len(a) > 6]
+    assert boxes, "no edge was left out"
+    assert max(a[4] for a in boxes) > calls[-len(boxes) - 1][4]
     _same(split, inout_facets(points, inside, slabs=1))
 
 

@@ -36,13 +36,15 @@ apart would be missed).
 
 The margin. A ball around an edge whose midpoint lies in the core reaches past the core at
 most as far as it reaches from that midpoint along the axis (at most its diameter, as it holds
-the midpoint). A probe (a thin slab of ``PROBE_SEEDS`` seeds in the middle, certified the same
-way) measures the farthest reach of the balls around its in/out edges; the margin is
-``MARGIN_GROWTH`` times it. A slab that still cannot certify an owned edge (a ball that leaves its
-window) tries again with a margin at least twice as wide, ``MARGIN_ROUNDS`` times; an owned
-edge on the hull of its window (an unbounded facet, or the window's own hull) cannot be
-certified at all. Then, or when two slabs computed different circumcentres for one
-tetrahedron, :func:`slab_fans` returns None and the caller triangulates the whole set.
+the midpoint). A probe (a small box about the median seed, its window the box widened by a
+margin on every side, certified the same way) measures the farthest reach of the balls
+around its in/out edges; the margin is ``MARGIN_GROWTH`` times it. The owned edges whose
+balls still leave their slab's window (or that lie on its hull) are built again in boxes
+about their midpoints (one box per group of them along the axis, usually near a slab's
+border), with the margin doubled, up to ``MARGIN_ROUNDS`` times. An edge left out after that
+(an unbounded facet: on the hull of all the seeds), or two slabs that computed different
+circumcentres for one tetrahedron, make :func:`slab_fans` return None, and the caller
+triangulates the whole set.
 
 References
 ----------
@@ -62,20 +64,20 @@ from .facets import _dense_unique, flat_circumcentres
 
 SLAB_SEEDS = 400_000
 """Seeds per slab core (more seeds than this are triangulated in slabs)."""
-PROBE_SEEDS = 5_000
-"""Seeds in the core of the probe that measures the balls (:func:`slab_fans`)."""
-PROBE_MARGIN = 4.0
-"""The probe's first margin, in widths of its core (doubled until the balls it measures reach
+PROBE_SIZE = 0.005
+"""Half the side of the probe's box (:func:`_probe_reach`), as a fraction of the seeds' extent
+along the slabs' axis (doubled while it certifies nothing)."""
+PROBE_MARGIN = 2.0
+"""The probe's first margin, in sides of its box (doubled until the balls it measures reach
 less than half of it)."""
 FALLBACK_MARGIN = 0.125
 """The first margin, as a fraction of the mean slab width, when the probe certifies nothing."""
 MARGIN_ROUNDS = 4
-"""Tries per slab, the margin at least doubled each time, before the whole set is
-triangulated."""
+"""Rounds of boxes about the edges left out, the margin doubled each time, before the whole
+set is triangulated (and tries of the probe)."""
 MARGIN_GROWTH = 1.25
-"""The margin is this multiple of the farthest reach of the certified balls around the owned
-edges from their midpoints (of the probe; of the slab, when it tries again); the next slabs
-keep it."""
+"""The slabs' margin is this multiple of the farthest reach of the certified balls around the
+probe's in/out edges from their midpoints."""
 BALL_RTOL = 1e-6
 """A ball is widened by this fraction of its radius (and its rounding error) before it is
 compared with the window (a flat tetrahedron's borrowed centre is equidistant from its
@@ -151,88 +153,141 @@ def slab_fans(
     bounds = np.concatenate([[-np.inf], cuts, [np.inf]])
     seeds_n = len(points)
     present = np.zeros(seeds_n, dtype=bool)
-    # A probe (a thin slab in the middle) measures the balls around the in/out edges: a
-    # window that reaches twice their radius past its core holds all those of its edges.
-    share = min(0.5, PROBE_SEEDS / (2 * seeds_n))
-    probe = tuple(np.quantile(x, [0.5 - share, 0.5 + share]))
-    width = PROBE_MARGIN * (probe[1] - probe[0])
-    for _ in range(MARGIN_ROUNDS):
-        _, reach = _slab(points, inside, kernel, axis, probe, width, present.copy())
-        if reach is not None and reach < 0.5 * width:
-            break  # the balls measured are not cut short by the probe's window
-        width *= 2
-    if reach is None:  # the probe's window was too thin for any certificate
-        reach = FALLBACK_MARGIN * float(np.ptp(x)) / slabs
-    margin = MARGIN_GROWTH * reach
-    parts = []
+    margin = MARGIN_GROWTH * _probe_reach(points, inside, kernel, x, slabs)
+    parts, left = [], []
     counter = Counter(progress, "Delaunay (CGAL)", slabs)
     for k in range(slabs):
-        core = (bounds[k], bounds[k + 1])
-        for _ in range(MARGIN_ROUNDS):
-            part, reach = _slab(points, inside, kernel, axis, core, margin, present)
-            if part is not None or reach is None:
-                break
-            margin = max(2 * margin, MARGIN_GROWTH * reach)
+        low, high = np.full(3, -np.inf), np.full(3, np.inf)
+        low[axis], high[axis] = bounds[k], bounds[k + 1]
+        part, _, rest = _slab(points, inside, kernel, (low, high), margin, present)
         if part is None:
             return None
         parts.append(part)
+        left.append(rest)
         counter.step()
+    # Edges whose balls left their slab's window: boxes about them, with wider margins.
+    keys = np.concatenate(left)
+    for _ in range(MARGIN_ROUNDS):
+        if not len(keys):
+            break
+        margin *= 2
+        built = np.sort(np.concatenate([_keys(part, seeds_n) for part in parts]))
+        left = []
+        for box in _patches(points, keys, axis, margin):
+            part, _, rest = _slab(points, inside, kernel, box, margin, present, built)
+            if part is None:
+                return None
+            part.tetrahedra = 0  # counted by the slabs
+            parts.append(part)
+            left.append(rest)
+        keys = np.concatenate(left)
+    if len(keys):
+        return None
     return _merged(parts, present, seeds_n, slabs)
 
 
-def _slab(points, inside, kernel, axis, core, margin, present):
-    """One slab's part (None when a ball around an owned edge leaves its window), and the
-    margin its certified balls need: how far the farthest reaches along the axis from the
-    midpoint of its edge (the midpoint is in the core). The margin is None when the slab
-    cannot be certified at any margin (an owned edge on the hull)."""
+def _keys(part, seeds_n) -> np.ndarray:
+    """The keys (min·n + max) of the edges a part built."""
+    return np.minimum(part.inner, part.outer) * seeds_n + np.maximum(part.inner, part.outer)
+
+
+def _patches(points, keys, axis, margin):
+    """Boxes about the midpoints of the edges ``keys`` (min·n + max), one per group of
+    midpoints along ``axis`` (groups split where they lie more than two margins apart, so the
+    boxes do not overlap)."""
+    seeds_n = len(points)
+    midpoint = 0.5 * (points[keys // seeds_n] + points[keys % seeds_n])
+    order = np.argsort(midpoint[:, axis])
+    along = midpoint[order, axis]
+    split = np.flatnonzero(np.diff(along) > 2 * margin) + 1
+    for group in np.split(order, split):
+        low, high = midpoint[group].min(axis=0), midpoint[group].max(axis=0)
+        yield low, np.nextafter(high, np.inf)
+
+
+def _probe_reach(points, inside, kernel, x, slabs) -> float:
+    """How far the balls around the in/out edges reach from their edges' midpoints, measured
+    in a small box (the probe) about the median seed along ``x``: its window is widened until
+    the balls it certifies reach less than half its margin (they are not cut short by it)."""
+    centre = points[np.argpartition(x, len(x) // 2)[len(x) // 2]]
+    half = PROBE_SIZE * float(np.ptp(x))
+    margin = PROBE_MARGIN * 2 * half
+    reach = None
+    for _ in range(MARGIN_ROUNDS):
+        box = (centre - half, centre + half)
+        _, reach, _ = _slab(points, inside, kernel, box, margin, np.zeros(len(points), bool))
+        if reach and reach < 0.5 * margin:
+            return reach
+        if not reach:  # no in/out edge in the box, or too few seeds
+            half *= 2
+        margin *= 2
+    return reach or FALLBACK_MARGIN * float(np.ptp(x)) / slabs
+
+
+def _slab(points, inside, kernel, core, margin, present, built=None):
+    """One slab's part: the seeds in the box ``core`` widened by ``margin``, the in/out edges
+    whose midpoint is in the core (and whose key is not among the sorted keys ``built``) and
+    whose balls stay in the window; the margin its certified balls need (how far the farthest
+    reaches from the midpoint of its edge along an axis); and the keys of the owned edges left
+    out (a ball leaves the window, or the edge is on the window's hull). The part is None when
+    the triangulation fails (too few seeds, or inconsistent)."""
     from ..simplices import delaunay_simplices
 
-    x = points[:, axis]
     low, high = core[0] - margin, core[1] + margin
-    window = np.flatnonzero((x >= low) & (x <= high))
+    window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
     if len(window) < 5:
-        return None, None
+        return None, None, None
     _, local, _ = delaunay_simplices(points[window], triangles=False)
     if not len(local):
-        return None, None
+        return None, None, None
     neighbours, ok = kernel.face_neighbours(local, len(window))
     if not ok:
-        return None, None
+        return None, None, None
     tets = window[local]  # ascending rows stay ascending: the window keeps the seeds' order
     del local
     present[tets.reshape(-1)] = True
     centres, radius, error, flat = flat_circumcentres(points, tets, neighbours, kernel)
-    axis_centre = centres[:, axis]
-    reach = (radius + error) * (1 + BALL_RTOL)
+    reach = ((radius + error) * (1 + BALL_RTOL))[:, None]
     with np.errstate(invalid="ignore"):
-        certified = (axis_centre - reach >= low) & (axis_centre + reach <= high)
-    certified &= np.isfinite(axis_centre) & np.isfinite(reach)
+        certified = ((centres - reach >= low) & (centres + reach <= high)).all(axis=1)
+    certified &= np.isfinite(centres).all(axis=1) & np.isfinite(reach[:, 0])
     for _ in range(FLAT_LEVELS):
         around = certified[np.maximum(neighbours, 0)] & (neighbours >= 0)
         certified &= ~flat | around.all(axis=1)
-    middle = np.where(np.isfinite(axis_centre), axis_centre, x[tets].mean(axis=1))
-    tetrahedra = int(((middle >= core[0]) & (middle < core[1])).sum())
+    middle = np.where(np.isfinite(centres), centres, points[tets].mean(axis=1))
+    tetrahedra = int(((middle >= core[0]) & (middle < core[1])).all(axis=1).sum())
     first, inner, outer, length, turn, found, ok = kernel.find_edges(
         points, tets, neighbours, inside
     )
     if not ok:
-        return None, None
+        return None, None, None
     first, inner, outer, length, turn = (v[:found] for v in (first, inner, outer, length, turn))
-    midpoint = 0.5 * (x[inner] + x[outer])
-    owned = (midpoint >= core[0]) & (midpoint < core[1])
+    midpoint = 0.5 * (points[inner] + points[outer])
+    owned = ((midpoint >= core[0]) & (midpoint < core[1])).all(axis=1)
+    key = np.minimum(inner, outer) * len(points) + np.maximum(inner, outer)
+    if built is not None:
+        owned &= ~np.isin(key, built)
+    # An owned edge open in the window (on its hull) is left out like one whose balls leave
+    # it: a wider window closes it, unless it is on the hull of all the seeds.
+    closed = length >= 0
+    rest = key[owned & ~closed]
+    owned &= closed
+    key = key[owned]
     first, inner, outer, length, turn = (v[owned] for v in (first, inner, outer, length, turn))
-    if (length < 0).any():
-        return None, None
     offsets = np.concatenate([[0], np.cumsum(length)])
     cycle = np.empty(int(offsets[-1]), dtype=np.int64)
     kernel.write_cycles(tets, neighbours, first, inner, outer, turn < 0, offsets, cycle)
-    # How far each certified ball reaches along the axis from its edge's midpoint.
+    # How far each certified ball reaches from its edge's midpoint along an axis.
     sure = certified[cycle]
-    edge_midpoint = np.repeat(midpoint[owned], length)
-    extent = np.abs(axis_centre[cycle] - edge_midpoint) + reach[cycle]
-    needed = float(extent[sure].max()) if sure.any() else 2 * margin
-    if not sure.all():
-        return None, needed
+    edge_midpoint = np.repeat(midpoint[owned], length, axis=0)
+    extent = (np.abs(centres[cycle] - edge_midpoint) + reach[cycle]).max(axis=1)
+    needed = float(extent[sure].max()) if sure.any() else 0.0
+    edge = np.repeat(np.arange(len(length)), length)
+    good = np.bincount(edge, ~sure, minlength=len(length)) == 0
+    rest = np.concatenate([rest, key[~good]])
+    if not good.all():
+        first, inner, outer, length, turn = (v[good] for v in (first, inner, outer, length, turn))
+        cycle = cycle[np.repeat(good, offsets[1:] - offsets[:-1])]
 
     used, corners = _dense_unique(cycle, len(tets))
     quads = tets[used]
@@ -255,7 +310,7 @@ def _slab(points, inside, kernel, axis, core, margin, present):
         required=np.unique(np.concatenate(required)),
         tetrahedra=tetrahedra,
     )
-    return part, needed
+    return part, needed, rest
 
 
 def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
