@@ -125,7 +125,7 @@ class _SlabPart:
     corners: np.ndarray
     """Rows of ``quads`` around each owned edge, edge after edge."""
     required: np.ndarray
-    """Keys of the in/out edges of the certified tetrahedra."""
+    """Keys of the in/out edges of the certified tetrahedra that another part must build."""
     tetrahedra: int
 
 
@@ -296,6 +296,13 @@ def _slab(points, inside, kernel, core, margin, present, built=None):
     for p, q in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
         mixed = label[:, p] != label[:, q]
         a, b = quads[mixed, p], quads[mixed, q]
+        if built is None:
+            # An in/out edge of the slab's triangulation with its midpoint in the core is
+            # owned here: built, or left out and built in a box (or the whole set is
+            # triangulated). Only the others are checked when the parts are merged.
+            middle = 0.5 * (points[a] + points[b])
+            away = ~((middle >= core[0]) & (middle < core[1])).all(axis=1)
+            a, b = a[away], b[away]
         required.append(np.minimum(a, b) * len(points) + np.maximum(a, b))
     part = _SlabPart(
         quads=quads,
