@@ -647,18 +647,25 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     polygon = np.repeat(np.arange(len(sizes)), sizes)
     previous = np.roll(corner_vertex, 1)
     previous[cycles.offsets[:-1]] = corner_vertex[cycles.offsets[1:] - 1]
-    # Contract the Voronoi edges of M̂ shorter than their vertices' slack.
-    gap = np.linalg.norm(position[corner_vertex] - position[previous], axis=1)
-    with np.errstate(invalid="ignore"):
-        short = gap <= np.maximum(slack[corner_vertex], slack[previous])
-    if given > 0:
-        # Seeds far from the origin: their coordinates as given are rounded to u·|x|.
-        short |= gap <= GIVEN_WELD * np.finfo(float).eps * given
+    # Contract the Voronoi edges of M̂ shorter than their vertices' slack (by chunks: the
+    # corners of M̂ number about five per in/out edge).
+    short = np.empty(len(corner_vertex), dtype=bool)
+    for start in range(0, len(short), CHUNK):
+        here, there = corner_vertex[start : start + CHUNK], previous[start : start + CHUNK]
+        gap = np.linalg.norm(position[here] - position[there], axis=1)
+        with np.errstate(invalid="ignore"):
+            part = gap <= np.maximum(slack[here], slack[there])
+        if given > 0:
+            # Seeds far from the origin: their coordinates as given are rounded to u·|x|.
+            part |= gap <= GIVEN_WELD * np.finfo(float).eps * given
+        short[start : start + CHUNK] = part
     count = len(used)
     graph = coo_matrix(
         (np.ones(int(short.sum())), (corner_vertex[short], previous[short])), shape=(count, count)
     )
+    del previous, short
     _, cluster = connected_components(graph, directed=False)
+    del graph
     known = np.isfinite(position).all(axis=1)
     cluster = np.where(known, cluster, -1)
     vertex = cluster[corner_vertex]
