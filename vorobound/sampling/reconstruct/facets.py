@@ -15,6 +15,9 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
+Above ``slabs.SLAB_SEEDS`` seeds the tetrahedralization is built in overlapping slabs, one at a
+time, and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same
+facets, certified by the empty-ball property; memory bounded by a slab).
 
 The frame: the seeds are moved to a frame near the origin and of unit size before anything is
 computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
