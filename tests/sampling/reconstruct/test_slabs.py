@@ -116,3 +116,32 @@ def test_slab_count_follows_the_seeds():
     assert slabs.slab_count(10) == 1
     assert slabs.slab_count(slabs.SLAB_SEEDS) == 1
     assert slabs.slab_count(slabs.SLAB_SEEDS + 1) == 2
+
+
+def _part(centre, required=()):
+    """A slab's part holding tetrahedron (0, 1, 2, 3) around the in/out edge (0, 1)."""
+    return slabs._SlabPart(
+        quads=np.array([[0, 1, 2, 3]]),
+        centres=np.array([centre], dtype=float),
+        radius=np.ones(1),
+        error=np.zeros(1),
+        flat=np.zeros(1, dtype=bool),
+        inner=np.array([0]),
+        outer=np.array([1]),
+        lengths=np.array([1]),
+        corners=np.array([0]),
+        required=np.array(required, dtype=np.int64),
+        tetrahedra=1,
+    )
+
+
+def test_the_merge_refuses_disagreeing_or_incomplete_slabs():
+    """Two slabs with different circumcentres for one tetrahedron, or an in/out edge of a kept
+    tetrahedron that no slab built, send the caller back to the whole set (None)."""
+    present = np.ones(4, dtype=bool)
+    merged = slabs._merged([_part([0, 0, 0]), _part([0, 0, 0])], present, 4, 2)
+    assert merged is not None and len(merged.centres) == 1
+    assert slabs._merged([_part([0, 0, 0]), _part([1, 0, 0])], present, 4, 2) is None
+    missing = 2 * 4 + 3  # the key of edge (2, 3): no part built it
+    assert slabs._merged([_part([0, 0, 0], [missing])], present, 4, 1) is None
+    assert slabs._merged([_part([0, 0, 0], [1])], present, 4, 1) is not None
