@@ -99,7 +99,7 @@ def test_an_edge_on_the_hull_falls_back_to_the_whole_set():
     inside = points[:, 0] < 0.5
     kernel = facets._facets_kernel()
     frame = (points - facets.seed_frame(points)[0]) / facets.seed_frame(points)[1]
-    assert slabs.slab_fans(frame, inside, kernel, 3) is None
+    assert slabs.slab_fans(frame, inside, kernel, facets.flat_circumcentres, 3) is None
     split = inout_facets(points, inside, slabs=3)
     assert len(split.unbounded) > 0
     _same(split, inout_facets(points, inside, slabs=1))

@@ -262,7 +262,7 @@ def inout_facets(
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
     if triangulation == "cgal" and kernel is not None and slabs > 1:
-        fans = slab_fans(points, inside, kernel, slabs, progress)
+        fans = slab_fans(points, inside, kernel, flat_circumcentres, slabs, progress)
     if fans is not None:
         duplicates, skipped = _absent_seeds(points, inside, fans.present)
         counter = Counter(progress, "in/out facets", 3)

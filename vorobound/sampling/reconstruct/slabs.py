@@ -60,7 +60,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...progress import Counter, Progress
-from .facets import _dense_unique, flat_circumcentres
 
 SLAB_SEEDS = 400_000
 """Seeds per slab core (more seeds than this are triangulated in slabs)."""
@@ -138,6 +137,7 @@ def slab_fans(
     points: np.ndarray,
     inside: np.ndarray,
     kernel,
+    centres,
     slabs: int,
     progress: Progress | None = None,
 ) -> SlabFans | None:
@@ -145,21 +145,24 @@ def slab_fans(
     :func:`.facets.seed_frame`), triangulated in ``slabs`` overlapping slabs; None when a slab
     cannot certify its edges (the caller then triangulates the whole set).
 
-    ``kernel`` is :mod:`.facets_kernel` (the slabs need the compiled steps).
+    ``kernel`` is :mod:`.facets_kernel` (the slabs need the compiled steps), ``centres`` the
+    circumcentres of :func:`.facets.flat_circumcentres` (passed in: :mod:`.facets` calls this
+    module).
     """
+    steps = (kernel, centres)
     axis = int(np.argmax(np.ptp(points, axis=0)))
     x = np.ascontiguousarray(points[:, axis])
     cuts = np.quantile(x, np.arange(1, slabs) / slabs) if slabs > 1 else np.empty(0)
     bounds = np.concatenate([[-np.inf], cuts, [np.inf]])
     seeds_n = len(points)
     present = np.zeros(seeds_n, dtype=bool)
-    margin = MARGIN_GROWTH * _probe_reach(points, inside, kernel, x, slabs)
+    margin = MARGIN_GROWTH * _probe_reach(points, inside, steps, x, slabs)
     parts, left = [], []
     counter = Counter(progress, "Delaunay (CGAL)", slabs)
     for k in range(slabs):
         low, high = np.full(3, -np.inf), np.full(3, np.inf)
         low[axis], high[axis] = bounds[k], bounds[k + 1]
-        part, _, rest = _slab(points, inside, kernel, (low, high), margin, present)
+        part, _, rest = _slab(points, inside, steps, (low, high), margin, present)
         if part is None:
             return None
         parts.append(part)
@@ -174,7 +177,7 @@ def slab_fans(
         built = np.sort(np.concatenate([_keys(part, seeds_n) for part in parts]))
         left = []
         for box in _patches(points, keys, axis, margin):
-            part, _, rest = _slab(points, inside, kernel, box, margin, present, built)
+            part, _, rest = _slab(points, inside, steps, box, margin, present, built)
             if part is None:
                 return None
             part.tetrahedra = 0  # counted by the slabs
@@ -205,7 +208,7 @@ def _patches(points, keys, axis, margin):
         yield low, np.nextafter(high, np.inf)
 
 
-def _probe_reach(points, inside, kernel, x, slabs) -> float:
+def _probe_reach(points, inside, steps, x, slabs) -> float:
     """How far the balls around the in/out edges reach from their edges' midpoints, measured
     in a small box (the probe) about the median seed along ``x``: its window is widened until
     the balls it certifies reach less than half its margin (they are not cut short by it)."""
@@ -215,7 +218,7 @@ def _probe_reach(points, inside, kernel, x, slabs) -> float:
     reach = None
     for _ in range(MARGIN_ROUNDS):
         box = (centre - half, centre + half)
-        _, reach, _ = _slab(points, inside, kernel, box, margin, np.zeros(len(points), bool))
+        _, reach, _ = _slab(points, inside, steps, box, margin, np.zeros(len(points), bool))
         if reach and reach < 0.5 * margin:
             return reach
         if not reach:  # no in/out edge in the box, or too few seeds
@@ -224,7 +227,7 @@ def _probe_reach(points, inside, kernel, x, slabs) -> float:
     return reach or FALLBACK_MARGIN * float(np.ptp(x)) / slabs
 
 
-def _slab(points, inside, kernel, core, margin, present, built=None):
+def _slab(points, inside, steps, core, margin, present, built=None):
     """One slab's part: the seeds in the box ``core`` widened by ``margin``, the in/out edges
     whose midpoint is in the core (and whose key is not among the sorted keys ``built``) and
     whose balls stay in the window; the margin its certified balls need (how far the farthest
@@ -233,6 +236,7 @@ def _slab(points, inside, kernel, core, margin, present, built=None):
     the triangulation fails (too few seeds, or inconsistent)."""
     from ..simplices import delaunay_simplices
 
+    kernel, circumcentres = steps
     low, high = core[0] - margin, core[1] + margin
     window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
     if len(window) < 5:
@@ -246,7 +250,7 @@ def _slab(points, inside, kernel, core, margin, present, built=None):
     tets = window[local]  # ascending rows stay ascending: the window keeps the seeds' order
     del local
     present[tets.reshape(-1)] = True
-    centres, radius, error, flat = flat_circumcentres(points, tets, neighbours, kernel)
+    centres, radius, error, flat = circumcentres(points, tets, neighbours, kernel)
     reach = ((radius + error) * (1 + BALL_RTOL))[:, None]
     with np.errstate(invalid="ignore"):
         certified = ((centres - reach >= low) & (centres + reach <= high)).all(axis=1)
@@ -289,7 +293,7 @@ def _slab(points, inside, kernel, core, margin, present, built=None):
         first, inner, outer, length, turn = (v[good] for v in (first, inner, outer, length, turn))
         cycle = cycle[np.repeat(good, offsets[1:] - offsets[:-1])]
 
-    used, corners = _dense_unique(cycle, len(tets))
+    used, corners = np.unique(cycle, return_inverse=True)
     quads = tets[used]
     label = inside[quads]
     required = []
