@@ -15,7 +15,7 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
-Above ``slabs.SLAB_SEEDS`` seeds the tetrahedralization is built in overlapping slabs, one at a
+Above ``slabs.WHOLE_SEEDS`` seeds the tetrahedralization is built in overlapping slabs, one at a
 time, and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same
 facets, certified by the empty-ball property; memory bounded by a slab).
 
@@ -229,7 +229,8 @@ def inout_facets(
     slabs : int, optional
         Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
         compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab). None
-        (default): one slab per ``slabs.SLAB_SEEDS`` seeds; 1: the whole set at once.
+        (default): the whole set up to ``slabs.WHOLE_SEEDS`` seeds, else one slab per
+        ``slabs.SLAB_SEEDS``; 1: the whole set at once.
 
     Returns
     -------

@@ -61,8 +61,12 @@ import numpy as np
 
 from ...progress import Counter, Progress
 
+WHOLE_SEEDS = 750_000
+"""Up to this many seeds the whole set is triangulated at once (faster: the slabs trade CPU
+time for memory, docs/reconstruct.md; the whole set's peak grows about linearly, 3.17 GB for
+the cube's 1.08·10⁶ seeds by ``bench_reconstruct.py --slabs cube-0.0095``)."""
 SLAB_SEEDS = 400_000
-"""Seeds per slab core (more seeds than this are triangulated in slabs)."""
+"""Seeds per slab core above ``WHOLE_SEEDS``."""
 PROBE_SIZE = 0.005
 """Half the side of the probe's box (:func:`_probe_reach`), as a fraction of the seeds' extent
 along the slabs' axis (doubled while it certifies nothing)."""
@@ -129,8 +133,8 @@ class _SlabPart:
 
 
 def slab_count(seeds: int) -> int:
-    """Slabs for this many seeds (1: the whole set at once)."""
-    return max(1, math.ceil(seeds / SLAB_SEEDS))
+    """Slabs for this many seeds (1: the whole set at once, up to ``WHOLE_SEEDS``)."""
+    return 1 if seeds <= WHOLE_SEEDS else math.ceil(seeds / SLAB_SEEDS)
 
 
 def slab_fans(
