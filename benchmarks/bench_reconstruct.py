@@ -11,6 +11,10 @@ the target, and the machine's load average before and after (the machine is shar
 seconds are the steadier measure). With two cases, the growth exponent
 log(t₂/t₁)/log(n₂/n₁) of the total (wall and CPU) in the number of seeds.
 
+With ``--slabs CASE`` it builds M̂ of the case's seeds with the whole set triangulated at once
+and in 3 overlapping slabs (vorobound/sampling/reconstruct/slabs.py), each in its own process,
+and says whether the polygons are equal.
+
 With ``--voronoi`` it times, on the seeds of the torus (3, 1) at ε = 0.03, qhull's Delaunay
 tetrahedralization (what ``reconstruct`` uses) against ``scipy.spatial.Voronoi`` (the whole
 diagram, the alternative docs/reconstruct.md discusses), each in its own process.
@@ -53,6 +57,7 @@ CUBE_TARGET_GB = 2.5
 STAGE_OF = {
     "lattice": "sample (lattice, sampling)",
     "sampling": "sample (lattice, sampling)",
+    "sampling (slabs)": "sample (lattice, sampling)",
     "regular triangulation": "guide triangles, seeds, labels",
     "seeds": "guide triangles, seeds, labels",
     "Delaunay (CGAL)": "M̂: CGAL, simplex tree, neighbours",
@@ -65,6 +70,8 @@ TINY_CASES = "torus-0.3,torus-0.2"
 """The cases of a --tiny run (that the code runs; the numbers mean nothing)."""
 VORONOI_EPS = 0.03
 """ε of the torus (3, 1) whose seeds --voronoi triangulates (--tiny: the largest tiny case's)."""
+SLAB_COUNT = 3
+"""Slabs of ``--slabs`` (the default for the cube's 1.08·10⁶ seeds at ε = 0.0094977)."""
 TARGET_SECONDS = 120.0
 MEMORY_TARGET_GB = 4.0
 
@@ -179,6 +186,68 @@ def run_sample(name: str) -> dict:
             "wall": wall, "peak_gb": after.ru_maxrss / 1e6}  # fmt: skip
 
 
+def _case_seeds(name: str):
+    """The labelled seeds of a case (reconstructed in this process)."""
+    from vorobound.bounds.params import QualityParams
+    from vorobound.reports.reconstruct import reconstruct_surface
+    from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+
+    kind, dims, eps = CASES[name]
+    if kind == "cube":
+        return _reconstruct_cube(eps, None).seeds
+    shape = TorusShape(*dims) if kind == "torus" else SphereShape(*dims)
+    return reconstruct_surface(shape, eps, QualityParams(), seed=0).seeds
+
+
+def run_mhat(slabs: int, path: str) -> dict:
+    """M̂ of the seeds saved at ``path`` in ``slabs`` slabs (1: the whole set), timed alone;
+    the polygons saved next to them."""
+    import numpy as np
+
+    from vorobound.sampling.reconstruct.facets import inout_facets
+
+    saved = np.load(path)
+    cpu0 = _cpu_seconds()
+    facets = inout_facets(saved["points"], saved["inside"], slabs=slabs)
+    cpu = _cpu_seconds() - cpu0
+    surface = facets.surface
+    np.savez(f"{path}.{slabs}.npz", corners=surface.corners, offsets=surface.offsets,
+             pairs=surface.seed_pairs, vertices=surface.vertices)  # fmt: skip
+    return {"slabs": slabs, "cpu": cpu, "peak_gb": _peak_gb(), "facets": surface.n_facets,
+            "collapsed": facets.collapsed, "edges": facets.delaunay_edges}  # fmt: skip
+
+
+def compare_slabs(name: str, slabs: int) -> None:
+    """M̂ of a case's seeds with the whole set triangulated at once and in ``slabs`` slabs,
+    each in its own process: CPU seconds, peak memory, and whether the polygons are equal."""
+    import tempfile
+
+    import numpy as np
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "seeds.npz")
+        subprocess.run([sys.executable, __file__, "--child", f"seeds-{name}@{path}"], check=True)
+        rows = []
+        for count in (1, slabs):
+            done = subprocess.run(
+                [sys.executable, __file__, "--child", f"mhat-{count}@{path}"],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
+            rows.append(json.loads(done.stdout.strip().splitlines()[-1]))
+        whole, split = (np.load(f"{path}.{r['slabs']}.npz") for r in rows)
+        same = all(np.array_equal(whole[k], split[k]) for k in whole.files)
+        seeds = len(np.load(path)["points"])
+    print(f"M̂ of the {seeds:,} seeds of {name}:")
+    for r in rows:
+        print(
+            f"  {r['slabs']} slab(s): {r['cpu']:.1f} s CPU, peak {r['peak_gb']:.2f} GB, "
+            f"{r['facets']:,} facets, {r['edges']:,} in/out edges, {r['collapsed']:,} collapsed"
+        )
+    print(f"  polygons, vertices and seed pairs {'equal' if same else 'DIFFERENT'}")
+
+
 def run_degeneracy(name: str = "cube-0.038") -> dict:
     """CGAL's build (GUDHI ``DelaunayComplex``) on the seeds of a cube case, on the same seeds
     moved by 10⁻⁹ at random, and on as many uniform random points, CPU seconds each."""
@@ -273,7 +342,17 @@ def main() -> None:
         action="store_true",
         help="CGAL on the cube's seeds against the same seeds moved by 1e-9 and random points",
     )
+    parser.add_argument(
+        "--slabs",
+        metavar="CASE",
+        help="M̂ of CASE's seeds, the whole set at once against 3 slabs (polygons compared)",
+    )
     args = parser.parse_args()
+    if args.slabs and not args.child:
+        if args.slabs not in CASES:
+            parser.error(f"unknown case {args.slabs!r}")
+        compare_slabs(args.slabs, SLAB_COUNT)
+        return
     if args.degeneracy and not args.child:
         done = subprocess.run(
             [sys.executable, __file__, "--child", "degeneracy"],
@@ -291,9 +370,20 @@ def main() -> None:
     if args.tiny:
         args.cases = TINY_CASES
         compare_voronoi(CASES[TINY_CASES.split(",")[-1]][2])
+        compare_slabs(TINY_CASES.split(",")[-1], SLAB_COUNT)
     if args.child:
         if args.child == "degeneracy":
             result = run_degeneracy()
+        elif args.child.startswith("seeds-"):
+            import numpy as np
+
+            name, path = args.child.removeprefix("seeds-").split("@")
+            seeds = _case_seeds(name)
+            np.savez(path, points=seeds.points, inside=seeds.inside)
+            return
+        elif args.child.startswith("mhat-"):
+            count, path = args.child.removeprefix("mhat-").split("@")
+            result = run_mhat(int(count), path)
         elif args.child.startswith("sample-"):
             result = run_sample(args.child.removeprefix("sample-"))
         elif args.child.startswith("qhull-"):

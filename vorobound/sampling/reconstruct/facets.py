@@ -15,6 +15,9 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
+Above ``slabs.WHOLE_SEEDS`` seeds the tetrahedralization is built in overlapping slabs, one at a
+time, and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same
+facets, certified by the empty-ball property; memory bounded by a slab).
 
 The frame: the seeds are moved to a frame near the origin and of unit size before anything is
 computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
@@ -204,6 +207,7 @@ def inout_facets(
     progress: Progress | None = None,
     triangulation: str = "cgal",
     compiled: bool | None = None,
+    slabs: int | None = None,
 ) -> InOutFacets:
     """The Voronoi facets between seeds labelled inside and seeds labelled outside.
 
@@ -222,6 +226,11 @@ def inout_facets(
         True builds the neighbours, circumcentres and cycles with the compiled kernels of
         :mod:`.facets_kernel` (numba), False with numpy; None (default) compiled where numba
         is installed. Both give the same facets (the tests compare them).
+    slabs : int, optional
+        Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
+        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab). None
+        (default): the whole set up to ``slabs.WHOLE_SEEDS`` seeds, else one slab per
+        ``slabs.SLAB_SEEDS``; 1: the whole set at once.
 
     Returns
     -------
@@ -246,21 +255,42 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    if triangulation == "cgal":
-        Counter(progress, "Delaunay (CGAL)", None)
-        simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
+    from .slabs import slab_count, slab_fans
+
+    if slabs is None:
+        slabs = slab_count(len(points))
+    elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
+        raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
+    fans = None
+    if triangulation == "cgal" and kernel is not None and slabs > 1:
+        fans = slab_fans(points, inside, kernel, flat_circumcentres, slabs, progress)
+    if fans is not None:
+        duplicates, skipped = _absent_seeds(points, inside, fans.present)
+        counter = Counter(progress, "in/out facets", 3)
+        centres, radius, error = fans.centres, fans.radius, fans.error
+        empty = np.empty((0, 2), dtype=np.int64)
+        cycles = _Cycles(fans.pairs, fans.tets, fans.offsets, empty, len(fans.pairs))
+        tetrahedra = fans.tetrahedra
+        counter.step(2)
     else:
-        Counter(progress, "Delaunay (qhull)", None)
-        simplices, neighbors, present = _qhull_tetrahedra(points)
-    duplicates, skipped = _absent_seeds(points, inside, present)
-    counter = Counter(progress, "in/out facets", 3)
-    centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
-    counter.step()
-    if kernel is None:
-        cycles = _oriented(points, simplices, inside, _edge_cycles(simplices, neighbors, inside))
-    else:
-        cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
-    counter.step()
+        if triangulation == "cgal":
+            Counter(progress, "Delaunay (CGAL)", None)
+            simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
+        else:
+            Counter(progress, "Delaunay (qhull)", None)
+            simplices, neighbors, present = _qhull_tetrahedra(points)
+        duplicates, skipped = _absent_seeds(points, inside, present)
+        counter = Counter(progress, "in/out facets", 3)
+        centres, radius, error = circumcentres(points, simplices, neighbors, kernel)
+        counter.step()
+        if kernel is None:
+            cycles = _edge_cycles(simplices, neighbors, inside)
+            cycles = _oriented(points, simplices, inside, cycles)
+        else:
+            cycles = _compiled_cycles(kernel, points, simplices, neighbors, inside)
+        tetrahedra = len(simplices)
+        del simplices, neighbors
+        counter.step()
     surface, collapsed, unresolved, non_simple = _weld(
         points, inside, centres, radius, error, cycles, given
     )
@@ -275,7 +305,7 @@ def inout_facets(
         skipped_seeds=skipped,
         duplicate_seeds=duplicates,
         delaunay_edges=cycles.edge_count,
-        tetrahedra=len(simplices),
+        tetrahedra=tetrahedra,
     )
 
 
@@ -312,6 +342,13 @@ def circumcentres(
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
     (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
     computes the circumcentres (else numpy, by chunks)."""
+    centres, radius, error, _ = flat_circumcentres(points, simplices, neighbors, kernel)
+    return centres, radius, error
+
+
+def flat_circumcentres(points, simplices, neighbors, kernel=None):
+    """:func:`circumcentres`, and (t,) which tetrahedra are flat (their circumcentre borrowed
+    from a neighbour)."""
     count = len(simplices)
     if kernel is not None:
         centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
@@ -341,7 +378,7 @@ def circumcentres(
             found |= fits
         todo = todo[~found]
     radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
-    return centres, radius, error
+    return centres, radius, error, flat
 
 
 def _circumcentres(corner: np.ndarray):
@@ -609,18 +646,25 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     polygon = np.repeat(np.arange(len(sizes)), sizes)
     previous = np.roll(corner_vertex, 1)
     previous[cycles.offsets[:-1]] = corner_vertex[cycles.offsets[1:] - 1]
-    # Contract the Voronoi edges of M̂ shorter than their vertices' slack.
-    gap = np.linalg.norm(position[corner_vertex] - position[previous], axis=1)
-    with np.errstate(invalid="ignore"):
-        short = gap <= np.maximum(slack[corner_vertex], slack[previous])
-    if given > 0:
-        # Seeds far from the origin: their coordinates as given are rounded to u·|x|.
-        short |= gap <= GIVEN_WELD * np.finfo(float).eps * given
+    # Contract the Voronoi edges of M̂ shorter than their vertices' slack (by chunks: the
+    # corners of M̂ number about five per in/out edge).
+    short = np.empty(len(corner_vertex), dtype=bool)
+    for start in range(0, len(short), CHUNK):
+        here, there = corner_vertex[start : start + CHUNK], previous[start : start + CHUNK]
+        gap = np.linalg.norm(position[here] - position[there], axis=1)
+        with np.errstate(invalid="ignore"):
+            part = gap <= np.maximum(slack[here], slack[there])
+        if given > 0:
+            # Seeds far from the origin: their coordinates as given are rounded to u·|x|.
+            part |= gap <= GIVEN_WELD * np.finfo(float).eps * given
+        short[start : start + CHUNK] = part
     count = len(used)
     graph = coo_matrix(
         (np.ones(int(short.sum())), (corner_vertex[short], previous[short])), shape=(count, count)
     )
+    del previous, short
     _, cluster = connected_components(graph, directed=False)
+    del graph
     known = np.isfinite(position).all(axis=1)
     cluster = np.where(known, cluster, -1)
     vertex = cluster[corner_vertex]

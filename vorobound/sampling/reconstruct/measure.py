@@ -13,6 +13,14 @@
   outside seed) and the surface's outward normal at the point closest to its centroid; above
   90° the facet faces the wrong way.
 
+Where L is a λ-Lipschitz function of space that costs a search per point (a mesh with an
+estimated L), it is evaluated only where it can change a result: L at the nearest surface
+point q(p) of a point p of a facet is at least L(q(v)) − λ(d(p) + |p − v| + d(v)) for each
+vertex v of its fan triangle (|q(p) − q(v)| ≤ d(p) + |p − v| + d(v)), so a point whose bound of
+distance/(εL) is below its facet's largest value so far leaves every maximum, and where it is,
+unchanged; a surface probe is bounded likewise from the vertices of the part of M̂ nearest to
+it. The results are those of evaluating L everywhere (the tests compare the two).
+
 References
 ----------
 VoroCrust's approximation guarantees for M̂ (distance and normals), which these measure.
@@ -44,6 +52,9 @@ PROBES_PER_VERTEX = 4
 MIN_PROBES = 100_000
 CHUNK = 1 << 20
 """Points measured at a time (bounds the memory of the closest-point queries)."""
+PRUNE_RTOL = 1e-9
+"""Bounds of distance/(εL) are widened by this fraction before a point is left out (L and
+the distances are computed to a few units of the last place)."""
 
 
 @dataclass(frozen=True)
@@ -123,7 +134,8 @@ def measure_against(
     docstring)."""
     count = surface.n_facets
     triangles, facet = surface.fan_triangles()
-    vertex_ratio = _to_surface(reference, surface.vertices, eps)
+    vertex_ratio, known = _to_surface(reference, surface.vertices, eps)
+    known = known if _prunable(reference) else None
     facet_distance = np.zeros(count)
     np.maximum.at(facet_distance, surface.facet_of_corner(), vertex_ratio[surface.corners])
     best = _argmax(vertex_ratio)
@@ -131,17 +143,25 @@ def measure_against(
     corners = surface.vertices[triangles]
     for weights in FAN_SAMPLES:
         points = np.einsum("k,ikj->ij", weights, corners)
-        ratio = _to_surface(reference, points, eps)
+        if known is None:
+            ratio, _ = _to_surface(reference, points, eps)
+        else:
+            ratio = _to_surface_pruned(
+                reference, points, eps, surface.vertices, triangles, known, facet_distance[facet]
+            )
         np.maximum.at(facet_distance, facet, ratio)
         top = _argmax(ratio)
         if top >= 0 and (to_surface is None or ratio[top] > to_surface.value):
             to_surface = Extreme(float(ratio[top]), points[top])
     measured = len(surface.vertices) + len(FAN_SAMPLES) * len(triangles)
-    centroid = reference.closest(surface.centroids())
-    cosine = np.einsum("ij,ij->i", surface.normals, centroid.normal)
+    if known is None:
+        normal = reference.closest(surface.centroids()).normal
+    else:  # the normal alone, without L
+        normal = reference.normals[reference.nearest(surface.centroids())[2]]
+    cosine = np.einsum("ij,ij->i", surface.normals, normal)
     deviation = np.degrees(np.arccos(np.clip(cosine, -1, 1)))
     probes = max(MIN_PROBES, PROBES_PER_VERTEX * len(surface.vertices))
-    from_surface = _from_surface(reference, surface, triangles, eps, probes, rng)
+    from_surface = _from_surface(reference, surface, triangles, eps, probes, rng, known)
     return SurfaceMeasures(
         facet_distance=facet_distance,
         normal_deviation=deviation,
@@ -161,17 +181,77 @@ def _argmax(values: np.ndarray) -> int:
     return int(bad[0]) if len(bad) else int(np.argmax(values))
 
 
-def _to_surface(reference, points: np.ndarray, eps: float) -> np.ndarray:
-    """distance/(εL) from each point to the surface, chunked."""
-    ratio = np.empty(len(points))
+def _prunable(reference) -> bool:
+    """True when L is a λ-Lipschitz function of space that costs a search per point (a mesh
+    with an estimated L): L is then evaluated only where it can change a maximum."""
+    return (
+        bool(getattr(reference, "lipschitz_exact", False))
+        and hasattr(reference, "nearest")
+        and hasattr(reference, "random_points_on")
+    )
+
+
+@dataclass(frozen=True)
+class _Known:
+    """Distance d(v) of each vertex v of M̂ to the surface and L(q(v)) at its nearest surface
+    point q(v): L elsewhere is bounded from them (λ-Lipschitz)."""
+
+    distance: np.ndarray
+    lfs: np.ndarray
+
+
+def _to_surface(reference, points: np.ndarray, eps: float) -> tuple[np.ndarray, _Known]:
+    """distance/(εL) from each point to the surface, chunked; and the distances and L."""
+    ratio, distance, lfs = (np.empty(len(points)) for _ in range(3))
     for start in range(0, len(points), CHUNK):
         part = reference.closest(points[start : start + CHUNK])
         ratio[start : start + CHUNK] = part.distance / (eps * part.lfs)
+        distance[start : start + CHUNK] = part.distance
+        lfs[start : start + CHUNK] = part.lfs
+    return ratio, _Known(distance, lfs)
+
+
+def _lfs_bounds(lipschitz, points, vertices, corners, known, gap):
+    """Lower and upper bounds of L at the surface point nearest to ``points`` (m, 3), each
+    ``gap`` (m,) from it, from the three vertices ``corners`` (m, 3) of M̂: with q the
+    nearest-point map, |q(p) − q(v)| ≤ d(p) + |p − v| + d(v) (module docstring)."""
+    lower, upper = np.full(len(points), -np.inf), np.full(len(points), np.inf)
+    for k in range(3):
+        v = corners[:, k]
+        reach = gap + np.linalg.norm(points - vertices[v], axis=1) + known.distance[v]
+        lower = np.maximum(lower, known.lfs[v] - lipschitz * reach)
+        upper = np.minimum(upper, known.lfs[v] + lipschitz * reach)
+    return lower, upper
+
+
+def _upper_ratio(distance, eps, lower):
+    """distance/(ε·lower), widened by PRUNE_RTOL; inf where the bound of L is not positive."""
+    with np.errstate(all="ignore"):
+        bound = distance / (eps * lower) * (1 + PRUNE_RTOL)
+    return np.where(lower > 0, bound, np.inf)
+
+
+def _to_surface_pruned(reference, points, eps, vertices, triangles, known, facet_max):
+    """:func:`_to_surface` at points of M̂'s fan ``triangles``, L evaluated only where the
+    point can raise its facet's maximum so far ``facet_max``; −inf where it cannot (its
+    ratio is below that maximum, so no maximum, and no place of one, changes)."""
+    ratio = np.full(len(points), -np.inf)
+    for start in range(0, len(points), CHUNK):
+        part = slice(start, start + CHUNK)
+        nearest, distance, triangle = reference.nearest(points[part])
+        lower, _ = _lfs_bounds(
+            reference.lipschitz, points[part], vertices, triangles[part], known, distance
+        )
+        bound = _upper_ratio(distance, eps, lower)
+        need = ~(bound < facet_max[part])
+        lfs = reference.lfs_on(triangle[need], nearest[need])
+        ratio[start + np.flatnonzero(need)] = distance[need] / (eps * lfs)
     return ratio
 
 
-def _from_surface(reference, surface, triangles, eps, count, rng) -> Extreme:
-    """Largest distance/(εL) from random surface points to M̂."""
+def _from_surface(reference, surface, triangles, eps, count, rng, known=None) -> Extreme:
+    """Largest distance/(εL) from random surface points to M̂ (with ``known``, L only at the
+    probes that can be the largest)."""
     import igl
 
     vertices = np.ascontiguousarray(surface.vertices, dtype=float)
@@ -184,10 +264,39 @@ def _from_surface(reference, surface, triangles, eps, count, rng) -> Extreme:
         distances = lambda v, f, p: igl.point_mesh_squared_distance(p, v, f)  # noqa: E731
     best = Extreme(0.0, None)
     for start in range(0, count, CHUNK):
-        probes, lfs = reference.random_points(min(CHUNK, count - start), rng)
-        squared, _, _ = distances(vertices, faces, np.ascontiguousarray(probes, dtype=float))
-        ratio = np.sqrt(squared) / (eps * lfs)
+        if known is None:
+            probes, lfs = reference.random_points(min(CHUNK, count - start), rng)
+            squared, _, _ = distances(vertices, faces, np.ascontiguousarray(probes, dtype=float))
+            ratio = np.sqrt(squared) / (eps * lfs)
+        else:
+            probes, triangle = reference.random_points_on(min(CHUNK, count - start), rng)
+            squared, face, closest = distances(
+                vertices, faces, np.ascontiguousarray(probes, dtype=float)
+            )
+            nearby = (closest, surface.vertices, triangles[face])
+            distance = np.sqrt(squared)
+            ratio = _probe_ratio(
+                reference, probes, triangle, distance, nearby, known, eps, best.value
+            )
         top = _argmax(ratio)
         if ratio[top] > best.value or np.isnan(ratio[top]):
             best = Extreme(float(ratio[top]), probes[top])
     return best
+
+
+def _probe_ratio(reference, probes, triangle, distance, nearby, known, eps, best):
+    """distance/(εL) at the probes that can hold the chunk's largest value above ``best``
+    (−inf elsewhere): L is bounded from the vertices of the fan triangle of M̂ nearest to each
+    probe (``nearby``: the nearest point of M̂, M̂'s vertices, the triangle's corners), and a
+    probe whose upper bound is below the largest lower bound of the chunk, or below ``best``,
+    is neither the chunk's largest nor a new largest."""
+    closest, vertices, corners = nearby
+    lower, upper = _lfs_bounds(reference.lipschitz, closest, vertices, corners, known, distance)
+    high = _upper_ratio(distance, eps, lower)
+    with np.errstate(all="ignore"):
+        low = np.where(upper > 0, distance / (eps * upper) * (1 - PRUNE_RTOL), 0.0)
+    floor = max(best, float(np.nanmax(low))) if len(low) else best
+    need = ~(high < floor)
+    ratio = np.full(len(probes), -np.inf)
+    ratio[need] = distance[need] / (eps * reference.lfs_on(triangle[need], probes[need]))
+    return ratio

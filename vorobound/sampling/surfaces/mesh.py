@@ -60,25 +60,37 @@ class _TriangleSurface:
 
     def random_points(self, count: int, rng: np.random.Generator):
         """``count`` points uniform by area, and L there."""
+        points, triangle = self.random_points_on(count, rng)
+        return points, self.lfs_on(triangle, points)
+
+    def random_points_on(self, count: int, rng: np.random.Generator):
+        """``count`` points uniform by area and their triangles (:meth:`random_points`
+        without L; the same draws)."""
         cumulative = np.cumsum(self.areas)
         triangle = np.searchsorted(cumulative, rng.uniform(0, cumulative[-1], count))
         triangle = np.minimum(triangle, len(self.areas) - 1)
         u, v = uniform_in_triangle(rng, count)
         c = self.corners[triangle]
         points = c[:, 0] + u[:, None] * (c[:, 1] - c[:, 0]) + v[:, None] * (c[:, 2] - c[:, 0])
-        return points, self.lfs_on(triangle, points)
+        return points, triangle
 
     def closest(self, points: np.ndarray) -> ClosestPoints:
         """Nearest points of the mesh (libigl's AABB tree), distance, normal and L there."""
+        nearest, distance, triangle = self.nearest(points)
+        return ClosestPoints(
+            nearest, distance, self.normals[triangle], self.lfs_on(triangle, nearest)
+        )
+
+    def nearest(self, points: np.ndarray):
+        """Nearest points of the mesh, their distance and triangle (:meth:`closest` without
+        L)."""
         import igl
 
         query = np.ascontiguousarray(points, dtype=float)
         squared, triangle, nearest = igl.point_mesh_squared_distance(
             query, self.vertices, self.triangles
         )
-        return ClosestPoints(
-            nearest, np.sqrt(squared), self.normals[triangle], self.lfs_on(triangle, nearest)
-        )
+        return nearest, np.sqrt(squared), triangle
 
     def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Nearest mesh points of ``points`` and L there."""

@@ -1,0 +1,148 @@
+"""M̂ from overlapping slabs of the seeds against M̂ from the whole set: the same facets, bit for
+bit, on VoroCrust seeds (cospherical by construction), random, lattice and sphere seeds; the
+fall-backs to the whole set."""
+
+import numpy as np
+import pytest
+
+from vorobound.bounds.params import QualityParams, SamplingParams
+from vorobound.errors import InputError
+from vorobound.reports.reconstruct import reconstruct_balls
+from vorobound.sampling.balls import make_balls
+from vorobound.sampling.reconstruct import facets, slabs
+from vorobound.sampling.reconstruct.facets import inout_facets
+from vorobound.sampling.reconstruct.topology import surface_topology
+from vorobound.sampling.sampler.maximal import sample_surface
+from vorobound.sampling.surfaces.analytic import SphereShape, TorusShape
+
+pytest.importorskip("gudhi")
+pytest.importorskip("numba")
+
+QUALITY = QualityParams()
+
+
+def _voro_seeds(shape, eps):
+    sample = sample_surface(shape, eps, QUALITY.sigma, 0)
+    balls = make_balls(sample.points, QUALITY.delta_ratio * eps * sample.lfs)
+    report = reconstruct_balls(balls, SamplingParams(eps, QUALITY), shape)
+    return report.seeds.points, report.seeds.inside
+
+
+def _lattice(count):
+    axis = np.arange(count, dtype=float)
+    return np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+def _ball_labels(points):
+    """Inside: a ball about the middle, away from the hull (no unbounded facet)."""
+    centre = points.mean(axis=0)
+    distance = np.linalg.norm(points - centre, axis=1)
+    return distance < 0.4 * distance.max()
+
+
+SEED_SETS = {
+    "torus": lambda rng: _voro_seeds(TorusShape(3, 1), 0.2),
+    "sphere": lambda rng: _voro_seeds(SphereShape(1), 0.15),
+    "random": lambda rng: (p := rng.standard_normal((3000, 3)), _ball_labels(p)),
+    "lattice": lambda rng: (p := _lattice(12), _ball_labels(p)),
+}
+
+
+def _same(one, two):
+    """Equal M̂: polygons, vertices (bit for bit), seed pairs and counts."""
+    for name in ("corners", "offsets", "seed_pairs", "vertices", "normals"):
+        np.testing.assert_array_equal(getattr(one.surface, name), getattr(two.surface, name))
+    np.testing.assert_array_equal(one.unbounded, two.unbounded)
+    for name in ("collapsed", "unresolved", "non_simple", "skipped_seeds", "duplicate_seeds"):
+        assert getattr(one, name) == getattr(two, name), name
+    assert one.delaunay_edges == two.delaunay_edges
+
+
+@pytest.mark.parametrize("name", sorted(SEED_SETS))
+@pytest.mark.parametrize("count", [2, 5])
+def test_slabs_give_the_whole_sets_facets(name, count, monkeypatch):
+    """Slabs of a few hundred seeds each build M̂ of the whole set exactly."""
+    points, inside = SEED_SETS[name](np.random.default_rng(3))
+    whole = inout_facets(points, inside, slabs=1)
+    calls = []
+    real = slabs._merged
+    monkeypatch.setattr(slabs, "_merged", lambda *a: calls.append(a) or real(*a))
+    split = inout_facets(points, inside, slabs=count)
+    assert calls, "the slabs fell back to the whole set"
+    _same(split, whole)
+    assert whole.surface.n_facets > 0
+    if name in ("torus", "sphere"):
+        assert surface_topology(split.surface).closed_manifold
+
+
+def test_edges_left_out_by_a_narrow_window_are_built_in_boxes(monkeypatch):
+    """A probe that measures too short a reach leaves windows too narrow: the edges whose balls
+    leave them are built in boxes with wider margins, and M̂ is still the whole set's."""
+    points, inside = SEED_SETS["torus"](None)
+    real_probe = slabs._probe_reach
+    monkeypatch.setattr(slabs, "_probe_reach", lambda *a: 0.05 * real_probe(*a))
+    calls = []
+    real = slabs._slab
+    monkeypatch.setattr(slabs, "_slab", lambda *a: calls.append(a) or real(*a))
+    split = inout_facets(points, inside, slabs=3)
+    boxes = [a for a in calls if len(a) > 6]
+    assert boxes, "no edge was left out"
+    assert max(a[4] for a in boxes) > calls[-len(boxes) - 1][4]
+    _same(split, inout_facets(points, inside, slabs=1))
+
+
+def test_an_edge_on_the_hull_falls_back_to_the_whole_set():
+    """Labels split by a plane: in/out edges on the hull have unbounded facets, which no slab
+    can certify; the whole set is triangulated and the unbounded facets are listed."""
+    rng = np.random.default_rng(5)
+    points = rng.random((600, 3))
+    inside = points[:, 0] < 0.5
+    kernel = facets._facets_kernel()
+    frame = (points - facets.seed_frame(points)[0]) / facets.seed_frame(points)[1]
+    assert slabs.slab_fans(frame, inside, kernel, facets.flat_circumcentres, 3) is None
+    split = inout_facets(points, inside, slabs=3)
+    assert len(split.unbounded) > 0
+    _same(split, inout_facets(points, inside, slabs=1))
+
+
+@pytest.mark.parametrize("bad", [0, -2, 1.5, True, "3"])
+def test_a_bad_slab_count_is_refused(bad):
+    points = np.random.default_rng(0).random((50, 3))
+    with pytest.raises(InputError, match="slabs"):
+        inout_facets(points, points[:, 0] < 0.5, slabs=bad)
+
+
+def test_slab_count_follows_the_seeds():
+    assert slabs.slab_count(10) == 1
+    assert slabs.slab_count(slabs.WHOLE_SEEDS) == 1
+    above = slabs.WHOLE_SEEDS + 1
+    assert slabs.slab_count(above) == -(-above // slabs.SLAB_SEEDS) > 1
+
+
+def _part(centre, required=()):
+    """A slab's part holding tetrahedron (0, 1, 2, 3) around the in/out edge (0, 1)."""
+    return slabs._SlabPart(
+        quads=np.array([[0, 1, 2, 3]]),
+        centres=np.array([centre], dtype=float),
+        radius=np.ones(1),
+        error=np.zeros(1),
+        flat=np.zeros(1, dtype=bool),
+        inner=np.array([0]),
+        outer=np.array([1]),
+        lengths=np.array([1]),
+        corners=np.array([0]),
+        required=np.array(required, dtype=np.int64),
+        tetrahedra=1,
+    )
+
+
+def test_the_merge_refuses_disagreeing_or_incomplete_slabs():
+    """Two slabs with different circumcentres for one tetrahedron, or an in/out edge of a kept
+    tetrahedron that no slab built, send the caller back to the whole set (None)."""
+    present = np.ones(4, dtype=bool)
+    merged = slabs._merged([_part([0, 0, 0]), _part([0, 0, 0])], present, 4, 2)
+    assert merged is not None and len(merged.centres) == 1
+    assert slabs._merged([_part([0, 0, 0]), _part([1, 0, 0])], present, 4, 2) is None
+    missing = 2 * 4 + 3  # the key of edge (2, 3): no part built it
+    assert slabs._merged([_part([0, 0, 0], [missing])], present, 4, 1) is None
+    assert slabs._merged([_part([0, 0, 0], [1])], present, 4, 1) is not None

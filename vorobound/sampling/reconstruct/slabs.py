@@ -1,0 +1,376 @@
+"""The fans of M̂'s Delaunay edges from overlapping slabs of the seeds: memory bounded by a slab.
+
+CGAL's triangulation of all the seeds and GUDHI's simplex tree of it, alive together, were the
+memory peak of ``reconstruct`` (issue 32: 3.4 GB for the 1.08·10⁶ seeds of the cube at
+ε = 0.0094977). Here the seeds are cut along the longest axis of their box into slabs of about
+``SLAB_SEEDS`` seeds (the *cores*, which partition the axis), each widened by a margin on both
+sides (its *window* W); one window is triangulated at a time, and only what M̂ needs of it is
+kept: the tetrahedra around the in/out edges the slab *owns* (the midpoint of the edge in its
+core), with their circumcentres, in the order they turn.
+
+Why a window gives the whole set's fans (the empty-ball property). Let P be all the seeds and
+Q = P ∩ W. A tetrahedron of the Delaunay triangulation DT(Q) whose circumscribed ball lies in
+W (closed slab) is a tetrahedron of DT(P): the seeds of P left out of Q lie outside W, so
+outside the ball, which stays empty (with CGAL's symbolic perturbation the same holds of the
+perturbed balls: seeds strictly outside a ball are not affected by it). The tetrahedra around
+an owned edge ab in DT(Q) form a closed cycle; when every one is *certified* (its ball, widened
+by its rounding error, inside W) they are tetrahedra of DT(P) that close around ab, hence all
+the tetrahedra around ab in DT(P) (the link of an interior edge is one cycle). The simplex
+tree gives tetrahedra in the lexicographic order of their vertices, and a slab's vertices
+keep the order of the seeds, so the walk around ab starts at the same tetrahedron and the
+circumcentres are computed from the same coordinates in the same order: the cycle, its
+orientation and its circumcentres are the whole set's, bit for bit, and so is M̂ after
+welding (the tetrahedra are numbered in the same lexicographic order). A flat tetrahedron
+borrows its circumcentre from a face neighbour (:func:`.facets.circumcentres`); it is
+certified only when its borrowed ball is in W and its neighbours, and theirs, are certified
+(chains of borrowing longer than two are not covered by this argument; the tests compare the
+slabs with the whole set on cospherical seeds).
+
+Completeness. Every edge of DT(P) whose two seeds lie in W is an edge of DT(Q) (an empty ball
+through them in P is empty in Q). So an in/out edge owned by a slab is missed only when one of
+its seeds is outside the window, at least a margin from its midpoint. The slabs check that
+every in/out edge of every certified tetrahedron was built by the slab owning it: the edges
+missed, if any, then share no tetrahedron with those built, so the built facets are whole
+connected components of M̂ (a component all of whose seed pairs are more than twice the margin
+apart would be missed).
+
+The margin. A ball around an edge whose midpoint lies in the core reaches past the core at
+most as far as it reaches from that midpoint along the axis (at most its diameter, as it holds
+the midpoint). A probe (a small box about the median seed, its window the box widened by a
+margin on every side, certified the same way) measures the farthest reach of the balls
+around its in/out edges; the margin is ``MARGIN_GROWTH`` times it. The owned edges whose
+balls still leave their slab's window (or that lie on its hull) are built again in boxes
+about their midpoints (one box per group of them along the axis, usually near a slab's
+border), with the margin doubled, up to ``MARGIN_ROUNDS`` times. An edge left out after that
+(an unbounded facet: on the hull of all the seeds), or two slabs that computed different
+circumcentres for one tetrahedron, make :func:`slab_fans` return None, and the caller
+triangulates the whole set.
+
+References
+----------
+The surface M̂ of VoroCrust (:mod:`.facets`); the empty-ball property of Delaunay
+triangulations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...progress import Counter, Progress
+
+WHOLE_SEEDS = 750_000
+"""Up to this many seeds the whole set is triangulated at once (faster: the slabs trade CPU
+time for memory, docs/reconstruct.md; the whole set's peak grows about linearly, 3.17 GB for
+the cube's 1.08·10⁶ seeds by ``bench_reconstruct.py --slabs cube-0.0095``)."""
+SLAB_SEEDS = 400_000
+"""Seeds per slab core above ``WHOLE_SEEDS``."""
+PROBE_SIZE = 0.005
+"""Half the side of the probe's box (:func:`_probe_reach`), as a fraction of the seeds' extent
+along the slabs' axis (doubled while it certifies nothing)."""
+PROBE_MARGIN = 2.0
+"""The probe's first margin, in sides of its box (doubled until the balls it measures reach
+less than half of it)."""
+FALLBACK_MARGIN = 0.125
+"""The first margin, as a fraction of the mean slab width, when the probe certifies nothing."""
+MARGIN_ROUNDS = 4
+"""Rounds of boxes about the edges left out, the margin doubled each time, before the whole
+set is triangulated (and tries of the probe)."""
+MARGIN_GROWTH = 1.25
+"""The slabs' margin is this multiple of the farthest reach of the certified balls around the
+probe's in/out edges from their midpoints."""
+BALL_RTOL = 1e-6
+"""A ball is widened by this fraction of its radius (and its rounding error) before it is
+compared with the window (a flat tetrahedron's borrowed centre is equidistant from its
+vertices only to ``facets.WELD_RTOL``)."""
+FLAT_LEVELS = 2
+"""Levels of neighbours a flat tetrahedron's certificate looks at (module docstring)."""
+_VALUES = ("centres", "radius", "error", "flat")
+"""The values per tetrahedron that every slab holding it must agree on."""
+
+
+@dataclass(frozen=True)
+class SlabFans:
+    """The fans of the in/out edges, gathered from the slabs."""
+
+    centres: np.ndarray
+    """(T, 3) circumcentre of every tetrahedron around an in/out edge (lexicographic order of
+    their vertices)."""
+    radius: np.ndarray
+    error: np.ndarray
+    flat: np.ndarray
+    """(T,) the tetrahedron's circumcentre is borrowed from a neighbour."""
+    pairs: np.ndarray
+    """(E, 2) inside and outside seed of each in/out edge, in the order of their keys."""
+    tets: np.ndarray
+    """Tetrahedra (rows of ``centres``) around each edge, edge after edge, in turning order."""
+    offsets: np.ndarray
+    present: np.ndarray
+    """(n,) the seed is a vertex of a slab's triangulation."""
+    tetrahedra: int
+    """Tetrahedra of the slabs whose circumcentre lies in the slab's core (the whole set's
+    count when every ball lies in its window; an estimate otherwise)."""
+    slabs: int
+
+
+@dataclass
+class _SlabPart:
+    quads: np.ndarray
+    centres: np.ndarray
+    radius: np.ndarray
+    error: np.ndarray
+    flat: np.ndarray
+    inner: np.ndarray
+    outer: np.ndarray
+    lengths: np.ndarray
+    corners: np.ndarray
+    """Rows of ``quads`` around each owned edge, edge after edge."""
+    required: np.ndarray
+    """Keys of the in/out edges of the certified tetrahedra that another part must build."""
+    tetrahedra: int
+
+
+def slab_count(seeds: int) -> int:
+    """Slabs for this many seeds (1: the whole set at once, up to ``WHOLE_SEEDS``)."""
+    return 1 if seeds <= WHOLE_SEEDS else math.ceil(seeds / SLAB_SEEDS)
+
+
+def slab_fans(
+    points: np.ndarray,
+    inside: np.ndarray,
+    kernel,
+    centres,
+    slabs: int,
+    progress: Progress | None = None,
+) -> SlabFans | None:
+    """The fans of every in/out Delaunay edge of ``points`` (in the frame of
+    :func:`.facets.seed_frame`), triangulated in ``slabs`` overlapping slabs; None when a slab
+    cannot certify its edges (the caller then triangulates the whole set).
+
+    ``kernel`` is :mod:`.facets_kernel` (the slabs need the compiled steps), ``centres`` the
+    circumcentres of :func:`.facets.flat_circumcentres` (passed in: :mod:`.facets` calls this
+    module).
+    """
+    steps = (kernel, centres)
+    axis = int(np.argmax(np.ptp(points, axis=0)))
+    x = np.ascontiguousarray(points[:, axis])
+    cuts = np.quantile(x, np.arange(1, slabs) / slabs) if slabs > 1 else np.empty(0)
+    bounds = np.concatenate([[-np.inf], cuts, [np.inf]])
+    seeds_n = len(points)
+    present = np.zeros(seeds_n, dtype=bool)
+    margin = MARGIN_GROWTH * _probe_reach(points, inside, steps, x, slabs)
+    parts, left = [], []
+    counter = Counter(progress, "Delaunay (CGAL)", slabs)
+    for k in range(slabs):
+        low, high = np.full(3, -np.inf), np.full(3, np.inf)
+        low[axis], high[axis] = bounds[k], bounds[k + 1]
+        part, _, rest = _slab(points, inside, steps, (low, high), margin, present)
+        if part is None:
+            return None
+        parts.append(part)
+        left.append(rest)
+        counter.step()
+    # Edges whose balls left their slab's window: boxes about them, with wider margins.
+    keys = np.concatenate(left)
+    for _ in range(MARGIN_ROUNDS):
+        if not len(keys):
+            break
+        margin *= 2
+        built = np.sort(np.concatenate([_keys(part, seeds_n) for part in parts]))
+        left = []
+        for box in _patches(points, keys, axis, margin):
+            part, _, rest = _slab(points, inside, steps, box, margin, present, built)
+            if part is None:
+                return None
+            part.tetrahedra = 0  # counted by the slabs
+            parts.append(part)
+            left.append(rest)
+        keys = np.concatenate(left)
+    if len(keys):
+        return None
+    return _merged(parts, present, seeds_n, slabs)
+
+
+def _keys(part, seeds_n) -> np.ndarray:
+    """The keys (min·n + max) of the edges a part built."""
+    return np.minimum(part.inner, part.outer) * seeds_n + np.maximum(part.inner, part.outer)
+
+
+def _patches(points, keys, axis, margin):
+    """Boxes about the midpoints of the edges ``keys`` (min·n + max), one per group of
+    midpoints along ``axis`` (groups split where they lie more than two margins apart, so the
+    boxes do not overlap)."""
+    seeds_n = len(points)
+    midpoint = 0.5 * (points[keys // seeds_n] + points[keys % seeds_n])
+    order = np.argsort(midpoint[:, axis])
+    along = midpoint[order, axis]
+    split = np.flatnonzero(np.diff(along) > 2 * margin) + 1
+    for group in np.split(order, split):
+        low, high = midpoint[group].min(axis=0), midpoint[group].max(axis=0)
+        yield low, np.nextafter(high, np.inf)
+
+
+def _probe_reach(points, inside, steps, x, slabs) -> float:
+    """How far the balls around the in/out edges reach from their edges' midpoints, measured
+    in a small box (the probe) about the median seed along ``x``: its window is widened until
+    the balls it certifies reach less than half its margin (they are not cut short by it)."""
+    centre = points[np.argpartition(x, len(x) // 2)[len(x) // 2]]
+    half = PROBE_SIZE * float(np.ptp(x))
+    margin = PROBE_MARGIN * 2 * half
+    reach = None
+    for _ in range(MARGIN_ROUNDS):
+        box = (centre - half, centre + half)
+        _, reach, _ = _slab(points, inside, steps, box, margin, np.zeros(len(points), bool))
+        if reach and reach < 0.5 * margin:
+            return reach
+        if not reach:  # no in/out edge in the box, or too few seeds
+            half *= 2
+        margin *= 2
+    return reach or FALLBACK_MARGIN * float(np.ptp(x)) / slabs
+
+
+def _slab(points, inside, steps, core, margin, present, built=None):
+    """One slab's part: the seeds in the box ``core`` widened by ``margin``, the in/out edges
+    whose midpoint is in the core (and whose key is not among the sorted keys ``built``) and
+    whose balls stay in the window; the margin its certified balls need (how far the farthest
+    reaches from the midpoint of its edge along an axis); and the keys of the owned edges left
+    out (a ball leaves the window, or the edge is on the window's hull). The part is None when
+    the triangulation fails (too few seeds, or inconsistent)."""
+    from ..simplices import delaunay_simplices
+
+    kernel, circumcentres = steps
+    low, high = core[0] - margin, core[1] + margin
+    window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
+    if len(window) < 5:
+        return None, None, None
+    _, local, _ = delaunay_simplices(points[window], triangles=False)
+    if not len(local):
+        return None, None, None
+    neighbours, ok = kernel.face_neighbours(local, len(window))
+    if not ok:
+        return None, None, None
+    tets = window[local]  # ascending rows stay ascending: the window keeps the seeds' order
+    del local
+    present[tets.reshape(-1)] = True
+    centres, radius, error, flat = circumcentres(points, tets, neighbours, kernel)
+    reach = ((radius + error) * (1 + BALL_RTOL))[:, None]
+    with np.errstate(invalid="ignore"):
+        certified = ((centres - reach >= low) & (centres + reach <= high)).all(axis=1)
+    certified &= np.isfinite(centres).all(axis=1) & np.isfinite(reach[:, 0])
+    for _ in range(FLAT_LEVELS):
+        around = certified[np.maximum(neighbours, 0)] & (neighbours >= 0)
+        certified &= ~flat | around.all(axis=1)
+    middle = np.where(np.isfinite(centres), centres, points[tets].mean(axis=1))
+    tetrahedra = int(((middle >= core[0]) & (middle < core[1])).all(axis=1).sum())
+    first, inner, outer, length, turn, found, ok = kernel.find_edges(
+        points, tets, neighbours, inside
+    )
+    if not ok:
+        return None, None, None
+    first, inner, outer, length, turn = (v[:found] for v in (first, inner, outer, length, turn))
+    midpoint = 0.5 * (points[inner] + points[outer])
+    owned = ((midpoint >= core[0]) & (midpoint < core[1])).all(axis=1)
+    key = np.minimum(inner, outer) * len(points) + np.maximum(inner, outer)
+    if built is not None:
+        owned &= ~np.isin(key, built)
+    # An owned edge open in the window (on its hull) is left out like one whose balls leave
+    # it: a wider window closes it, unless it is on the hull of all the seeds.
+    closed = length >= 0
+    rest = key[owned & ~closed]
+    owned &= closed
+    key = key[owned]
+    first, inner, outer, length, turn = (v[owned] for v in (first, inner, outer, length, turn))
+    offsets = np.concatenate([[0], np.cumsum(length)])
+    cycle = np.empty(int(offsets[-1]), dtype=np.int64)
+    kernel.write_cycles(tets, neighbours, first, inner, outer, turn < 0, offsets, cycle)
+    # How far each certified ball reaches from its edge's midpoint along an axis.
+    sure = certified[cycle]
+    edge_midpoint = np.repeat(midpoint[owned], length, axis=0)
+    extent = (np.abs(centres[cycle] - edge_midpoint) + reach[cycle]).max(axis=1)
+    needed = float(extent[sure].max()) if sure.any() else 0.0
+    edge = np.repeat(np.arange(len(length)), length)
+    good = np.bincount(edge, ~sure, minlength=len(length)) == 0
+    rest = np.concatenate([rest, key[~good]])
+    if not good.all():
+        first, inner, outer, length, turn = (v[good] for v in (first, inner, outer, length, turn))
+        cycle = cycle[np.repeat(good, offsets[1:] - offsets[:-1])]
+
+    used, corners = np.unique(cycle, return_inverse=True)
+    quads = tets[used]
+    label = inside[quads]
+    required = []
+    for p, q in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+        mixed = label[:, p] != label[:, q]
+        a, b = quads[mixed, p], quads[mixed, q]
+        if built is None:
+            # An in/out edge of the slab's triangulation with its midpoint in the core is
+            # owned here: built, or left out and built in a box (or the whole set is
+            # triangulated). Only the others are checked when the parts are merged.
+            middle = 0.5 * (points[a] + points[b])
+            away = ~((middle >= core[0]) & (middle < core[1])).all(axis=1)
+            a, b = a[away], b[away]
+        required.append(np.minimum(a, b) * len(points) + np.maximum(a, b))
+    part = _SlabPart(
+        quads=quads,
+        centres=centres[used],
+        radius=radius[used],
+        error=error[used],
+        flat=flat[used],
+        inner=inner,
+        outer=outer,
+        lengths=length,
+        corners=corners,
+        required=np.unique(np.concatenate(required)),
+        tetrahedra=tetrahedra,
+    )
+    return part, needed, rest
+
+
+def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
+    """The slabs' parts as one set of numbered tetrahedra and edges in key order; None when
+    two slabs disagree on a tetrahedron or an in/out edge of a certified tetrahedron was built
+    by no slab."""
+    quads = np.concatenate([p.quads for p in parts])
+    high = (quads[:, 0] << 32) | quads[:, 1]
+    low = (quads[:, 2] << 32) | quads[:, 3]
+    order = np.lexsort((low, high))
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (high[order][1:] != high[order][:-1]) | (low[order][1:] != low[order][:-1])
+    rank = np.cumsum(new) - 1
+    number = np.empty(len(order), dtype=np.int64)
+    number[order] = rank
+    values = [np.concatenate([getattr(p, name) for p in parts]) for name in _VALUES]
+    pick = order[new]
+    merged = [v[pick] for v in values]
+    for v, m in zip(values, merged, strict=True):
+        if not np.array_equal(v, m[number], equal_nan=True):
+            return None
+    start = np.cumsum([0] + [len(p.quads) for p in parts])
+    tets = np.concatenate([p.corners + s for p, s in zip(parts, start, strict=False)])
+    tets = number[tets]
+    inner = np.concatenate([p.inner for p in parts])
+    outer = np.concatenate([p.outer for p in parts])
+    lengths = np.concatenate([p.lengths for p in parts])
+    key = np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer)
+    required = np.unique(np.concatenate([p.required for p in parts]))
+    if not np.isin(required, key).all():
+        return None
+    order = np.argsort(key, kind="stable")
+    offsets = np.concatenate([[0], np.cumsum(lengths)])
+    new_offsets = np.concatenate([[0], np.cumsum(lengths[order])])
+    index = np.arange(int(new_offsets[-1])) - np.repeat(new_offsets[:-1], lengths[order])
+    tets = tets[np.repeat(offsets[:-1][order], lengths[order]) + index]
+    return SlabFans(
+        centres=merged[0],
+        radius=merged[1],
+        error=merged[2],
+        flat=merged[3],
+        pairs=np.column_stack([inner[order], outer[order]]),
+        tets=tets,
+        offsets=new_offsets,
+        present=present,
+        tetrahedra=sum(p.tetrahedra for p in parts),
+        slabs=slabs,
+    )
