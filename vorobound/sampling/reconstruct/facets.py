@@ -15,9 +15,9 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
-Above ``slabs.WHOLE_SEEDS`` seeds the tetrahedralization is built in overlapping slabs, one at a
-time, and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same
-facets, certified by the empty-ball property; memory bounded by a slab).
+On request (``slabs=``) the tetrahedralization is built in overlapping slabs, one at a time,
+and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same facets,
+certified by the empty-ball property; memory bounded by a slab; opt-in, see there).
 
 The frame: the seeds are moved to a frame near the origin and of unit size before anything is
 computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
@@ -228,9 +228,11 @@ def inout_facets(
         is installed. Both give the same facets (the tests compare them).
     slabs : int, optional
         Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
-        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab). None
-        (default): the whole set up to ``slabs.WHOLE_SEEDS`` seeds, else one slab per
-        ``slabs.SLAB_SEEDS``; 1: the whole set at once.
+        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab).
+        None or 1 (default): the whole set at once. The slabs are opt-in: their completeness
+        argument leaves a gap (a component of M̂ whose seed pairs all lie more than twice the
+        margin apart could be missed), so no default depends on them;
+        ``slabs.slab_count(n)`` is the count they are tuned for.
 
     Returns
     -------
@@ -255,10 +257,10 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    from .slabs import slab_count, slab_fans
+    from .slabs import slab_fans
 
     if slabs is None:
-        slabs = slab_count(len(points))
+        slabs = 1
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
