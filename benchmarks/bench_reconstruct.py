@@ -71,7 +71,8 @@ TINY_CASES = "torus-0.3,torus-0.2"
 VORONOI_EPS = 0.03
 """ε of the torus (3, 1) whose seeds --voronoi triangulates (--tiny: the largest tiny case's)."""
 SLAB_COUNT = 3
-"""Slabs of ``--slabs`` (what ``slabs.slab_count`` gives the cube's 1.08·10⁶ seeds at ε = 0.0094977)."""
+"""Slabs of ``--slabs`` (what ``slabs.slab_count`` gives the cube's 1.08·10⁶ seeds at
+ε = 0.0094977)."""
 TARGET_SECONDS = 120.0
 MEMORY_TARGET_GB = 4.0
 
