@@ -349,3 +349,33 @@ def test_feature_gap_beyond_the_nearest_points_is_exact():
         expected[i] = np.linalg.norm(feature.points[far] - point, axis=1).min() / 2
     assert np.isfinite(expected).all()
     np.testing.assert_array_equal(got, expected)
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.3, 1.0])
+def test_face_sites_decided_by_the_spacing_slope_are_the_same(slope):
+    """Face sites made with the spacing's Lipschitz constant (pieces kept or split without
+    asking the spacing where the bound from their parent decides) are the sites made by asking
+    at every piece, and the spacing is asked at fewer points."""
+    from vorobound.sampling.lfs.face_sites import face_sites
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    mesh = gear(teeth=12, faces=800, bore=2.0)
+    points, faces = mesh.points, mesh.triangles
+    normals = np.repeat(np.array([[[0.0, 0.0, 1.0]]]), len(faces), axis=0).repeat(3, axis=1)
+    curved = np.zeros(len(faces), dtype=bool)
+    centre = np.array([4.0, 1.0, 3.0])
+    asked = {}
+
+    def spacing(x, face, key):
+        # slope-Lipschitz, smallest near `centre`, at least a floor
+        asked[key] = asked.get(key, 0) + len(x)
+        return np.maximum(0.2 + slope * np.linalg.norm(x - centre, axis=1), 0.4)
+
+    plain = face_sites(points, faces, normals, curved, lambda x, f: spacing(x, f, "plain"))
+    bounded = face_sites(
+        points, faces, normals, curved, lambda x, f: spacing(x, f, "bounded"), slope=slope
+    )
+    for name in ("points", "normals", "face", "areas", "sizes", "corners"):
+        assert np.array_equal(getattr(plain, name), getattr(bounded, name)), name
+    assert len(plain.points) > 3 * len(faces)  # the faces were cut
+    assert asked["bounded"] < asked["plain"]
