@@ -379,3 +379,31 @@ def test_face_sites_decided_by_the_spacing_slope_are_the_same(slope):
         assert np.array_equal(getattr(plain, name), getattr(bounded, name)), name
     assert len(plain.points) > 3 * len(faces)  # the faces were cut
     assert asked["bounded"] < asked["plain"]
+
+
+def test_thickness_in_chunks_of_rays_is_the_same(monkeypatch):
+    """The rays are cast and reduced RAY_CHUNK at a time (bounded memory): the thickness of a
+    batch cut into chunks equals that of the whole batch, hit for hit."""
+    from vorobound.sampling.lfs import thickness as module
+    from vorobound.sampling.lfs.mesh_quality import prepare_mesh
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    prepared = prepare_mesh(gear(teeth=12, faces=800, bore=2.0))
+    points, faces = prepared.points, prepared.triangles
+    rng = np.random.default_rng(3)
+    face = rng.integers(0, len(faces), 700)
+    corners = points[faces[face]]
+    origins = np.einsum("nc,ncd->nd", rng.dirichlet(np.ones(3), len(face)), corners)
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    group = np.arange(len(faces)) % 3  # three groups, the first two not allowed together
+    allowed = np.ones((3, 3), dtype=bool)
+    allowed[0, 1] = allowed[1, 0] = False
+    caster = module.RayCaster(points, faces)
+    args = (caster, origins, normals, face, allowed, group, group[face])
+    whole = module.thickness(*args, near=np.full(len(face), 1e-3))
+    monkeypatch.setattr(module, "RAY_CHUNK", 64)
+    chunked = module.thickness(*args, near=np.full(len(face), 1e-3))
+    for name in module.FIELDS:
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
+    assert np.isfinite(whole.inward).sum() > 600 and np.isfinite(whole.outward).any()
