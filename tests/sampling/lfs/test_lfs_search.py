@@ -407,3 +407,24 @@ def test_thickness_in_chunks_of_rays_is_the_same(monkeypatch):
     for name in module.FIELDS:
         assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
     assert np.isfinite(whole.inward).sum() > 600 and np.isfinite(whole.outward).any()
+
+
+def test_site_slopes_are_the_largest_rate_over_the_nearest_sites():
+    """The local rate of change at each site (one k-d tree query per site, the face sites
+    asking for more neighbours for their fitted plane) is the brute-force largest
+    |L(y) − L(x)|/|y − x| over its SLOPE_NEIGHBOURS nearest sites, at most λ."""
+    from vorobound.sampling.lfs.sites import SLOPE_NEIGHBOURS, site_gradients
+
+    rng = np.random.default_rng(5)
+    points = rng.normal(size=(400, 3))
+    points /= np.linalg.norm(points, axis=1)[:, None]
+    lfs = 1 + 0.3 * np.sin(3 * points[:, 0]) + 0.01 * rng.random(len(points))
+    kind = rng.integers(0, 3, len(points))
+    slopes, planes = site_gradients(points, lfs, rng.integers(0, 2, len(points)), kind, points, 0.5)
+    distance = np.linalg.norm(points[:, None] - points[None], axis=2)
+    nearest = np.argsort(distance, axis=1)[:, 1 : SLOPE_NEIGHBOURS + 1]
+    rows = np.arange(len(points))[:, None]
+    rate = np.abs(lfs[nearest] - lfs[:, None]) / distance[rows, nearest]
+    assert np.allclose(slopes, np.minimum(rate.max(axis=1), 0.5), rtol=1e-12, atol=0)
+    assert (slopes < 0.5).any() and (slopes == 0.5).any()
+    assert np.abs(planes[kind == 1]).sum() > 0 and not planes[kind != 1].any()
