@@ -95,8 +95,8 @@ def with_probes(mesh, probes: np.ndarray):
     _, face, closest = RayCaster(prepared.points, prepared.triangles).closest(inner)
     plain = settings.face_sites
 
-    def face_sites(points, faces, corner_normals, curved, spacing, *rest):
-        made = plain(points, faces, corner_normals, curved, spacing, *rest)
+    def face_sites(points, faces, corner_normals, curved, spacing, *rest, **options):
+        made = plain(points, faces, corner_normals, curved, spacing, *rest, **options)
         corners = points[faces[face]]
         normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         normal /= np.linalg.norm(normal, axis=1)[:, None]

@@ -349,3 +349,82 @@ def test_feature_gap_beyond_the_nearest_points_is_exact():
         expected[i] = np.linalg.norm(feature.points[far] - point, axis=1).min() / 2
     assert np.isfinite(expected).all()
     np.testing.assert_array_equal(got, expected)
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.3, 1.0])
+def test_face_sites_decided_by_the_spacing_slope_are_the_same(slope):
+    """Face sites made with the spacing's Lipschitz constant (pieces kept or split without
+    asking the spacing where the bound from their parent decides) are the sites made by asking
+    at every piece, and the spacing is asked at fewer points."""
+    from vorobound.sampling.lfs.face_sites import face_sites
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    mesh = gear(teeth=12, faces=800, bore=2.0)
+    points, faces = mesh.points, mesh.triangles
+    normals = np.repeat(np.array([[[0.0, 0.0, 1.0]]]), len(faces), axis=0).repeat(3, axis=1)
+    curved = np.zeros(len(faces), dtype=bool)
+    centre = np.array([4.0, 1.0, 3.0])
+    asked = {}
+
+    def spacing(x, face, key):
+        # slope-Lipschitz, smallest near `centre`, at least a floor
+        asked[key] = asked.get(key, 0) + len(x)
+        return np.maximum(0.2 + slope * np.linalg.norm(x - centre, axis=1), 0.4)
+
+    plain = face_sites(points, faces, normals, curved, lambda x, f: spacing(x, f, "plain"))
+    bounded = face_sites(
+        points, faces, normals, curved, lambda x, f: spacing(x, f, "bounded"), slope=slope
+    )
+    for name in ("points", "normals", "face", "areas", "sizes", "corners"):
+        assert np.array_equal(getattr(plain, name), getattr(bounded, name)), name
+    assert len(plain.points) > 3 * len(faces)  # the faces were cut
+    assert asked["bounded"] < asked["plain"]
+
+
+def test_thickness_in_chunks_of_rays_is_the_same(monkeypatch):
+    """The rays are cast and reduced RAY_CHUNK at a time (bounded memory): the thickness of a
+    batch cut into chunks equals that of the whole batch, hit for hit."""
+    from vorobound.sampling.lfs import thickness as module
+    from vorobound.sampling.lfs.mesh_quality import prepare_mesh
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    prepared = prepare_mesh(gear(teeth=12, faces=800, bore=2.0))
+    points, faces = prepared.points, prepared.triangles
+    rng = np.random.default_rng(3)
+    face = rng.integers(0, len(faces), 700)
+    corners = points[faces[face]]
+    origins = np.einsum("nc,ncd->nd", rng.dirichlet(np.ones(3), len(face)), corners)
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    group = np.arange(len(faces)) % 3  # three groups, the first two not allowed together
+    allowed = np.ones((3, 3), dtype=bool)
+    allowed[0, 1] = allowed[1, 0] = False
+    caster = module.RayCaster(points, faces)
+    args = (caster, origins, normals, face, allowed, group, group[face])
+    whole = module.thickness(*args, near=np.full(len(face), 1e-3))
+    monkeypatch.setattr(module, "RAY_CHUNK", 64)
+    chunked = module.thickness(*args, near=np.full(len(face), 1e-3))
+    for name in module.FIELDS:
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
+    assert np.isfinite(whole.inward).sum() > 600 and np.isfinite(whole.outward).any()
+
+
+def test_site_slopes_are_the_largest_rate_over_the_nearest_sites():
+    """The local rate of change at each site (one k-d tree query per site, the face sites
+    asking for more neighbours for their fitted plane) is the brute-force largest
+    |L(y) − L(x)|/|y − x| over its SLOPE_NEIGHBOURS nearest sites, at most λ."""
+    from vorobound.sampling.lfs.sites import SLOPE_NEIGHBOURS, site_gradients
+
+    rng = np.random.default_rng(5)
+    points = rng.normal(size=(400, 3))
+    points /= np.linalg.norm(points, axis=1)[:, None]
+    lfs = 1 + 0.3 * np.sin(3 * points[:, 0]) + 0.01 * rng.random(len(points))
+    kind = rng.integers(0, 3, len(points))
+    slopes, planes = site_gradients(points, lfs, rng.integers(0, 2, len(points)), kind, points, 0.5)
+    distance = np.linalg.norm(points[:, None] - points[None], axis=2)
+    nearest = np.argsort(distance, axis=1)[:, 1 : SLOPE_NEIGHBOURS + 1]
+    rows = np.arange(len(points))[:, None]
+    rate = np.abs(lfs[nearest] - lfs[:, None]) / distance[rows, nearest]
+    assert np.allclose(slopes, np.minimum(rate.max(axis=1), 0.5), rtol=1e-12, atol=0)
+    assert (slopes < 0.5).any() and (slopes == 0.5).any()
+    assert np.abs(planes[kind == 1]).sum() > 0 and not planes[kind != 1].any()

@@ -66,6 +66,7 @@ def face_sites(
     curved: np.ndarray,
     spacing: Callable[[np.ndarray, np.ndarray], np.ndarray],
     max_sites: int = MAX_SITES,
+    slope=None,
 ) -> FaceSites:
     """Split every face until its pieces are at most ``spacing(centroid)`` long.
 
@@ -84,6 +85,12 @@ def face_sites(
         Faces of curved patches (their sites are lifted onto the PN surface).
     spacing : callable
         Maps (k, 3) points and their (k,) faces to (k,) positive lengths.
+    slope : float or ndarray (f,), optional
+        A Lipschitz constant of ``spacing`` on each face (|spacing(x) − spacing(y)| ≤
+        slope·|x − y| for x, y on one face). With it, a piece whose size is below (or above)
+        the bound this gives from the spacing at its parent's centroid is kept (or split)
+        without asking ``spacing`` again: the pieces are the same, the spacing is asked at
+        fewer points (:func:`_decided`).
     """
     # The pieces follow the corner order: put the corners in vertex order, so a face listed
     # in either orientation (or rotated) gives the same sites.
@@ -94,6 +101,9 @@ def face_sites(
     centroid = corners.mean(axis=1)
     first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
     owner, bary = _slabs(corners, first, max_sites)
+    # The spacing at each piece's parent (the face's centroid for the first pieces).
+    parent_middle, parent_limit = centroid[owner], first[owner]
+    slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
     done_owner, done_bary = [], []
     for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
@@ -104,8 +114,17 @@ def face_sites(
         known = (middle == centroid[owner]).all(axis=1) if level == 0 else np.zeros(0, bool)
         limit[known] = first[owner[known]]
         ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
+        split = np.zeros(len(owner), dtype=bool)
+        if slopes is not None:
+            reach = slopes[owner[ask]] * np.linalg.norm(middle[ask] - parent_middle[ask], axis=1)
+            keep, cut = _decided(size[ask], parent_limit[ask], reach)
+            split[ask[cut]] = True
+            limit[ask[keep | cut]] = np.nan  # decided without it (never used again)
+            ask = ask[~(keep | cut)]
         limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
-        split = size > limit
+        split[ask] = size[ask] > limit[ask]
+        if level == 0:
+            split[known] = size[known] > limit[known]
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])
         if not split.any():
@@ -113,6 +132,13 @@ def face_sites(
         owner, bary = owner[split], bary[split]
         if sum(len(o) for o in done_owner) + 4 * len(owner) > max_sites:
             raise _too_many(max_sites)
+        # A piece split without asking hands its parent's point and spacing down: its children
+        # measure their reach from there.
+        moved = np.isnan(limit[split])
+        parent_middle = np.where(moved[:, None], parent_middle[split], middle[split])
+        parent_limit = np.where(moved, parent_limit[split], limit[split])
+        parent_middle = np.repeat(parent_middle, 4, axis=0)
+        parent_limit = np.repeat(parent_limit, 4)
         bary = _quarter(bary)
         owner = np.repeat(owner, 4)
     else:
@@ -132,6 +158,19 @@ def face_sites(
     normal = np.einsum("nc,ncd->nd", centre, corner_normals[owner])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz)
+
+
+DECIDED_RTOL = 1e-9
+"""Margin of :func:`_decided` (relative): a piece this close to a bound is asked for."""
+
+
+def _decided(size, parent, reach) -> tuple[np.ndarray, np.ndarray]:
+    """(kept, split): pieces whose spacing s is known to be at least ``size`` (kept) or below
+    it (split) from s ≥ parent − reach and s ≤ parent + reach (``reach``: the spacing's slope
+    times the distance from the point where it is ``parent``)."""
+    kept = size <= (parent - reach) * (1 - DECIDED_RTOL)
+    split = size > (parent + reach) * (1 + DECIDED_RTOL)
+    return kept, split
 
 
 def _too_many(max_sites: int) -> InputError:

@@ -48,6 +48,11 @@ medial axis are as sparse as the vertices and overestimate L (an L-bracket's bor
 0.9·L apart: 0.93 for 0.6); the curvature radius then caps it too. Below it the vertex-normal
 curvature is left out: on irregular meshes it is noisy (a jittered torus: 0.25 for 0.5)."""
 
+SLOPE_SLACK = 1e-6
+"""The face sites take the spacing's slope this much (relative) above λ times the factor, so
+that the rounding of the envelope's cones cannot make a bound of :func:`.face_sites.face_sites`
+wrong."""
+
 BOUND_TOLERANCE = 0.0
 """Where the poles give L, half the thickness lowers it only when it is smaller by more than
 this share (ray hits on curved patches are lifted to the smooth PN surface, good to about this
@@ -190,8 +195,10 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
                 field, state.factor, state.face_floor, state.edge_floor
             )
         counter = Counter(progress, "face sites", 1)
+        # The spacing is SITE_SPACING times the last field (λ-Lipschitz), or a constant.
+        slope = 0.0 if field is None else state.factor * state.slope * (1 + SLOPE_SLACK)
         on_faces = face_sites(
-            points, faces, patches.corner_normals, state.curved_face, face_spacing
+            points, faces, patches.corner_normals, state.curved_face, face_spacing, slope=slope
         )
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
         counter.step()

@@ -101,19 +101,26 @@ def site_gradients(points, lfs, labels, kind, normals, slope: float):
     if k < 2:
         return slopes, planes
     tree = cKDTree(points)
+    few = min(SLOPE_NEIGHBOURS + 1, count)
     for start in range(0, count, GRADIENT_BLOCK):
         rows = np.arange(start, min(start + GRADIENT_BLOCK, count))
-        few = min(SLOPE_NEIGHBOURS + 1, count)
-        dist, near = tree.query(points[rows], k=few, workers=thread_count())
+        # One query per site: the face sites' FIT_NEIGHBOURS nearest hold the SLOPE_NEIGHBOURS
+        # nearest (the k-d tree returns them by distance).
+        face = kind[rows] == 1
+        dist, near = np.zeros((len(rows), k)), np.zeros((len(rows), k), dtype=np.int64)
+        for mine, width in ((face, k), (~face, few)):
+            if mine.any():
+                found = tree.query(points[rows[mine]], k=width, workers=thread_count())
+                dist[mine, :width], near[mine, :width] = found
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.abs(lfs[near[:, 1:]] - lfs[rows, None]) / dist[:, 1:]
+            ratio = np.abs(lfs[near[:, 1:few]] - lfs[rows, None]) / dist[:, 1:few]
         slopes[rows] = np.minimum(np.where(np.isfinite(ratio), ratio, 0.0).max(axis=1), slope)
         # A plane only where L changes: elsewhere it would move the value by less than
         # PLANE_MIN_RATE times the piece radius.
-        rows = rows[(kind[rows] == 1) & (slopes[rows] > PLANE_MIN_RATE * slope)]
+        fit = face & (slopes[rows] > PLANE_MIN_RATE * slope)
+        rows, near = rows[fit], near[fit][:, 1:]
         if not len(rows):
             continue
-        near = tree.query(points[rows], k=k, workers=thread_count())[1][:, 1:]
         change = lfs[near] - lfs[rows, None]
         same = (labels[near] == labels[rows, None]) & (labels[rows, None] >= 0)
         # Least squares in the tangent plane: the offsets in an orthonormal basis of it.
