@@ -123,16 +123,20 @@ def _cone(x0, x1, x2, site, sites, values, radii, gradients, mode, slope):
 
 
 @njit(inline="always", error_model="numpy")
-def _node_bound(x0, x1, x2, node, low, high, best_value, max_radius, planar, mode, slope):
+def _node_bound(x0, x1, x2, node, value, low, high, best_value, max_radius, planar, mode, slope):
     """(bound, margin) of a node: its smallest floor combined with the distance from x to its
     box beyond its largest radius (the numpy path's arithmetic), and the drop margin (0 but
-    for nodes holding a site with a plane; module docstring)."""
+    for nodes holding a site with a plane; module docstring). A node without planes whose
+    floor is already not below ``value`` gets the floor (a bound too) without the distance."""
+    floor = best_value[node]
+    if floor >= value and not planar[node]:
+        return floor, 0.0
     g0 = max(low[node, 0] - x0, 0.0) + max(x0 - high[node, 0], 0.0)
     g1 = max(low[node, 1] - x1, 0.0) + max(x1 - high[node, 1], 0.0)
     g2 = max(low[node, 2] - x2, 0.0) + max(x2 - high[node, 2], 0.0)
-    gap = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+    squared = g0 * g0 + g1 * g1 + g2 * g2
+    gap = math.sqrt(squared) if squared > 0.0 else 0.0
     reach = max(gap - max_radius[node], 0.0)
-    floor = best_value[node]
     if mode == MODE_CAP:
         return max(floor, reach), 0.0
     bound = floor + slope * reach
@@ -174,11 +178,16 @@ def _envelope_kernel(
     stack_node = np.empty(2 * depth + 2, dtype=np.int64)
     stack_bound = np.empty(2 * depth + 2)
     stack_margin = np.empty(2 * depth + 2)
+    previous = -1  # the site of the last query's smallest cone: a first bound near this one
     for i in range(queries.shape[0]):
         x0, x1, x2 = queries[i, 0], queries[i, 1], queries[i, 2]
         value = best[i]
+        if previous >= 0:
+            cone = _cone(x0, x1, x2, previous, sites, values, radii, gradients, mode, slope)
+            if cone < value:
+                value = cone
         bound, margin = _node_bound(
-            x0, x1, x2, 0, low, high, best_value, max_radius, planar, mode, slope
+            x0, x1, x2, 0, value, low, high, best_value, max_radius, planar, mode, slope
         )
         stack_node[0], stack_bound[0], stack_margin[0] = 0, bound, margin
         top = 1
@@ -187,26 +196,29 @@ def _envelope_kernel(
             node = stack_node[top]
             if _dropped(stack_bound[top], stack_margin[top], value):
                 continue
-            cone = _cone(x0, x1, x2, best_site[node], sites, values, radii, gradients, mode, slope)
+            site = best_site[node]
+            cone = _cone(x0, x1, x2, site, sites, values, radii, gradients, mode, slope)
             if cone < value:
-                value = cone
+                value, previous = cone, site
             if node >= first_leaf:
                 leaf = node - first_leaf
                 for j in range(width):
                     site = leaf_sites[leaf, j]
                     if site < 0:
                         break
+                    if mode != MODE_PLANE and values[site] >= value:
+                        continue  # its cone is at least its value
                     cone = _cone(x0, x1, x2, site, sites, values, radii, gradients, mode, slope)
                     if cone < value:
-                        value = cone
+                        value, previous = cone, site
                 continue
             # Both children, the one with the larger bound pushed first (walked second).
             left = 2 * node + 1
             b_left, m_left = _node_bound(
-                x0, x1, x2, left, low, high, best_value, max_radius, planar, mode, slope
+                x0, x1, x2, left, value, low, high, best_value, max_radius, planar, mode, slope
             )
             b_right, m_right = _node_bound(
-                x0, x1, x2, left + 1, low, high, best_value, max_radius, planar, mode, slope
+                x0, x1, x2, left + 1, value, low, high, best_value, max_radius, planar, mode, slope
             )
             near, far = (left, left + 1) if b_left <= b_right else (left + 1, left)
             b_near, b_far = min(b_left, b_right), max(b_left, b_right)
