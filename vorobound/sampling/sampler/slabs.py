@@ -239,7 +239,11 @@ class _Greedy:
             self.last = (points, lfs)
         fixed_points = np.concatenate([self.features[0], self.last[0]])
         fixed_lfs = np.concatenate([self.features[1], self.last[1]])
-        self.fixed = (cKDTree(fixed_points), fixed_points, fixed_lfs) if len(fixed_points) else None
+        # Unbalanced, uncompacted trees: built in half the time, queried as fast (exact either way)
+        self.fixed = None
+        if len(fixed_points):
+            tree = cKDTree(fixed_points, balanced_tree=False, compact_nodes=False)
+            self.fixed = (tree, fixed_points, fixed_lfs)
         self.open_points, self.open_lfs, self.open_tree = [], [], None
 
     def result(self) -> tuple[np.ndarray, np.ndarray]:
@@ -276,7 +280,8 @@ class _Greedy:
             points = np.concatenate(self.open_points)
             lfs = np.concatenate(self.open_lfs)
             self.open_points, self.open_lfs = [points], [lfs]
-            self.open_tree = (cKDTree(points, balanced_tree=False), points, lfs)
+            tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
+            self.open_tree = (tree, points, lfs)
         return self.open_tree
 
     def nearest(self, points: np.ndarray) -> np.ndarray:
