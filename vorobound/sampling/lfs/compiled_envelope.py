@@ -1,8 +1,9 @@
 """Compiled evaluation of the cone envelopes of :mod:`.lipschitz` (needs the optional numba).
 
 One query at a time walks the tree of :class:`.lipschitz._ConeTree` depth first, the child
-with the smaller bound first, and keeps the smallest cone it has evaluated: no start from the
-nearest sites (the first leaf reached is near the query), no arrays of live query-node pairs.
+with the smaller bound first, and keeps the smallest cone it has evaluated. Its first bound is
+the cone of the site that gave the previous query its value (the sampler's queries come in
+lattice order, so that site is usually the answer); no arrays of live query-node pairs.
 
 Each cone is computed with the same operations in the same order as the numpy path
 (:meth:`.lipschitz._ConeTree.cones`: the offset, the sum of squares left to right, its square
@@ -20,7 +21,9 @@ same value to the last bit. A node is dropped when its bound is not below the be
   when its bound exceeds the best value by :data:`PRUNE_MARGIN` times the magnitudes in the
   comparison, far more than their rounding (~1e-16 relative).
 
-Either way the walk returns the minimum over all sites' cones as computed, never above what
+A site or node whose smallest value is not below the best value is skipped without its
+distance (no planes: value + slope·beyond ≥ value and max(value, ·) ≥ value hold in floating
+point too). Either way the walk returns the minimum over all sites' cones as computed, never above what
 the numpy path returns (which computes the same cones and keeps the minimum of a subset); on
 every tested query the two are equal.
 
