@@ -23,9 +23,9 @@ same value to the last bit. A node is dropped when its bound is not below the be
 
 A site or node whose smallest value is not below the best value is skipped without its
 distance (no planes: value + slope·beyond ≥ value and max(value, ·) ≥ value hold in floating
-point too). Either way the walk returns the minimum over all sites' cones as computed, never above what
-the numpy path returns (which computes the same cones and keeps the minimum of a subset); on
-every tested query the two are equal.
+point too). Either way the walk returns the minimum over all sites' cones as computed, never
+above what the numpy path returns (which computes the same cones and keeps the minimum of a
+subset); on every tested query the two are equal.
 
 Importing this module compiles nothing; the first call compiles (a few seconds) and caches
 the machine code on disk. The kernel releases the GIL and runs on the library's threads. All
