@@ -10,10 +10,10 @@ descent prunes almost everything off the query's own path; chunks run on both co
 
 With numba (:mod:`.compiled_envelope`) each query walks the same tree alone, compiled, nearer
 child first: the same cones with the same arithmetic, a value never above the numpy path's
-(equal on every tested query), 4–10 times less CPU per query (the issue-32 bar and cylinder:
-random and lattice order). The numpy path above stays the reference; ``VOROBOUND_PURE_NUMPY``
-forces it. Neither path rounds a cone down: like the numpy path, a value may exceed the exact
-real envelope by the rounding of one cone (a few units in the last place).
+(equal on every tested query), at several times less CPU per query. The numpy path above
+stays the reference; ``VOROBOUND_PURE_NUMPY`` forces it. Neither path rounds a cone down:
+a value may exceed the exact real envelope by the rounding of one cone (a few units in the
+last place), in both paths alike.
 """
 
 from __future__ import annotations
