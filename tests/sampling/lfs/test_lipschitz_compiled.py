@@ -1,0 +1,155 @@
+"""The compiled walk of the Lipschitz envelope (numba) against the numpy descent, the reference:
+on many random queries it returns the minimum over every site's cone as the numpy path
+computes each cone, never above the numpy path's value (equal on every query drawn here)."""
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vorobound.errors import VoroboundWarning
+from vorobound.sampling.lfs.lipschitz import DistanceCap, Envelope, compiled_envelope
+
+pytestmark = pytest.mark.skipif(
+    compiled_envelope() is None, reason="needs numba (the compiled envelope)"
+)
+
+
+def _both(make, queries, monkeypatch, upper=None):
+    """(compiled, numpy) values of the envelope ``make()`` at ``queries``."""
+    fast = make()
+    got = fast(queries, upper=upper)
+    assert fast._flat is not None  # the compiled walk ran
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", "1")
+    reference = make()
+    expected = reference(queries, upper=upper)
+    assert reference._flat is None
+    monkeypatch.delenv("VOROBOUND_PURE_NUMPY")
+    return got, expected
+
+
+def _every_cone(envelope, queries, upper=None):
+    """min over all sites of their cones, each computed by the numpy path's own arithmetic."""
+    tree = envelope.tree
+    out = np.full(len(queries), np.inf)
+    if upper is not None:
+        np.minimum(out, upper, out=out)
+    for start in range(0, len(queries), 256):
+        block = queries[start : start + 256]
+        sites = np.arange(len(tree.sites))[None, :]
+        cones = tree.cones(block[:, None, :], sites, envelope.slope).min(axis=1)
+        np.minimum(out[start : start + 256], cones, out=out[start : start + 256])
+    return out
+
+
+def _draw(rng, count, kind):
+    """Sites, values, radii and gradients of one kind of field."""
+    scale = rng.choice([1e-3, 1.0, 1e3])
+    if kind == "clusters":  # coinciding and tied sites
+        centre = rng.normal(size=(count // 20, 3))
+        sites = np.repeat(centre, 20, axis=0)
+        sites = np.vstack([sites, rng.normal(size=(count - len(sites), 3))])
+        sites += 1e-13 * rng.normal(size=(count, 3))
+    elif kind == "bar":  # a long thin box of constant L, like the bar (ties everywhere)
+        sites = rng.uniform([0, 0, 0], [100, 1, 1], (count, 3))
+    else:
+        sites = rng.normal(size=(count, 3)) * rng.uniform(0.1, 3, 3)
+    sites = sites * scale
+    if kind == "bar":
+        values = np.full(count, 0.5) * scale
+        values[rng.uniform(size=count) < 0.1] -= 1e-14 * scale
+    else:
+        values = rng.uniform(-1, 10, count) * scale
+    radii = rng.uniform(0, 1, count) * scale * rng.choice([0.0, 0.3, 3.0])
+    gradients = rng.normal(size=(count, 3))
+    gradients /= np.linalg.norm(gradients, axis=1)[:, None]
+    return sites, values, radii, gradients, scale
+
+
+@pytest.mark.parametrize("kind", ["spread", "clusters", "bar"])
+@pytest.mark.parametrize("field", ["cones", "planes", "cap"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_compiled_envelope_is_the_minimum_of_every_cone(kind, field, seed, monkeypatch):
+    """20 000 queries per case, near the sites and far away, with and without upper bounds:
+    the compiled value is never above the numpy descent's value, and (at every tenth query)
+    the minimum over every site's cone (the numpy path's arithmetic)."""
+    rng = np.random.default_rng(seed)
+    count = int(rng.integers(1, 2000))
+    sites, values, radii, gradients, scale = _draw(rng, count, kind)
+    slope = float(rng.choice([0.0, 0.3, 1.0, 2.5]))
+    gradients = gradients * (slope * rng.uniform(0, 1, count))[:, None]
+    gradients[rng.uniform(size=count) < 0.3] = 0.0
+    near = sites[rng.integers(0, count, 15_000)] + 0.1 * scale * rng.normal(size=(15_000, 3))
+    queries = np.vstack([near, sites[:100], rng.normal(size=(4900, 3)) * 5 * scale])
+    upper = None
+    if field == "cap":
+        upper = np.where(rng.uniform(size=len(queries)) < 0.5, np.inf, rng.uniform(0, 3 * scale))
+
+        def make():
+            return DistanceCap(sites, np.abs(values), radii)
+
+    elif field == "planes":
+
+        def make():
+            return Envelope(sites, values, slope, radii, gradients=gradients)
+
+    else:
+
+        def make():
+            return Envelope(sites, values, slope, radii)
+
+    got, expected = _both(make, queries, monkeypatch, upper)
+    assert (got <= expected).all()
+    some = slice(None, None, 10)
+    bound = None if upper is None else upper[some]
+    assert np.array_equal(got[some], _every_cone(make(), queries[some], bound))
+    # The numpy descent keeps a minimum over a subset: at most rounding above.
+    assert np.allclose(got, expected, rtol=1e-12, atol=1e-300)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    count=st.integers(1, 400),
+    slope=st.floats(0, 3),
+    seed=st.integers(0, 2**31),
+    planes=st.booleans(),
+)
+def test_compiled_envelope_never_exceeds_the_numpy_descent(count, slope, seed, planes):
+    rng = np.random.default_rng(seed)
+    sites, values, radii, gradients, scale = _draw(rng, count, "spread")
+    gradients = gradients * (slope * rng.uniform(0, 1, count))[:, None] if planes else None
+    queries = np.vstack([sites[:5], rng.normal(size=(500, 3)) * scale])
+    envelope = Envelope(sites, values, slope, radii, gradients=gradients)
+    got = envelope(queries)
+    expected = envelope._start(queries)
+    envelope.tree.envelope(queries, envelope.slope, expected)
+    assert (got <= expected).all()
+    assert np.array_equal(got, _every_cone(envelope, queries))
+
+
+def test_the_estimate_of_a_cad_part_is_the_same_by_both_paths(monkeypatch):
+    """The bar of issue 32 (L estimated from the mesh): L at 200 000 surface points in the
+    order of a lattice (sorted along the bar, as the sampler visits them) is the same to the
+    last bit by both paths."""
+    from vorobound.mesh import TriangleMesh
+    from vorobound.sampling.lfs.estimate import estimate_lfs
+    from vorobound.sampling.surfaces.cad_meshes import bar
+    from vorobound.sampling.surfaces.mesh import points_on_mesh
+
+    part = bar()
+    mesh = TriangleMesh(part.points, part.triangles, "bar")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)  # its sharp edges
+        estimate = estimate_lfs(mesh)
+    field = estimate._field
+    points = points_on_mesh(mesh, 200_000, np.random.default_rng(0))
+    points = points[np.argsort(points[:, 0])]
+
+    def make():
+        return Envelope(field.tree.sites, field.tree.values, field.slope, field.tree.radii)
+
+    got, expected = _both(make, points, monkeypatch)
+    assert np.array_equal(got, expected)
+    assert np.array_equal(got, estimate.at(points))
