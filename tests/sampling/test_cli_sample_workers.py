@@ -163,3 +163,31 @@ def test_workers_go_with_a_mesh(run_cli, tmp_path):
     )
     assert code == 2 and err.count("\n") == 1 and "mesh" in err
     assert not (tmp_path / "s.npz").exists()
+
+
+def test_a_folder_that_refuses_files_fails_before_sampling(
+    run_cli, cylinder, tmp_path, monkeypatch
+):
+    """Found by hand: ``-o /sys/x.npz`` (a folder that exists but takes no file) failed only
+    after the whole sample was made. The folder is tried first; the previous file stays."""
+    import meshio
+
+    import vorobound.files
+
+    mesh_file = tmp_path / "cylinder.stl"
+    meshio.write(mesh_file, meshio.Mesh(cylinder.points, [("triangle", cylinder.triangles)]))
+    target = tmp_path / "s.npz"
+    target.write_bytes(b"previous")
+    ran = []
+    monkeypatch.setattr(slabs, "slab_sample", lambda *a, **k: ran.append(1))
+
+    def refused(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(vorobound.files.tempfile, "mkstemp", refused)
+    code, out, err = run_cli(
+        "sample", "--mesh", str(mesh_file), "--eps", "0.2", "-o", str(target), "--workers", "2"
+    )
+    assert code == 2 and not out and not ran
+    assert err.strip().splitlines() == [f"error: cannot write {target}: Permission denied"]
+    assert target.read_bytes() == b"previous"
