@@ -170,12 +170,9 @@ def test_a_folder_that_refuses_files_fails_before_sampling(
 ):
     """Found by hand: ``-o /sys/x.npz`` (a folder that exists but takes no file) failed only
     after the whole sample was made. The folder is tried first; the previous file stays."""
-    import meshio
-
     import vorobound.files
 
-    mesh_file = tmp_path / "cylinder.stl"
-    meshio.write(mesh_file, meshio.Mesh(cylinder.points, [("triangle", cylinder.triangles)]))
+    mesh_file = _stl(cylinder, tmp_path)
     target = tmp_path / "s.npz"
     target.write_bytes(b"previous")
     ran = []
@@ -191,3 +188,34 @@ def test_a_folder_that_refuses_files_fails_before_sampling(
     assert code == 2 and not out and not ran
     assert err.strip().splitlines() == [f"error: cannot write {target}: Permission denied"]
     assert target.read_bytes() == b"previous"
+
+
+def _stl(mesh, folder):
+    import meshio
+
+    path = folder / "mesh.stl"
+    meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
+    return path
+
+
+def test_workers_with_a_scheduler_are_one_line(run_cli, cylinder, tmp_path, monkeypatch):
+    """Found by hand: ``--workers 4 --scheduler ADDRESS`` ignored the 4 and its --json said
+    ``"workers": 4`` for a run on the cluster's workers."""
+    ran = []
+    monkeypatch.setattr(slabs, "slab_sample", lambda *a, **k: ran.append(1))
+    code, out, err = run_cli(
+        "sample",
+        "--mesh",
+        str(_stl(cylinder, tmp_path)),
+        "--eps",
+        "0.2",
+        "-o",
+        str(tmp_path / "s.npz"),
+        "--workers",
+        "4",
+        "--scheduler",
+        "tcp://127.0.0.1:1",
+    )
+    assert code == 2 and not out and err.count("\n") == 1
+    assert "workers" in err and "scheduler" in err and "not both" in err
+    assert not ran and not (tmp_path / "s.npz").exists()
