@@ -219,3 +219,29 @@ def test_workers_with_a_scheduler_are_one_line(run_cli, cylinder, tmp_path, monk
     assert code == 2 and not out and err.count("\n") == 1
     assert "workers" in err and "scheduler" in err and "not both" in err
     assert not ran and not (tmp_path / "s.npz").exists()
+
+
+def test_an_interrupt_while_the_spill_is_removed_leaves_no_spill(cylinder, tmp_path, monkeypatch):
+    """Found by hand: Ctrl-C just after the sample file was written left the spill folder
+    (``.vorobound-tmp-samples.*``) in the temporary folder: the removal stopped at the
+    interrupt. It is now finished first, then the interrupt goes on."""
+    import shutil
+    import signal
+    import tempfile
+
+    spills = tmp_path / "tmp"
+    spills.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(spills))
+    real, raised = shutil.rmtree, []
+
+    def interrupted_rmtree(path, *args, **kwargs):
+        if not raised and f"{TEMP_PREFIX}samples." in str(path):
+            raised.append(path)
+            signal.raise_signal(signal.SIGINT)  # Python's handler: KeyboardInterrupt here
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(shutil, "rmtree", interrupted_rmtree)
+    with pytest.raises(KeyboardInterrupt):
+        _sample(cylinder, tmp_path / "s.npz")
+    assert raised and not list(spills.iterdir())
+    assert np.load(tmp_path / "s.npz")["x"].size  # written before the interrupt
