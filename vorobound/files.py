@@ -35,8 +35,18 @@ def ensure_folder(folder: str | os.PathLike) -> Path:
 
 
 def checked_destination(path: str | os.PathLike) -> Path:
-    """``path`` if a file can be written there: its folder exists and it is not a folder itself
-    (checked before any work, so a long run does not fail at its last step)."""
+    """``path`` if a file can be written there: its folder exists, it is not a folder itself,
+    and the folder takes a new file (a temporary one is made and removed; devices and pipes,
+    written in place, are not tried). Checked before any work, so a long run does not fail at
+    its last step (``sample -o /sys/x.npz`` failed after the whole sample was made)."""
+    path = _placed(path)
+    if not _direct(path):
+        _discard(_temp_for(path))
+    return path
+
+
+def _placed(path: str | os.PathLike) -> Path:
+    """``path`` if its folder exists and it is not a folder itself."""
     path = Path(path)
     if path.is_dir():
         raise WriteError(f"cannot write {path}: it is a folder")
@@ -67,7 +77,7 @@ def _direct(path: Path) -> bool:
 
 
 def _temp_for(path: Path) -> Path:
-    folder = checked_destination(path).parent
+    folder = _placed(path).parent
     try:
         handle, name = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{path.name}.", dir=folder)
     except OSError as exc:

@@ -74,6 +74,11 @@ def _signals_deferred() -> Iterator[None]:
             signal.raise_signal(caught[0])
 
 
+signals_deferred = _signals_deferred
+"""Hold SIGINT and SIGTERM while a block runs, then deliver the first one caught (for cleanups
+that an interrupt must not cut short)."""
+
+
 class _ShieldedProcess(multiprocessing.context.SpawnProcess):
     """A spawned worker whose start Ctrl-C and SIGTERM cannot cut short (they are handled
     when ``start`` returns), recorded for the pool being built in this thread."""

@@ -163,3 +163,85 @@ def test_workers_go_with_a_mesh(run_cli, tmp_path):
     )
     assert code == 2 and err.count("\n") == 1 and "mesh" in err
     assert not (tmp_path / "s.npz").exists()
+
+
+def test_a_folder_that_refuses_files_fails_before_sampling(
+    run_cli, cylinder, tmp_path, monkeypatch
+):
+    """Found by hand: ``-o /sys/x.npz`` (a folder that exists but takes no file) failed only
+    after the whole sample was made. The folder is tried first; the previous file stays."""
+    import vorobound.files
+
+    mesh_file = _stl(cylinder, tmp_path)
+    target = tmp_path / "s.npz"
+    target.write_bytes(b"previous")
+    ran = []
+    monkeypatch.setattr(slabs, "slab_sample", lambda *a, **k: ran.append(1))
+
+    def refused(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(vorobound.files.tempfile, "mkstemp", refused)
+    code, out, err = run_cli(
+        "sample", "--mesh", str(mesh_file), "--eps", "0.2", "-o", str(target), "--workers", "2"
+    )
+    assert code == 2 and not out and not ran
+    assert err.strip().splitlines() == [f"error: cannot write {target}: Permission denied"]
+    assert target.read_bytes() == b"previous"
+
+
+def _stl(mesh, folder):
+    import meshio
+
+    path = folder / "mesh.stl"
+    meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
+    return path
+
+
+def test_workers_with_a_scheduler_are_one_line(run_cli, cylinder, tmp_path, monkeypatch):
+    """Found by hand: ``--workers 4 --scheduler ADDRESS`` ignored the 4 and its --json said
+    ``"workers": 4`` for a run on the cluster's workers."""
+    ran = []
+    monkeypatch.setattr(slabs, "slab_sample", lambda *a, **k: ran.append(1))
+    code, out, err = run_cli(
+        "sample",
+        "--mesh",
+        str(_stl(cylinder, tmp_path)),
+        "--eps",
+        "0.2",
+        "-o",
+        str(tmp_path / "s.npz"),
+        "--workers",
+        "4",
+        "--scheduler",
+        "tcp://127.0.0.1:1",
+    )
+    assert code == 2 and not out and err.count("\n") == 1
+    assert "workers" in err and "scheduler" in err and "not both" in err
+    assert not ran and not (tmp_path / "s.npz").exists()
+
+
+def test_an_interrupt_while_the_spill_is_removed_leaves_no_spill(cylinder, tmp_path, monkeypatch):
+    """Found by hand: Ctrl-C just after the sample file was written left the spill folder
+    (``.vorobound-tmp-samples.*``) in the temporary folder: the removal stopped at the
+    interrupt. It is now finished first, then the interrupt goes on."""
+    import shutil
+    import signal
+    import tempfile
+
+    spills = tmp_path / "tmp"
+    spills.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(spills))
+    real, raised = shutil.rmtree, []
+
+    def interrupted_rmtree(path, *args, **kwargs):
+        if not raised and f"{TEMP_PREFIX}samples." in str(path):
+            raised.append(path)
+            signal.raise_signal(signal.SIGINT)  # Python's handler: KeyboardInterrupt here
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(shutil, "rmtree", interrupted_rmtree)
+    with pytest.raises(KeyboardInterrupt):
+        _sample(cylinder, tmp_path / "s.npz")
+    assert raised and not list(spills.iterdir())
+    assert np.load(tmp_path / "s.npz")["x"].size  # written before the interrupt

@@ -121,6 +121,11 @@ def sample(
     output = checked_output(os.fspath(output))
     seed = checked_seed(seed)
     workers = checked_count(workers, "workers", 1, 1 << 16)
+    if workers != 1 and scheduler is not None:
+        # The cluster's workers run the slabs: a number of local processes would be ignored.
+        raise InputError(
+            "give workers (local processes) or scheduler (a dask cluster's workers), not both"
+        )
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
     start = time.perf_counter()

@@ -159,19 +159,31 @@ def _signals_raise_interrupted():
 
 NATIVE_WORKER_WAIT = 60.0
 """Seconds an interrupt waits at most for native worker threads to finish (see below)."""
+NATIVE_START_WAIT = 1.0
+"""Seconds an interrupt waits at most for a native worker thread listed but not started."""
 
 
 def _wait_for_native_workers() -> None:
     """Let scipy's k-d tree worker threads finish before the main thread unwinds: they write
     into arrays that the unwinding frees, so raising while they run can crash the process
-    instead of exiting with 130. They finish their share of one query."""
+    instead of exiting with 130. They finish their share of one query.
+
+    A signal can come while a query is starting its threads: one may be listed but not yet
+    started, which ``join`` refuses (RuntimeError, an exit 70 "internal error" instead of 130,
+    and the half-started thread's KeyError traceback). Such a thread is given
+    :data:`NATIVE_START_WAIT` to start (the signal may also have come before its system thread
+    was made: then it never starts), then joined."""
     deadline = time.monotonic() + NATIVE_WORKER_WAIT
     for thread in threading.enumerate():
         target = getattr(thread, "_target", None)
         module = getattr(target, "__module__", None) or ""
         if thread is threading.current_thread() or not module.startswith("scipy."):
             continue
-        thread.join(max(0.0, deadline - time.monotonic()))
+        started = getattr(thread, "_started", None)
+        if started is not None:
+            started.wait(min(NATIVE_START_WAIT, max(0.0, deadline - time.monotonic())))
+        with contextlib.suppress(RuntimeError):  # still not started: nothing of it runs
+            thread.join(max(0.0, deadline - time.monotonic()))
 
 
 class _ClosedStream:

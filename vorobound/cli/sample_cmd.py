@@ -43,7 +43,7 @@ def sample(
             metavar="N",
             help="Sample a mesh's slabs on this many local processes (1: one after another "
             "in this process): the same sample for any N. At most one process per CPU runs "
-            "at once.",
+            "at once. Not with --scheduler, whose cluster brings its own workers.",
         ),
     ] = 1,
     scheduler: Annotated[

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from ..bounds.params import SamplingParams
@@ -88,19 +90,16 @@ def streamed_sample_report(
     ----------
     The sampling conditions of Section 4.1.
     """
-    import tempfile
-
     import numpy as np
 
     from ..errors import InputError
-    from ..files import TEMP_PREFIX
     from ..sampling.balls import MIN_BALLS, checked_rows
     from ..sampling.io.balls import write_balls_streamed
     from ..sampling.io.sample_spill import SampleSpill
     from ..sampling.sampler.slabs import slab_sample
 
     eps, sigma = params.eps, params.sigma
-    with tempfile.TemporaryDirectory(prefix=f"{TEMP_PREFIX}samples.") as folder:
+    with _spill_folder() as folder:
         spill = SampleSpill(folder)
         try:
             run = slab_sample(
@@ -147,6 +146,26 @@ def streamed_sample_report(
         coverage_probes=probe_count,
         sparsity=sparse,
     )
+
+
+@contextlib.contextmanager
+def _spill_folder() -> Iterator[str]:
+    """A temporary folder for the spill, removed on leaving even when Ctrl-C comes during its
+    removal (held until it is gone): ``tempfile.TemporaryDirectory`` stops removing at the
+    interrupt and forgets the folder (found by hand: an interrupt just after the sample file
+    was written left the whole spill in the temporary folder)."""
+    import shutil
+    import tempfile
+
+    from ..files import TEMP_PREFIX
+    from ..parallel import signals_deferred
+
+    folder = tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}samples.")
+    try:
+        yield folder
+    finally:
+        with signals_deferred():
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 def _slab_blocks(spill, run) -> list:
