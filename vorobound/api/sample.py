@@ -135,19 +135,17 @@ def sample(
         raise InputError("workers and scheduler go with mesh (a sphere or torus is one lattice)")
     try:
         if streamed:
-            report = streamed_sample_report(
-                shape, params, output, seed, workers, scheduler, progress
-            )
+            run = streamed_sample_report(shape, params, output, seed, workers, scheduler, progress)
+            samples, candidates, reach = run.samples, run.candidates, run.reach_ratio
         else:
-            report = sample_report(shape, params, seed, progress)
+            whole = sample_report(shape, params, seed, progress)
     except LatticeTooLarge as err:
         raise LatticeTooLarge(_with_smallest_eps(str(err), shape, quality)) from None
-    if streamed:
-        samples, candidates, reach = report.samples, report.candidates, report.reach_ratio
-    else:
-        write_balls(output, report.balls, {"lfs": report.sample.lfs})
-        samples, candidates = len(report.balls), report.sample.candidates
-        reach = report.sample.reach_ratio
+    report: SampleReport | StreamedSampleReport = run if streamed else whole
+    if not streamed:
+        write_balls(output, whole.balls, {"lfs": whole.sample.lfs})
+        samples, candidates = len(whole.balls), whole.sample.candidates
+        reach = whole.sample.reach_ratio
     seconds = time.perf_counter() - start
     return SampleResult(
         surface=shape.name,

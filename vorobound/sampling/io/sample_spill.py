@@ -24,7 +24,8 @@ class SampleSpill:
 
     def __init__(self, folder: str | Path):
         self.file = Path(folder) / "samples.f8"
-        self.count, self.blocks = 0, []
+        self.count = 0
+        self.blocks: list[tuple[int, int]] = []
         self.lfs_min, self.lfs_max = np.inf, -np.inf
         try:
             self.handle = open(self.file, "wb")

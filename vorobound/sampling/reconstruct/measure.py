@@ -134,8 +134,8 @@ def measure_against(
     docstring)."""
     count = surface.n_facets
     triangles, facet = surface.fan_triangles()
-    vertex_ratio, known = _to_surface(reference, surface.vertices, eps)
-    known = known if _prunable(reference) else None
+    vertex_ratio, at_vertices = _to_surface(reference, surface.vertices, eps)
+    known = at_vertices if _prunable(reference) else None
     facet_distance = np.zeros(count)
     np.maximum.at(facet_distance, surface.facet_of_corner(), vertex_ratio[surface.corners])
     best = _argmax(vertex_ratio)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -26,11 +27,21 @@ allows; larger cells are cut first. Measured on the capped cylinder at ε = 0.03
 fewest candidates per sample."""
 
 
+class _MeshWithL(Protocol):
+    """What a slab needs of the part: its name and L at points of its triangles."""
+
+    name: str
+
+    def lfs_at(self, triangle: np.ndarray, bary: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """L at the points ``points`` (barycentric ``bary`` in triangles ``triangle``)."""
+        ...
+
+
 @dataclass(frozen=True)
 class SlabShared:
     """What every slab of one run shares."""
 
-    shape: object
+    shape: _MeshWithL
     frames: _Frames
     k: np.ndarray
     """(1 − σ')ε/(1 + λσ'ε) per triangle (:mod:`.mesh_lattice`)."""
@@ -156,8 +167,10 @@ class Greedy:
         fixed = fixed_points is not None and len(fixed_points)
         # Unbalanced, uncompacted trees: built in half the time, queried as fast (exact
         # either way).
-        tree = cKDTree(fixed_points, balanced_tree=False, compact_nodes=False) if fixed else None
-        self.fixed = (tree, fixed_points, fixed_lfs) if fixed else None
+        self.fixed = None
+        if fixed:
+            tree = cKDTree(fixed_points, balanced_tree=False, compact_nodes=False)
+            self.fixed = (tree, fixed_points, fixed_lfs)
         self.open_points: list[np.ndarray] = []
         self.open_lfs: list[np.ndarray] = []
         self.open_tree: tuple | None = None
