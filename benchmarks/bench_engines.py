@@ -379,37 +379,38 @@ def bench_check(data: str, sizes: list[int]) -> None:
               + f", the rest (start-up, imports, merge) {rest:.2f}")  # fmt: skip
 
 
-def bench_tile(data: str, count: int) -> None:
+def _on_sample(task: str, data: str, count: int) -> dict:
+    """``task`` run in a fresh process on the torus row sample of about ``count`` balls."""
     sys.path.insert(0, os.path.dirname(__file__))
     from bench_scale import sample_file
 
     path, _ = sample_file(data, count)
-    tile = _child("tile", str(path))
-    seconds = tile["seconds"]
-    base = seconds["CGAL triangulation"]
+    return _child(task, str(path))
+
+
+def _print_steps(seconds: dict, base: str, unit: str, width: int) -> None:
+    """One line per step: CPU seconds and the ratio to the step named ``base``."""
+    for name, spent in seconds.items():
+        print(f"  {name:{width}s} {spent:7.2f} CPU-s  {spent / seconds[base]:5.2f}× {unit}")
+
+
+def bench_tile(data: str, count: int) -> None:
+    tile = _on_sample("tile", data, count)
     print(f"one tile: {tile['balls']:,} balls (+{tile['filler']:,} filler points), "
           f"{tile['triangles']:,} candidate triangles; load {tile['load'][0]:.1f} → "
           f"{tile['load'][1]:.1f}")  # fmt: skip
-    for name, spent in seconds.items():
-        print(f"  {name:36s} {spent:6.2f} CPU-s  {spent / base:5.2f}× CGAL")
+    _print_steps(tile["seconds"], "CGAL triangulation", "CGAL", 36)
 
 
 def bench_binding(data: str, count: int) -> None:
-    sys.path.insert(0, os.path.dirname(__file__))
-    from bench_scale import sample_file
-
-    path, _ = sample_file(data, count)
-    found = _child("binding", str(path))
+    found = _on_sample("binding", data, count)
     if "skipped" in found:
         print(f"binding: skipped ({found['skipped']})")
         return
-    seconds = found["seconds"]
-    base = seconds["GUDHI DelaunayComplex (built)"]
     print(f"{found['balls']:,} balls (+{found['filler']:,} filler points); triangles: "
           f"{found['triangles']}; finite cells read back: {found['cells']:,}; load "
           f"{found['load'][0]:.1f} → {found['load'][1]:.1f}")  # fmt: skip
-    for name, spent in seconds.items():
-        print(f"  {name:50s} {spent:7.2f} CPU-s  {spent / base:5.2f}× GUDHI's CGAL")
+    _print_steps(found["seconds"], "GUDHI DelaunayComplex (built)", "GUDHI's CGAL", 50)
 
 
 def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
