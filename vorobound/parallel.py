@@ -304,6 +304,16 @@ def _dask_executor(address: str) -> Iterator[tuple[concurrent.futures.Executor, 
         _LOST.clear()
 
 
+def reachable_scheduler(address: str) -> None:
+    """Connect to the dask scheduler at ``address`` and let go at once, or a WorkerError: a
+    command that spends minutes before it needs the cluster (the L estimate of ``sample
+    --mesh``) calls this first, so a dead address is told in seconds, not after the work."""
+    with _dask_logs_quiet():
+        client = _dask_client(address)
+        with contextlib.suppress(Exception):
+            client.close(timeout=DASK_CONNECT_SECONDS)
+
+
 _LOST: list[str] = []
 """Why the running dask computation was given up (set by :class:`_WorkerWatch`), for the
 message of :func:`task_result`."""

@@ -245,3 +245,27 @@ def test_an_interrupt_while_the_spill_is_removed_leaves_no_spill(cylinder, tmp_p
         _sample(cylinder, tmp_path / "s.npz")
     assert raised and not list(spills.iterdir())
     assert np.load(tmp_path / "s.npz")["x"].size  # written before the interrupt
+
+
+def test_a_dead_scheduler_is_told_before_the_l_estimate(run_cli, cylinder, tmp_path, monkeypatch):
+    """Found by the hostile-input pass: ``sample --mesh --scheduler DEAD`` spent the whole L
+    estimate (minutes on a real part) before it found that no scheduler answers."""
+    pytest.importorskip("distributed")
+    from vorobound.api import surfaces
+
+    estimated = []
+    monkeypatch.setattr(surfaces.Surface, "shape", lambda *a, **k: estimated.append(1))
+    code, out, err = run_cli(
+        "sample",
+        "--mesh",
+        str(_stl(cylinder, tmp_path)),
+        "--eps",
+        "0.2",
+        "-o",
+        str(tmp_path / "s.npz"),
+        "--scheduler",
+        "tcp://127.0.0.1:9",
+    )
+    assert code == 2 and not out and err.count("\n") == 1
+    assert "cannot reach the dask scheduler" in err
+    assert not estimated and not (tmp_path / "s.npz").exists()

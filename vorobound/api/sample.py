@@ -128,6 +128,10 @@ def sample(
         )
     quality = QualityParams(sigma, delta_ratio)
     params = quality.at(eps)
+    if scheduler is not None and mesh is not None:
+        from ..parallel import reachable_scheduler
+
+        reachable_scheduler(scheduler)  # before the minutes of L, not after them
     start = time.perf_counter()
     shape = Surface(sphere, torus, mesh, lfs, sizing).shape(progress=progress)
     streamed = not isinstance(shape, RevolutionShape)
