@@ -45,3 +45,31 @@ def test_an_interrupt_during_import_is_one_line(run):
     )
     assert done.returncode == 130, done.stderr
     assert done.stderr == "interrupted\n"
+
+
+# SIGINT arrives while the exit handlers run, after the command's output is written.
+INTERRUPT_WHILE_EXITING = """
+import atexit, os, signal, sys, time
+atexit.register(lambda: (os.kill(os.getpid(), signal.{signal}), time.sleep(0.2)))
+sys.argv = ["vorobound", "solve", "--json"]
+from vorobound.launch import entry
+entry()
+"""
+
+
+@pytest.mark.parametrize("signal", ["SIGINT", "SIGTERM"])
+def test_an_interrupt_while_the_process_exits_is_one_line(signal):
+    """Found by the hostile-input pass: Ctrl-C in the last half second, while the interpreter
+    shut down, ended the run with exit 0 and an 'Exception ignored' traceback (or no line)."""
+    env = os.environ | {"PYTHONPATH": str(ROOT)}
+    done = subprocess.run(
+        [sys.executable, "-c", INTERRUPT_WHILE_EXITING.format(signal=signal)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+        preexec_fn=signals_as_from_a_terminal,
+    )
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "interrupted\n"
+    assert '"command": "solve"' in done.stdout  # the output was complete and is kept

@@ -350,16 +350,26 @@ def _run_exit_handlers(seconds: float) -> bool:
 def entry() -> None:
     """Console-script entry point.
 
-    After an interrupt the exit handlers run and the process ends at once (``os._exit``):
-    extension threads that were busy when the signal came (scipy's k-d tree workers) can
-    otherwise crash the interpreter while it tears itself down. Outputs are already cleaned up
-    by then.
+    The process ends by ``os._exit`` once the exit handlers have run, whatever the code:
+
+    * after an interrupt, extension threads that were busy when the signal came (scipy's k-d
+      tree workers) can otherwise crash the interpreter while it tears itself down;
+    * a Ctrl-C (or SIGTERM) in the last moments, while the exit handlers run, used to end the
+      process with no line at all; it is now told as any other interrupt (one line, 130).
+
+    Outputs are complete, or cleaned up, before this point.
     """
     code = main()
-    if code == EXIT_INTERRUPTED:
-        _run_exit_handlers(EXIT_HANDLER_SECONDS)
-        for stream in (sys.stdout, sys.stderr):
-            with contextlib.suppress(OSError, ValueError):
-                stream.flush()
-        os._exit(code)
-    sys.exit(code)
+    late: list[int] = []
+    with contextlib.suppress(ValueError, OSError):  # not the main thread: no handlers to set
+        for number in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(number, lambda signum, frame: late.append(signum))
+    _run_exit_handlers(EXIT_HANDLER_SECONDS)
+    if late and code != EXIT_INTERRUPTED:
+        with contextlib.suppress(OSError, ValueError):
+            sys.stderr.write("interrupted\n")
+        code = EXIT_INTERRUPTED
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError):
+            stream.flush()
+    os._exit(code)
