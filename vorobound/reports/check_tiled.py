@@ -32,15 +32,10 @@ from ..sampling.guides.measure import ModeBound, mode_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
 from ..sampling.io.stream import CHUNK_ROWS
 from ..tiling.engine import TiledRun, run_tiles
-from ..tiling.job import TileSettings
+from ..tiling.job import TileSettings, no_guide_triangles
+from ..tiling.rows import PartFiles
 from ..tiling.tally import GuideTally, gap_edges
-from .check import (
-    COVERAGE_NOTE,
-    LIPSCHITZ_SOURCES,
-    class_entries,
-    no_guide_triangles,
-    summary_fields,
-)
+from .check import COVERAGE_NOTE, LIPSCHITZ_SOURCES, class_entries, summary_fields
 
 
 @dataclass(frozen=True)
@@ -190,8 +185,7 @@ def check_ball_file(
         bounds=tuple(bounds),
         ratio_bounds=tuple(ratios),
         edges=edges,
-        table=table,
-        parts=None if table == "none" else str(outputs.parts),
+        rows=None if table == "none" else PartFiles(str(outputs.parts), table),
         vtu_share=0.0 if outputs is None else 1.0,
         what=f"balls {path.name}",
         total=0,
