@@ -106,15 +106,6 @@ class CheckReport:
         return self.tallies.candidates
 
     @property
-    def with_seeds(self) -> int:
-        """Of those, triples whose seed pair exists."""
-        return self.tallies.with_seeds
-
-    @property
-    def half_covered(self) -> int:
-        return self.tallies.half_covered
-
-    @property
     def tally(self) -> GuideTally:
         """The guide triangles' counts and maxima, as one tile of a tiled check has them."""
         return self.tallies.guides
@@ -376,7 +367,7 @@ def _check(
     part = check_part(TileJob.whole(balls, settings, lfs), stages, stages.progress)
     if part.guides.count == 0:
         raise no_guide_triangles(source, part.with_seeds, part.half_covered)
-    assert part.kept is not None
+    assert part.kept is not None  # the InMemory sink's rows
     with stages("conditions"):
         coverage, where, probes = _coverage(shape, balls, params.eps, part.kept.circumcenters, seed)
     return CheckReport(

@@ -62,7 +62,7 @@ from ..sampling.guides.seeds import COVER_RTOL, classify
 from ..sampling.guides.triangles import candidate_triples
 from ..sampling.sampler import conditions
 from . import plan as tiles
-from .rows import InMemory, Kept, PartFiles, vtu_cells
+from .rows import InMemory, PartFiles, PartRows, vtu_cells
 from .tally import GuideTally, PairTally, gap_edges
 
 VTU_FLAGGED = 1000
@@ -197,7 +197,7 @@ class TileOutcome(Tallies):
     """The parameters measured with (λ included)."""
     bounds: tuple[ModeBound, ...]
     ratio_bounds: tuple[ModeBound, ...]
-    kept: Kept | None = None
+    kept: PartRows | None = None
     """The rows, where the sink keeps them in memory."""
 
 
@@ -224,6 +224,8 @@ def check_part(
     """The check of one part, stage by stage (module docstring); ``clock`` times the stages
     (default: thread CPU seconds), ``progress`` reports the engine's and the seeds' steps."""
     s = job.settings
+    if s.measure_lipschitz and not job.is_whole:
+        raise InputError("a measured λ is the whole sample's: not in tiles (give lipschitz)")
     clock = clock or _Clock()
     balls = Balls(job.centers, job.radii)
     core = job.core
@@ -263,7 +265,8 @@ def check_part(
     kept, vtu = None, None
     with clock("rows"):
         if s.rows is not None:
-            kept = s.rows.take(job.tile, job.ids, guides, guide.geometry.circumcenter)
+            rows = PartRows(job.tile, job.ids, guides, guide.geometry.circumcenter)
+            kept = s.rows.take(rows)
         if s.vtu_share > 0:
             vtu = _vtu_rows(job, guides)
     core_radius = float(balls.radii[core].max())

@@ -66,26 +66,23 @@ def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> di
 
 
 @dataclass(frozen=True)
-class Kept:
-    """The rows a whole check keeps in memory: the measured guide triangles and their
-    circumcenters (the coverage stage probes the surface there)."""
+class PartRows:
+    """A part's rows as the pipeline hands them to its sink: the measured guide triangles
+    (local ball indices), the balls' indices in the whole set and the triangles'
+    circumcenters (a whole check's coverage stage probes the surface there)."""
 
+    tile: int
+    ids: np.ndarray
     guides: GuideMeasurements
     circumcenters: np.ndarray | None
 
 
 @dataclass(frozen=True)
 class InMemory:
-    """The sink of a whole check: its rows stay in memory (:class:`Kept`)."""
+    """The sink of a whole check: its rows stay in memory."""
 
-    def take(
-        self,
-        tile: int,
-        ids: np.ndarray,
-        guides: GuideMeasurements,
-        circumcenters: np.ndarray | None,
-    ) -> Kept:
-        return Kept(guides, circumcenters)
+    def take(self, rows: PartRows) -> PartRows:
+        return rows
 
 
 @dataclass(frozen=True)
@@ -96,19 +93,13 @@ class PartFiles:
     folder: str
     table: str
 
-    def take(
-        self,
-        tile: int,
-        ids: np.ndarray,
-        guides: GuideMeasurements,
-        circumcenters: np.ndarray | None,
-    ) -> None:
-        columns = guide_columns(guides, ids[guides.triples])
+    def take(self, rows: PartRows) -> None:
+        columns = guide_columns(rows.guides, rows.ids[rows.guides.triples])
         try:
-            write_part(part_path(self.folder, tile, self.table), columns)
+            write_part(part_path(self.folder, rows.tile, self.table), columns)
         except OSError as exc:
             raise WriteError(
-                f"cannot write the rows of tile {tile} into {self.folder}: "
+                f"cannot write the rows of tile {rows.tile} into {self.folder}: "
                 f"{exc.strerror or exc} (on a cluster the output folder must be on a file "
                 "system its workers share)"
             ) from None
