@@ -241,6 +241,9 @@ def check_part(
         has = seeded.has_seeds
         found = seeded.take(seeded.uncovered.any(axis=1))
         guide = found.take(found.guide)
+        with_seeds, half_covered = int(has.sum()), int(found.half_covered.sum())
+        seed_reach = 0.0 if job.is_whole else _seed_reach(seeded, has, balls, job)
+        del seeded, found  # every candidate's geometry: not kept through the later stages
     lfs = balls.radii / s.params.delta if job.lfs is None else job.lfs
     near, lam = None, s.lipschitz
     if s.measure_lipschitz:
@@ -276,7 +279,6 @@ def check_part(
         neighbour_reach = float(near.farthest[core].max())
         if len(balls) < min(conditions.NEIGHBOURS + 1, s.total):
             neighbour_reach = job.beta  # fewer balls than neighbours: ask for a wider halo
-        seed_reach = _seed_reach(seeded, has, balls, job)
         needed_beta = tiles.needed_halo(core_radius, sparsity_reach, seed_reach, neighbour_reach)
         certain = job.beta / (sparsity_reach * core_radius)
     return TileOutcome(
@@ -284,8 +286,8 @@ def check_part(
         balls=int(core.sum()),
         halo=int((~core).sum()),
         candidates=len(triples),
-        with_seeds=int(has.sum()),
-        half_covered=int(found.half_covered.sum()),
+        with_seeds=with_seeds,
+        half_covered=half_covered,
         guides=tally,
         sparsity=PairTally.of(sparse, job.ids, balls.centers),
         lipschitz=PairTally.of(lipschitz, job.ids, balls.centers),
