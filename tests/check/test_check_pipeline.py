@@ -12,11 +12,11 @@ from vorobound.bounds.params import QualityParams, SamplingParams
 from vorobound.errors import InputError
 from vorobound.reports import check as whole_check
 from vorobound.sampling.balls import make_balls
+from vorobound.sampling.guides.engines import Engine
 from vorobound.sampling.io.balls import write_balls
 from vorobound.sampling.sampler.maximal import sample_surface
 from vorobound.sampling.surfaces.analytic import TorusShape
 from vorobound.tiling import job as pipeline
-from vorobound.tiling.rows import InMemory
 
 pytest.importorskip("gudhi")
 
@@ -65,20 +65,7 @@ def test_a_tiled_check_runs_the_same_pipeline_per_tile(monkeypatch, torus_balls,
 
 def _settings(balls, **changes):
     params = SamplingParams(EPS, QualityParams(lipschitz=1.0))
-    settings = pipeline.TileSettings(
-        params=params,
-        lipschitz=1.0,
-        engine="gudhi",
-        top=float(balls.weights.max()),
-        bounds=None,
-        ratio_bounds=None,
-        edges=None,
-        rows=InMemory(),
-        vtu_share=0.0,
-        what="torus",
-        total=len(balls),
-        slabs=True,
-    )
+    settings = pipeline.TileSettings.whole(balls, params, 1.0, Engine.gudhi, "torus")
     return dataclasses.replace(settings, **changes)
 
 

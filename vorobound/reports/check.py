@@ -44,7 +44,7 @@ from ..sampling.guides.measure import GuideMeasurements, ModeBound
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, whole_engine
 from ..sampling.sampler import conditions
 from ..tiling.job import Tallies, TileJob, TileSettings, check_part, no_guide_triangles
-from ..tiling.rows import TABLES, InMemory, guide_columns
+from ..tiling.rows import TABLES, guide_columns
 from ..tiling.tally import CLASSES, GuideTally, PairTally
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
@@ -348,22 +348,9 @@ def _check(
         equal_radii_on_sphere(balls, shape.radius)
     )
     features = sharp_features(shape)
-    settings = TileSettings(
-        params=params,
-        lipschitz=lipschitz,
-        engine=whole_engine(engine, equal_on_sphere).value,
-        top=float(balls.weights.max()),
-        bounds=None,
-        ratio_bounds=None,
-        edges=None,
-        rows=InMemory(),
-        vtu_share=0.0,
-        what=source,
-        total=len(balls),
-        features=features,
-        slabs=True,
-        measure_lipschitz=lipschitz_kind == "measured",
-    )
+    engine = whole_engine(engine, equal_on_sphere)
+    measured = lipschitz_kind == "measured"
+    settings = TileSettings.whole(balls, params, lipschitz, engine, source, features, measured)
     part = check_part(TileJob.whole(balls, settings, lfs), stages, stages.progress)
     if part.guides.count == 0:
         raise no_guide_triangles(source, part.with_seeds, part.half_covered)

@@ -5,8 +5,9 @@
 sample, its triangles or their rows in one process: the tile engine
 (:mod:`vorobound.tiling.engine`) reads, plans and routes the tiles, runs the check's one
 pipeline (:func:`vorobound.tiling.job.check_part`, which a whole check runs once) on each,
-and merges their tallies; :class:`TiledCheckReport` is the check's report of that run, whose summary is built
-by the same :func:`~vorobound.reports.check.summary_fields` as a whole check's. Outputs
+and merges their tallies; :class:`TiledCheckReport` is the check's report of that run, whose
+summary is built by the same :func:`~vorobound.reports.check.summary_fields` as a whole
+check's. Outputs
 (:class:`~vorobound.reports.check_outputs.CheckOutputs`) are per-tile row files written by the
 workers into a hidden folder, published with summary.json, a decimated VTU and the gap
 histogram as one set when every tile is done, or removed on any failure.

@@ -105,6 +105,36 @@ class TileSettings:
     measure_lipschitz: bool = False
     """λ is measured on the part (a whole sample of a mesh's L), not ``lipschitz``."""
 
+    @classmethod
+    def whole(
+        cls,
+        balls: Balls,
+        params: SamplingParams,
+        lipschitz: float | None,
+        engine: Engine,
+        what: str,
+        features: object = None,
+        measure_lipschitz: bool = False,
+    ) -> TileSettings:
+        """The settings of a whole check (one part, in process): ``engine`` resolved (``hull``
+        allowed), GUDHI in slabs, the bounds computed after λ, the rows kept in memory."""
+        return cls(
+            params=params,
+            lipschitz=lipschitz,
+            engine=engine.value,
+            top=float(balls.weights.max()),
+            bounds=None,
+            ratio_bounds=None,
+            edges=None,
+            rows=InMemory(),
+            vtu_share=0.0,
+            what=what,
+            total=len(balls),
+            features=features,
+            slabs=True,
+            measure_lipschitz=measure_lipschitz,
+        )
+
 
 @dataclass(frozen=True)
 class TileJob:
