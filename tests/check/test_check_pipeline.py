@@ -106,3 +106,20 @@ def test_a_measured_lipschitz_needs_the_whole_sample(torus_balls):
     tile = dataclasses.replace(whole, beta=1.0)
     with pytest.raises(InputError, match="whole sample"):
         pipeline.check_part(tile)
+
+
+def test_a_whole_check_without_guide_triangles_stops_after_the_seeds(monkeypatch):
+    """As before the one pipeline: the error comes before any measurement or condition."""
+    from vorobound.errors import NoGuideTriangles
+    from vorobound.sampling.sampler import conditions
+
+    def unreachable(*args, **kwargs):
+        raise AssertionError("measured after the seeds stage")
+
+    monkeypatch.setattr(pipeline, "measure_guides", unreachable)
+    monkeypatch.setattr(conditions, "neighbours", unreachable)
+    centers = np.array([[0.0, 0, 0], [5, 0, 0], [0, 5, 0], [0, 0, 5], [5, 5, 5]])
+    balls = make_balls(centers, np.full(5, 0.1))
+    params = SamplingParams(EPS, QualityParams(lipschitz=1.0))
+    with pytest.raises(NoGuideTriangles, match="^far apart: no guide triangle"):
+        whole_check.check_balls(balls, params, engine="brute", source="far apart")

@@ -43,7 +43,7 @@ from ..sampling.guides.features import FEATURE_RULE
 from ..sampling.guides.measure import GuideMeasurements, ModeBound
 from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, whole_engine
 from ..sampling.sampler import conditions
-from ..tiling.job import Tallies, TileJob, TileSettings, check_part, no_guide_triangles
+from ..tiling.job import Tallies, TileJob, TileSettings, check_part
 from ..tiling.rows import TABLES, guide_columns
 from ..tiling.tally import CLASSES, GuideTally, PairTally
 
@@ -352,8 +352,6 @@ def _check(
     measured = lipschitz_kind == "measured"
     settings = TileSettings.whole(balls, params, lipschitz, engine, source, features, measured)
     part = check_part(TileJob.whole(balls, settings, lfs), stages, stages.progress)
-    if part.guides.count == 0:
-        raise no_guide_triangles(source, part.with_seeds, part.half_covered)
     assert part.kept is not None  # the InMemory sink's rows
     with stages("conditions"):
         coverage, where, probes = _coverage(shape, balls, params.eps, part.kept.circumcenters, seed)

@@ -10,7 +10,9 @@ ball if it is known exactly) and the :class:`TileSettings` every part of one che
    (:func:`~vorobound.sampling.guides.triangles.candidate_triples`: ``hull``, ``gudhi`` in
    slabs on threads or as one regular triangulation, ``brute``), kept when their smallest
    vertex index is in the core;
-2. ``seeds``: their seeds, classified with the whole set's lifting (W = ``top``);
+2. ``seeds``: their seeds, classified with the whole set's lifting (W = ``top``); a whole
+   check without a guide triangle stops here (:func:`no_guide_triangles`; a tiled check
+   raises it after the merge, since a tile may have none);
 3. ``conditions`` (only with ``measure_lipschitz``, a whole check of a mesh's L): λ measured
    from the neighbouring samples and the guide triangles' edges;
 4. ``bounds`` (only when the settings carry none, a whole check: after λ): each mode's bound
@@ -94,7 +96,7 @@ class TileSettings:
     vtu_share: float
     """Share of the guide triangles kept (uniformly) for the decimated VTU; 0: none."""
     what: str
-    """The input's name, for messages."""
+    """The input's name, for messages (a whole check's source)."""
     total: int
     """Balls in the whole set."""
     features: object = None
@@ -274,6 +276,8 @@ def check_part(
         with_seeds, half_covered = int(has.sum()), int(found.half_covered.sum())
         seed_reach = 0.0 if job.is_whole else _seed_reach(seeded, has, balls, job)
         del seeded, found  # every candidate's geometry: not kept through the later stages
+    if job.is_whole and len(guide.triples) == 0:
+        raise no_guide_triangles(s.what, with_seeds, half_covered)  # a tile may have none
     lfs = balls.radii / s.params.delta if job.lfs is None else job.lfs
     near, lam = None, s.lipschitz
     if s.measure_lipschitz:
