@@ -1,16 +1,24 @@
 """The check of a real sample against the paper: sampling conditions, guide triangles, bounds.
 
 :func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler.maximal`) and checks the
-sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both measure every
-guide triangle (:mod:`vorobound.sampling.guides.measure`) and assemble a :class:`CheckReport`.
+sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both run the check's
+one pipeline, :func:`vorobound.tiling.job.check_part`, on the whole sample as one tile in
+process (no halo, every thread, GUDHI in slabs or the hull engine, L exact where the surface
+gives it, λ measured where a mesh's L has none), and add the stages only a surface has around
+it: sampling before, coverage after. A tiled check (:mod:`vorobound.reports.check_tiled`, on
+the tile engine :mod:`vorobound.tiling`) runs the same pipeline per tile.
 
-One pipeline serves this whole check and the tiled one (:mod:`vorobound.reports.check_tiled`,
-on the tile engine :mod:`vorobound.tiling`): a whole check's summary is built, once, by
-:func:`summary_fields` from the same :class:`~vorobound.tiling.job.Tallies` a tile sends back
-(its rows tallied as one tile), the table format is checked in :func:`checked_table` only,
-the error of a sample without guide triangles is :func:`no_guide_triangles`, and both write
-their files through :class:`~vorobound.reports.check_outputs.CheckOutputs` (per-triangle
-rows, summary.json, a VTU for ParaView and a histogram of the realized gap, as one set).
+Both reports build their summary once, by :func:`summary_fields`, from the pipeline's
+:class:`~vorobound.tiling.job.Tallies` (a whole check's one outcome, or the merge of the
+tiles'); the table format is checked in :func:`checked_table` only; the error of a sample
+without guide triangles is :func:`~vorobound.tiling.job.no_guide_triangles`; both write their
+files through :class:`~vorobound.reports.check_outputs.CheckOutputs` (per-triangle rows,
+summary.json, a VTU for ParaView and a histogram of the realized gap, as one set).
+
+What a whole check has that tiles cannot: coverage (needs the surface and every ball), the
+measured λ (a property of the whole sample), every guide triangle's row in memory (the VTU
+shows them all, the gap histogram is drawn from the values, ``to_frame``), and candidate counts
+of GUDHI's slabs or the hull (a tile triangulates once; its guide triangles are the same).
 
 References
 ----------
@@ -27,23 +35,17 @@ from functools import cached_property
 
 import numpy as np
 
-from ..bounds.params import QualityParams, SamplingParams, Target
+from ..bounds.params import QualityParams, SamplingParams
 from ..bounds.targets import H3_STATUS
-from ..errors import NoGuideTriangles
 from ..progress import Counter, Progress
 from ..sampling.balls import Balls, make_balls
 from ..sampling.guides.features import FEATURE_RULE
-from ..sampling.guides.measure import (
-    GuideMeasurements,
-    ModeBound,
-    measure_guides,
-    mode_bounds,
-)
-from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, find_guide_triangles
+from ..sampling.guides.measure import GuideMeasurements, ModeBound
+from ..sampling.guides.triangles import Engine, equal_radii_on_sphere, whole_engine
 from ..sampling.sampler import conditions
-from ..tiling.job import Tallies
+from ..tiling.job import Tallies, TileJob, TileSettings, check_part
 from ..tiling.rows import TABLES, guide_columns
-from ..tiling.tally import CLASSES, GuideTally, PairTally, gap_edges
+from ..tiling.tally import CLASSES, GuideTally, PairTally
 
 GAP_HISTOGRAM_STEM = "gap_histogram"
 UNDEFINED_BOUND = (
@@ -79,18 +81,14 @@ class CheckReport:
     balls: Balls
     lfs: np.ndarray
     """L of every ball (exact for a sampled surface, r/δ for external balls)."""
-    proposed: int
-    """Candidate triples the engine proposed."""
-    with_seeds: int
-    """Of those, triples whose seed pair exists."""
-    half_covered: int
+    tallies: Tallies
+    """Candidate triples, those with seeds, the half-covered ones and the tallies of the guide
+    triangles and pair conditions (the pipeline's outcome, as a tile sends it back)."""
     guides: GuideMeasurements
     bounds: list[ModeBound]
     """Each mode's bound on R − R̂ (additive target)."""
     ratio_bounds: list[ModeBound]
     """Each proven mode's bound on R/R̂ (ratio target, eq. (54))."""
-    sparsity: conditions.PairReport
-    lipschitz_pairs: conditions.PairReport
     coverage_max: float | None
     """max distance/(εL) over the probes; None without a surface."""
     coverage_where: np.ndarray | None
@@ -102,27 +100,20 @@ class CheckReport:
     """How guide triangles were split into smooth-patch and feature ones (None: no sharp
     features known, every triangle is smooth)."""
 
-    @cached_property
+    @property
+    def proposed(self) -> int:
+        """Candidate triples the engine proposed."""
+        return self.tallies.candidates
+
+    @property
     def tally(self) -> GuideTally:
         """The guide triangles' counts and maxima, as one tile of a tiled check has them."""
-        ids = np.arange(len(self.balls))
-        return GuideTally.of(
-            self.guides, ids, self.balls.centers, self.params, gap_edges(self.params, [])
-        )
+        return self.tallies.guides
 
     @cached_property
     def _summary(self) -> dict:
-        ids, centers = np.arange(len(self.balls)), self.balls.centers
-        tallies = Tallies(
-            candidates=self.proposed,
-            with_seeds=self.with_seeds,
-            half_covered=self.half_covered,
-            guides=self.tally,
-            sparsity=PairTally.of(self.sparsity, ids, centers),
-            lipschitz=PairTally.of(self.lipschitz_pairs, ids, centers),
-        )
         coverage = (self.coverage_max, self.coverage_where, self.coverage_probes)
-        out = summary_fields(self, tallies, len(self.balls), coverage)
+        out = summary_fields(self, self.tallies, len(self.balls), coverage)
         out["by_class"] = class_entries(self.tally, self.feature_rule)
         if self.coverage_max is None:
             out["coverage_note"] = COVERAGE_NOTE
@@ -231,16 +222,6 @@ def _pairs(tally: PairTally) -> list[dict]:
     ]
 
 
-def no_guide_triangles(source: str, with_seeds: int, half_covered: int) -> NoGuideTriangles:
-    """The error of a check that found no guide triangle (tiled or not)."""
-    return NoGuideTriangles(
-        f"{source}: no guide triangle to measure ({with_seeds:,} triples of balls "
-        f"meet in a seed pair, {half_covered:,} of them half-covered): a VoroCrust sample of a "
-        "closed surface has guide triangles all over it; are the radii δ·L too small for the "
-        "spacing of the centers?"
-    )
-
-
 def bound_entries(bounds: list[ModeBound], eps: float) -> dict:
     """The summary's ``bound``: each mode's bound on R − R̂ per unit L_i, and over ε."""
     return {
@@ -270,20 +251,36 @@ def _finite(value) -> float | None:
     return value if np.isfinite(value) else None
 
 
+TIMED_STAGES = ("sample", "guide triangles", "conditions", "bounds", "measure")
+"""The stages of a whole check's ``timings``, in order."""
+_PIPELINE_STAGES = {
+    "triangulation": "guide triangles",
+    "seeds": "guide triangles",
+    "rows": "measure",
+}
+"""The pipeline's stages (:func:`vorobound.tiling.job.check_part`) a whole check times
+together."""
+
+
 class _Stages:
-    """Wall time per stage, and a progress line for the stages without their own counter."""
+    """Wall time per stage, and a progress line for the stages without their own counter
+    (the pipeline's clock of a whole check)."""
 
     def __init__(self, progress: Progress | None):
         self.progress = progress
         self.seconds: dict[str, float] = {}
 
     @contextmanager
-    def __call__(self, name: str, announce: bool = False):
-        if announce:
+    def __call__(self, name: str):
+        name = _PIPELINE_STAGES.get(name, name)
+        if name not in ("sample", "guide triangles") and name not in self.seconds:
             Counter(self.progress, name, None)
         start = time.perf_counter()
         yield
         self.seconds[name] = self.seconds.get(name, 0.0) + time.perf_counter() - start
+
+    def timings(self) -> dict[str, float]:
+        return {name: self.seconds[name] for name in TIMED_STAGES if name in self.seconds}
 
 
 def check_surface(
@@ -345,76 +342,45 @@ def check_balls(
 def _check(
     balls, lfs, params, lipschitz, engine, shape, seed, stages, source, lipschitz_kind
 ) -> CheckReport:
-    """The stages after sampling; ``lipschitz_kind`` is a key of ``LIPSCHITZ_SOURCES``."""
-    progress = stages.progress
+    """The pipeline on the whole sample as one tile, then coverage; ``lipschitz_kind`` is a
+    key of ``LIPSCHITZ_SOURCES``."""
     equal_on_sphere = bool(getattr(shape, "equal_radii_on_sphere", False)) and (
         equal_radii_on_sphere(balls, shape.radius)
     )
-    with stages("guide triangles"):
-        search = find_guide_triangles(balls, engine, equal_on_sphere, progress)
-    if len(search.guide.triples) == 0:
-        raise no_guide_triangles(source, search.with_seeds, search.half_covered)
-    with stages("conditions", announce=True):
-        near = conditions.neighbours(balls.centers)
-        if lipschitz_kind == "measured":
-            lipschitz = _measured_lipschitz(balls.centers, lfs, search.guide.triples, near)
-        sparse = conditions.sparsity(balls.centers, lfs, params.eps, params.sigma, near)
-        lipschitz_pairs = conditions.lipschitz(balls.centers, lfs, lipschitz, near)
-        coverage, where, probes = _coverage(shape, balls, params.eps, search.guide, seed)
-    with stages("bounds", announce=True):
-        params = params.but(lipschitz=lipschitz)
-        bounds = mode_bounds(params, Target.additive)
-        ratios = mode_bounds(params, Target.ratio)
     features = sharp_features(shape)
-    with stages("measure", announce=True):
-        guides = measure_guides(search.guide, lfs, params, bounds, ratios)
-        guides = guides.with_features(balls.centers, balls.radii, features)
+    engine = whole_engine(engine, equal_on_sphere)
+    measured = lipschitz_kind == "measured"
+    settings = TileSettings.whole(balls, params, lipschitz, engine, source, features, measured)
+    part = check_part(TileJob.whole(balls, settings, lfs), stages, stages.progress)
+    assert part.kept is not None  # the InMemory sink's rows
+    with stages("conditions"):
+        coverage, where, probes = _coverage(shape, balls, params.eps, part.kept.circumcenters, seed)
     return CheckReport(
         source=source,
-        params=params,
-        lipschitz=lipschitz,
+        params=part.params,
+        lipschitz=part.params.lipschitz,
         lipschitz_source=LIPSCHITZ_SOURCES[lipschitz_kind],
-        engine=search.engine,
+        engine=part.engine,
         balls=balls,
         lfs=lfs,
-        proposed=search.candidates,
-        with_seeds=search.with_seeds,
-        half_covered=search.half_covered,
-        guides=guides,
-        bounds=bounds,
-        ratio_bounds=ratios,
-        sparsity=sparse,
-        lipschitz_pairs=lipschitz_pairs,
+        tallies=part,
+        guides=part.kept.guides,
+        bounds=list(part.bounds),
+        ratio_bounds=list(part.ratio_bounds),
         coverage_max=coverage,
         coverage_where=where,
         coverage_probes=probes,
         seed=seed,
-        timings=stages.seconds,
+        timings=stages.timings(),
         feature_rule=None if features is None else FEATURE_RULE,
     )
 
 
-def _measured_lipschitz(points, lfs, triples, near: conditions.Neighbours) -> float:
-    """The λ the sample has: the largest |L_a − L_b|/|p_a − p_b| over neighbouring samples and
-    over the edges of the guide triangles, so every guide triangle meets the Lipschitz
-    conditions with it; 0 only for a constant L."""
-    from ..checks import LIPSCHITZ_RANGE
-
-    edges = np.concatenate([triples[:, [0, 1]], triples[:, [1, 2]], triples[:, [2, 0]]])
-    change = np.abs(lfs[edges[:, 0]] - lfs[edges[:, 1]])
-    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
-    ratios = [conditions.lipschitz(points, lfs, None, near).extreme]
-    if len(edges):
-        ratios.append(float((change / length).max()))
-    value = max(ratios)
-    return 0.0 if value == 0 else max(value, LIPSCHITZ_RANGE[0])
-
-
-def _coverage(shape, balls: Balls, eps: float, guides, seed):
+def _coverage(shape, balls: Balls, eps: float, circumcenters: np.ndarray | None, seed):
     """Coverage over random probes plus the guide triangles' circumcenters on the surface."""
     if shape is None:
         return None, None, 0
-    extra = guides.geometry.circumcenter if len(guides.triples) else None
+    extra = circumcenters if circumcenters is not None and len(circumcenters) else None
     return conditions.surface_coverage(shape, balls.centers, eps, seed, extra)
 
 

@@ -3,9 +3,11 @@
 :func:`check_ball_file` gives the numbers :func:`vorobound.reports.check.check_balls` gives
 (the same guide triangles bit for bit, and the same summary), without ever holding the whole
 sample, its triangles or their rows in one process: the tile engine
-(:mod:`vorobound.tiling.engine`) reads, plans, routes and runs the tiles and merges their
-tallies; :class:`TiledCheckReport` is the check's report of that run, whose summary is built
-by the same :func:`~vorobound.reports.check.summary_fields` as a whole check's. Outputs
+(:mod:`vorobound.tiling.engine`) reads, plans and routes the tiles, runs the check's one
+pipeline (:func:`vorobound.tiling.job.check_part`, which a whole check runs once) on each,
+and merges their tallies; :class:`TiledCheckReport` is the check's report of that run, whose
+summary is built by the same :func:`~vorobound.reports.check.summary_fields` as a whole
+check's. Outputs
 (:class:`~vorobound.reports.check_outputs.CheckOutputs`) are per-tile row files written by the
 workers into a hidden folder, published with summary.json, a decimated VTU and the gap
 histogram as one set when every tile is done, or removed on any failure.
@@ -32,15 +34,10 @@ from ..sampling.guides.measure import ModeBound, mode_bounds
 from ..sampling.guides.triangles import Engine, resolve_engine
 from ..sampling.io.stream import CHUNK_ROWS
 from ..tiling.engine import TiledRun, run_tiles
-from ..tiling.job import TileSettings
+from ..tiling.job import TileSettings, no_guide_triangles
+from ..tiling.rows import PartFiles
 from ..tiling.tally import GuideTally, gap_edges
-from .check import (
-    COVERAGE_NOTE,
-    LIPSCHITZ_SOURCES,
-    class_entries,
-    no_guide_triangles,
-    summary_fields,
-)
+from .check import COVERAGE_NOTE, LIPSCHITZ_SOURCES, class_entries, summary_fields
 
 
 @dataclass(frozen=True)
@@ -190,8 +187,7 @@ def check_ball_file(
         bounds=tuple(bounds),
         ratio_bounds=tuple(ratios),
         edges=edges,
-        table=table,
-        parts=None if table == "none" else str(outputs.parts),
+        rows=None if table == "none" else PartFiles(str(outputs.parts), table),
         vtu_share=0.0 if outputs is None else 1.0,
         what=f"balls {path.name}",
         total=0,

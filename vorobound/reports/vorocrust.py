@@ -141,12 +141,10 @@ class Realization:
 
 def measure(balls: Balls, shape, guides, seed: int | None = None) -> Measured:
     """The ratios of :class:`Measured`; the surface ones are None without ``shape``."""
-    from .check import _measured_lipschitz
-
     centers, radii = balls.centers, balls.radii
     near = conditions.neighbours(centers)
     spacing = conditions.sparsity(centers, radii, 1.0, 1.0, near)
-    lam = _measured_lipschitz(centers, radii, guides.triples, near)
+    lam = conditions.measured_lipschitz(centers, radii, guides.triples, near)
     if shape is None:
         return Measured(
             spacing.extreme, spacing.extreme_pair, lam, None, None, None, None, None, None

@@ -1,11 +1,39 @@
-"""One tile of a tiled check, as a worker computes it.
+"""The check's pipeline: one part of a check (a tile, or a whole sample as one tile), from
+balls to guide rows and tallies.
 
-A :class:`TileJob` carries the tile's balls (core and halo, by increasing index), its box and
-halo width β; :func:`run_tile` finds the candidate triples of the tile's regular triangulation,
-keeps those whose smallest vertex index is in the core, classifies their seeds with the whole
-set's lifting, measures the guide triangles, checks the pair conditions of the owned balls,
-writes the tile's rows if asked, and returns a :class:`TileOutcome` of mergeable tallies and
-the halo width the tile needed (:mod:`vorobound.tiling.plan`). It runs on one thread.
+A :class:`TileJob` carries the part's balls (a tile's core and halo, by increasing index, read
+from its shard file; or a whole sample in memory, :meth:`TileJob.whole`, no halo, with L per
+ball if it is known exactly) and the :class:`TileSettings` every part of one check shares.
+:func:`check_part` runs the stages, each timed by the caller's clock:
+
+1. ``triangulation``: the engine's candidate triples
+   (:func:`~vorobound.sampling.guides.triangles.candidate_triples`: ``hull``, ``gudhi`` in
+   slabs on threads or as one regular triangulation, ``brute``), kept when their smallest
+   vertex index is in the core;
+2. ``seeds``: their seeds, classified with the whole set's lifting (W = ``top``); a whole
+   check without a guide triangle stops here (:func:`no_guide_triangles`; a tiled check
+   raises it after the merge, since a tile may have none);
+3. ``conditions`` (only with ``measure_lipschitz``, a whole check of a mesh's L): λ measured
+   from the neighbouring samples and the guide triangles' edges;
+4. ``bounds`` (only when the settings carry none, a whole check: after λ): each mode's bound
+   and the gap histogram's edges;
+5. ``measure``: the guide triangles against the bounds, split by sharp features, tallied;
+6. ``conditions``: sparsity and Lipschitz over the pairs the part owns;
+7. ``rows``: the rows to the settings' sink (:class:`~vorobound.tiling.rows.PartFiles`, or
+   :class:`~vorobound.tiling.rows.InMemory`) and the picks of the decimated VTU.
+
+It returns a :class:`TileOutcome`: the mergeable :class:`Tallies`, the parameters and bounds
+measured with, and the halo width the part needed (:mod:`vorobound.tiling.plan`).
+:func:`run_tile` is a tiled check's worker: one thread, duplicate centers refused, then
+:func:`check_part`. A whole check (:mod:`vorobound.reports.check`) calls :func:`check_part`
+once, in process, on every thread, and adds the stages only a surface has (sampling before,
+coverage after).
+
+What still differs between a whole check and a tile is an option of this one pipeline, not a
+second copy: the ``hull`` engine and GUDHI's slabs (``slabs``: a tile runs one regular
+triangulation, so its candidate count can differ from a whole check's while its guide
+triangles are the same), the exact L of an analytic surface (``lfs``), the measured λ
+(``measure_lipschitz``: λ of a whole sample, so never per tile), and the owned pairs of a halo.
 
 References
 ----------
@@ -19,59 +47,100 @@ import math
 import os
 import resource
 import time
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..bounds.params import SamplingParams
-from ..errors import InputError, WriteError
+from ..bounds.params import SamplingParams, Target
+from ..errors import InputError, NoGuideTriangles
 from ..geometry.threads import limited_threads
+from ..progress import Progress
 from ..sampling.balls import Balls
-from ..sampling.guides.measure import GuideMeasurements, ModeBound, measure_guides
+from ..sampling.guides.engines import Engine
+from ..sampling.guides.measure import GuideMeasurements, ModeBound, measure_guides, mode_bounds
 from ..sampling.guides.seeds import COVER_RTOL, classify
-from ..sampling.guides.triangles import Engine, overlap_triples, regular_triangles
+from ..sampling.guides.triangles import candidate_triples
 from ..sampling.sampler import conditions
 from . import plan as tiles
-from .rows import guide_columns, part_path, vtu_cells, write_part
-from .tally import GuideTally, PairTally
+from .rows import InMemory, PartFiles, PartRows, vtu_cells
+from .tally import GuideTally, PairTally, gap_edges
 
 VTU_FLAGGED = 1000
 """A tile adds at most this many triangles that break something to the decimated VTU."""
 _HASH = np.array([73856093, 19349663, 83492791], dtype=np.uint64)
 
+Clock = Callable[[str], AbstractContextManager]
+"""Times a stage by name (``with clock("measure"): ...``) and keeps the seconds."""
+
 
 @dataclass(frozen=True)
 class TileSettings:
-    """What every tile of one check shares."""
+    """What every part of one check shares."""
 
     params: SamplingParams
     lipschitz: float | None
     engine: str
-    """``gudhi`` or ``brute`` (:class:`vorobound.sampling.guides.triangles.Engine`)."""
+    """``gudhi``, ``brute`` or (a whole check only) ``hull``
+    (:class:`vorobound.sampling.guides.triangles.Engine`, resolved)."""
     top: float
     """W = the largest weight of the whole set (the seeds' lifting)."""
-    bounds: tuple[ModeBound, ...]
-    ratio_bounds: tuple[ModeBound, ...]
-    edges: np.ndarray
-    """Bin edges of the gap histogram."""
-    table: str
-    """How the rows are written: ``parquet``, ``npz``, ``csv`` or ``none``
-    (:data:`vorobound.tiling.rows.TABLES`)."""
-    parts: str | None
-    """Folder for the tiles' row files."""
+    bounds: tuple[ModeBound, ...] | None
+    """Each mode's bound (None: the ``bounds`` stage computes them after λ)."""
+    ratio_bounds: tuple[ModeBound, ...] | None
+    edges: np.ndarray | None
+    """Bin edges of the gap histogram (None: with the bounds)."""
+    rows: PartFiles | InMemory | None
+    """Where the per-triangle rows go (None: nowhere)."""
     vtu_share: float
     """Share of the guide triangles kept (uniformly) for the decimated VTU; 0: none."""
     what: str
-    """The input's name, for messages."""
+    """The input's name, for messages (a whole check's source)."""
     total: int
     """Balls in the whole set."""
     features: object = None
     """:class:`vorobound.sampling.guides.features.SharpFeatures` of the part, or None."""
+    slabs: bool = False
+    """The ``gudhi`` engine cuts space into slabs on threads (a whole check), else one regular
+    triangulation (a tile, on one thread)."""
+    measure_lipschitz: bool = False
+    """λ is measured on the part (a whole sample of a mesh's L), not ``lipschitz``."""
+
+    @classmethod
+    def whole(
+        cls,
+        balls: Balls,
+        params: SamplingParams,
+        lipschitz: float | None,
+        engine: Engine,
+        what: str,
+        features: object = None,
+        measure_lipschitz: bool = False,
+    ) -> TileSettings:
+        """The settings of a whole check (one part, in process): ``engine`` resolved (``hull``
+        allowed), GUDHI in slabs, the bounds computed after λ, the rows kept in memory."""
+        return cls(
+            params=params,
+            lipschitz=lipschitz,
+            engine=engine.value,
+            top=float(balls.weights.max()),
+            bounds=None,
+            ratio_bounds=None,
+            edges=None,
+            rows=InMemory(),
+            vtu_share=0.0,
+            what=what,
+            total=len(balls),
+            features=features,
+            slabs=True,
+            measure_lipschitz=measure_lipschitz,
+        )
 
 
 @dataclass(frozen=True)
 class TileJob:
-    """A tile's balls and halo (see :mod:`vorobound.tiling.plan`)."""
+    """A part's balls and halo (see :mod:`vorobound.tiling.plan`)."""
 
     tile: int
     ids: np.ndarray
@@ -79,11 +148,35 @@ class TileJob:
     centers: np.ndarray
     radii: np.ndarray
     core: np.ndarray
-    """True for the balls the tile owns."""
+    """True for the balls the part owns."""
     lo: np.ndarray
     hi: np.ndarray
     beta: float
+    """Halo width (infinite: the whole set, no halo)."""
     settings: TileSettings
+    lfs: np.ndarray | None = None
+    """L per ball (None: r/δ)."""
+
+    @classmethod
+    def whole(cls, balls: Balls, settings: TileSettings, lfs: np.ndarray | None = None):
+        """Every ball as one part that owns them all: a whole check."""
+        count = len(balls)
+        return cls(
+            tile=0,
+            ids=np.arange(count),
+            centers=balls.centers,
+            radii=balls.radii,
+            core=np.ones(count, dtype=bool),
+            lo=balls.centers.min(axis=0),
+            hi=balls.centers.max(axis=0),
+            beta=math.inf,
+            settings=settings,
+            lfs=lfs,
+        )
+
+    @property
+    def is_whole(self) -> bool:
+        return math.isinf(self.beta)
 
 
 @dataclass(frozen=True)
@@ -99,9 +192,9 @@ class VtuRows:
 
 @dataclass(frozen=True)
 class Tallies:
-    """What the tiles of a check add up (and what a whole check's summary is built from):
-    candidate triples, those with seeds, the half-covered ones, and the tallies of the guide
-    triangles and of the pair conditions."""
+    """What the parts of a check add up (a whole check is one part): candidate triples, those
+    with seeds, the half-covered ones, and the tallies of the guide triangles and of the pair
+    conditions."""
 
     candidates: int
     with_seeds: int
@@ -113,7 +206,7 @@ class Tallies:
 
 @dataclass(frozen=True)
 class TileOutcome(Tallies):
-    """What a tile sends back."""
+    """What a part sends back."""
 
     tile: int
     balls: int
@@ -126,76 +219,124 @@ class TileOutcome(Tallies):
     sparsity_certain: float
     """Every owned pair with a sparsity ratio below this was seen."""
     seconds: dict[str, float]
-    """Thread CPU seconds per stage."""
+    """Seconds per stage, by the caller's clock (a tile's: thread CPU seconds)."""
     pid: int
     peak_rss: int
     """The worker process's peak resident memory, bytes."""
     vtu: VtuRows | None
+    engine: str
+    params: SamplingParams
+    """The parameters measured with (λ included)."""
+    bounds: tuple[ModeBound, ...]
+    ratio_bounds: tuple[ModeBound, ...]
+    kept: PartRows | None = None
+    """The rows, where the sink keeps them in memory."""
+
+
+def no_guide_triangles(source: str, with_seeds: int, half_covered: int) -> NoGuideTriangles:
+    """The error of a check that found no guide triangle (tiled or not)."""
+    return NoGuideTriangles(
+        f"{source}: no guide triangle to measure ({with_seeds:,} triples of balls "
+        f"meet in a seed pair, {half_covered:,} of them half-covered): a VoroCrust sample of a "
+        "closed surface has guide triangles all over it; are the radii δ·L too small for the "
+        "spacing of the centers?"
+    )
 
 
 def run_tile(job: TileJob) -> TileOutcome:
-    """Compute one tile (module docstring) on one thread."""
+    """A tiled check's worker: one part (module docstring) on one thread."""
     with limited_threads(1):
-        return _run(job)
+        _refuse_duplicates(job)
+        return check_part(job)
 
 
-def _run(job: TileJob) -> TileOutcome:
+def check_part(
+    job: TileJob, clock: Clock | None = None, progress: Progress | None = None
+) -> TileOutcome:
+    """The check of one part, stage by stage (module docstring); ``clock`` times the stages
+    (default: thread CPU seconds), ``progress`` reports the engine's and the seeds' steps."""
     s = job.settings
-    clock = _Clock()
+    if s.measure_lipschitz and not job.is_whole:
+        raise InputError("a measured λ is the whole sample's: not in tiles (give lipschitz)")
+    clock = clock or _Clock()
     balls = Balls(job.centers, job.radii)
     core = job.core
-    _refuse_duplicates(job)
+    owned = None if job.is_whole else core
     with clock("triangulation"):
-        if s.engine == Engine.brute.value:
-            triples = overlap_triples(balls)
-        else:
-            triples = regular_triangles(balls.centers, balls.weights)
+        triples = candidate_triples(balls, Engine(s.engine), s.slabs, progress)
         # Local order is the global order (ids increase), so the smallest local index is the
         # smallest ball index: its owner counts the triangle.
-        triples = np.sort(triples[core[triples.min(axis=1)]], axis=1)
+        if not job.is_whole:
+            triples = triples[core[triples.min(axis=1)]]
     with clock("seeds"):
-        seeded = classify(balls, triples, top=s.top)
+        seeded = classify(balls, triples, progress, top=s.top)
         has = seeded.has_seeds
-        seed_reach = _seed_reach(seeded, has, balls, job)
         found = seeded.take(seeded.uncovered.any(axis=1))
         guide = found.take(found.guide)
-    lfs = balls.radii / s.params.delta
+        with_seeds, half_covered = int(has.sum()), int(found.half_covered.sum())
+        seed_reach = 0.0 if job.is_whole else _seed_reach(seeded, has, balls, job)
+        del seeded, found  # every candidate's geometry: not kept through the later stages
+    if job.is_whole and len(guide.triples) == 0:
+        raise no_guide_triangles(s.what, with_seeds, half_covered)  # a tile may have none
+    lfs = balls.radii / s.params.delta if job.lfs is None else job.lfs
+    near, lam = None, s.lipschitz
+    if s.measure_lipschitz:
+        with clock("conditions"):
+            near = conditions.neighbours(balls.centers, owned)
+            lam = conditions.measured_lipschitz(balls.centers, lfs, guide.triples, near)
+    params, bounds, ratios, edges = s.params, s.bounds, s.ratio_bounds, s.edges
+    if bounds is None or ratios is None or edges is None:
+        with clock("bounds"):
+            params = params.but(lipschitz=lam)
+            bounds = tuple(mode_bounds(params, Target.additive))
+            ratios = tuple(mode_bounds(params, Target.ratio))
+            edges = gap_edges(params, [b.value / params.eps for b in bounds])
     with clock("measure"):
-        guides = measure_guides(guide, lfs, s.params, list(s.bounds), list(s.ratio_bounds))
+        guides = measure_guides(guide, lfs, params, list(bounds), list(ratios))
         guides = guides.with_features(balls.centers, balls.radii, s.features)
-        tally = GuideTally.of(guides, job.ids, balls.centers, s.params, s.edges)
+        tally = GuideTally.of(guides, job.ids, balls.centers, params, edges)
     with clock("conditions"):
-        near = conditions.neighbours(balls.centers, owned=core)
-        sparse = conditions.sparsity(balls.centers, lfs, s.params.eps, s.params.sigma, near)
-        lipschitz = conditions.lipschitz(balls.centers, lfs, s.lipschitz, near)
-        neighbour_reach = float(near.farthest[core].max())
-        if len(balls) < min(conditions.NEIGHBOURS + 1, s.total):
-            neighbour_reach = job.beta  # fewer balls than neighbours: ask for a wider halo
-    vtu = None
+        near = near or conditions.neighbours(balls.centers, owned)
+        sparse = conditions.sparsity(balls.centers, lfs, params.eps, params.sigma, near)
+        lipschitz = conditions.lipschitz(balls.centers, lfs, lam, near)
+    kept, vtu = None, None
     with clock("rows"):
-        if s.table != "none":
-            _write_rows(job, guides)
+        if s.rows is not None:
+            rows = PartRows(job.tile, job.ids, guides, guide.geometry.circumcenter)
+            kept = s.rows.take(rows)
         if s.vtu_share > 0:
             vtu = _vtu_rows(job, guides)
     core_radius = float(balls.radii[core].max())
-    sparsity_reach = s.params.sigma / s.params.quality.delta_ratio
+    sparsity_reach = params.sigma / params.quality.delta_ratio
+    needed_beta, certain = 0.0, math.inf
+    if not job.is_whole:
+        neighbour_reach = float(near.farthest[core].max())
+        if len(balls) < min(conditions.NEIGHBOURS + 1, s.total):
+            neighbour_reach = job.beta  # fewer balls than neighbours: ask for a wider halo
+        needed_beta = tiles.needed_halo(core_radius, sparsity_reach, seed_reach, neighbour_reach)
+        certain = job.beta / (sparsity_reach * core_radius)
     return TileOutcome(
         tile=job.tile,
         balls=int(core.sum()),
         halo=int((~core).sum()),
         candidates=len(triples),
-        with_seeds=int(has.sum()),
-        half_covered=int(found.half_covered.sum()),
+        with_seeds=with_seeds,
+        half_covered=half_covered,
         guides=tally,
         sparsity=PairTally.of(sparse, job.ids, balls.centers),
         lipschitz=PairTally.of(lipschitz, job.ids, balls.centers),
         core_radius=core_radius,
-        needed_beta=tiles.needed_halo(core_radius, sparsity_reach, seed_reach, neighbour_reach),
-        sparsity_certain=job.beta / (sparsity_reach * core_radius),
-        seconds=clock.seconds,
+        needed_beta=needed_beta,
+        sparsity_certain=certain,
+        seconds=getattr(clock, "seconds", {}),
         pid=os.getpid(),
         peak_rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
         vtu=vtu,
+        engine=s.engine,
+        params=params,
+        bounds=bounds,
+        ratio_bounds=ratios,
+        kept=kept,
     )
 
 
@@ -245,20 +386,6 @@ def _seed_reach(seeded, has: np.ndarray, balls: Balls, job: TileJob) -> float:
         tiles.box_distance(seeds[:, 1], job.lo, job.hi),
     )
     return float((gap + math.sqrt(COVER_RTOL) * r_min).max())
-
-
-def _write_rows(job: TileJob, guides: GuideMeasurements) -> None:
-    """The tile's rows (the columns of triangles.csv, global ball indices) as one part file."""
-    s = job.settings
-    columns = guide_columns(guides, job.ids[guides.triples])
-    try:
-        write_part(part_path(str(s.parts), job.tile, s.table), columns)
-    except OSError as exc:
-        raise WriteError(
-            f"cannot write the rows of tile {job.tile} into {s.parts}: "
-            f"{exc.strerror or exc} (on a cluster the output folder must be on a file system "
-            "its workers share)"
-        ) from None
 
 
 def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:

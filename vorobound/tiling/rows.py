@@ -1,8 +1,11 @@
 """The per-triangle rows of a check: their columns (triangles.csv), the cell values of the
-VTU, and the part files a tile writes and the driver joins into one table.
+VTU, the two sinks the pipeline (:func:`vorobound.tiling.job.check_part`) hands its rows to,
+and the part files a tile writes and the driver joins into one table.
 
 Every check writes its rows through these functions, tiled or not, so a column means the same
-in each of them.
+in each of them: a tile's sink (:class:`PartFiles`) writes them as a part file while the
+check runs; a whole check's (:class:`InMemory`) keeps them, and the output set
+(:class:`vorobound.reports.check_outputs.CheckOutputs`) writes them as one file with the rest.
 
 References
 ----------
@@ -12,6 +15,7 @@ Theorem 1, eq. (29), (33)–(36), (54)–(55) and property H3 of Section 4.1.
 from __future__ import annotations
 
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -59,6 +63,46 @@ def guide_columns(g: GuideMeasurements, triples: np.ndarray | None = None) -> di
     for mode, rows in (g.exceeds_ratio or {}).items():
         columns[f"exceeds_ratio_{mode}"] = rows.astype(np.int64)
     return columns
+
+
+@dataclass(frozen=True)
+class PartRows:
+    """A part's rows as the pipeline hands them to its sink: the measured guide triangles
+    (local ball indices), the balls' indices in the whole set and the triangles'
+    circumcenters (a whole check's coverage stage probes the surface there)."""
+
+    tile: int
+    ids: np.ndarray
+    guides: GuideMeasurements
+    circumcenters: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class InMemory:
+    """The sink of a whole check: its rows stay in memory."""
+
+    def take(self, rows: PartRows) -> PartRows:
+        return rows
+
+
+@dataclass(frozen=True)
+class PartFiles:
+    """The sink of a tiled check: each tile's rows (global ball indices) as one part file in
+    ``folder`` (``table``: parquet, npz or csv)."""
+
+    folder: str
+    table: str
+
+    def take(self, rows: PartRows) -> None:
+        columns = guide_columns(rows.guides, rows.ids[rows.guides.triples])
+        try:
+            write_part(part_path(self.folder, rows.tile, self.table), columns)
+        except OSError as exc:
+            raise WriteError(
+                f"cannot write the rows of tile {rows.tile} into {self.folder}: "
+                f"{exc.strerror or exc} (on a cluster the output folder must be on a file "
+                "system its workers share)"
+            ) from None
 
 
 def vtu_cells(g: GuideMeasurements, rows: np.ndarray | None = None) -> dict[str, np.ndarray]:

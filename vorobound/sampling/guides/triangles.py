@@ -119,6 +119,15 @@ def resolve_engine(engine: Engine | str, cospherical_equal: bool) -> Engine:
     return engine
 
 
+def whole_engine(engine: Engine | str, cospherical_equal: bool) -> Engine:
+    """:func:`resolve_engine` for every ball at once: ``hull`` only on equal radii on a
+    sphere."""
+    engine = resolve_engine(engine, cospherical_equal)
+    if engine is Engine.hull and not cospherical_equal:
+        raise InputError("engine hull needs equal radii on a sphere")
+    return engine
+
+
 def find_guide_triangles(
     balls: Balls,
     engine: Engine | str = Engine.auto,
@@ -143,19 +152,29 @@ def find_guide_triangles(
     ----------
     The guide triangles of Section 4.1.
     """
-    engine = resolve_engine(engine, cospherical_equal)
-    if engine is Engine.hull:
-        if not cospherical_equal:
-            raise InputError("engine hull needs equal radii on a sphere")
-        Counter(progress, "convex hull", None)
-        triples = hull_triples(balls)
-    elif engine is Engine.gudhi:
-        triples = gudhi_triples(balls, progress)
-    else:
-        triples = overlap_triples(balls, progress)
+    engine = whole_engine(engine, cospherical_equal)
+    triples = candidate_triples(balls, engine, progress=progress)
     seeded = classify(balls, triples, progress)
     keep = seeded.uncovered.any(axis=1)
     return GuideSearch(engine.value, len(triples), int(seeded.has_seeds.sum()), seeded.take(keep))
+
+
+def candidate_triples(
+    balls: Balls, engine: Engine, slabs: bool = True, progress: Progress | None = None
+) -> np.ndarray:
+    """The triples a resolved ``engine`` proposes (each row's indices increasing; module
+    docstring). ``slabs``: the ``gudhi`` engine cuts space into slabs run in threads and
+    returns distinct rows in lexicographic order (a whole check); without, one regular
+    triangulation in CGAL's order (a tile of a tiled check, on one thread). ``hull`` assumes
+    equal radii on a sphere."""
+    if engine is Engine.hull:
+        Counter(progress, "convex hull", None)
+        return hull_triples(balls)
+    if engine is Engine.gudhi:
+        if slabs:
+            return gudhi_triples(balls, progress)
+        return np.sort(regular_triangles(balls.centers, balls.weights), axis=1)
+    return overlap_triples(balls, progress)
 
 
 def hull_triples(balls: Balls) -> np.ndarray:

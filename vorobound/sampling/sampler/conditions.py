@@ -251,6 +251,22 @@ def lipschitz(
     return _report(pairs, ratio, broken, smallest=False)
 
 
+def measured_lipschitz(points, lfs, triples, near: Neighbours) -> float:
+    """The λ a sample has: the largest |L_a − L_b|/|p_a − p_b| over neighbouring samples and
+    over the edges of the guide triangles ``triples``, so every guide triangle meets the
+    Lipschitz conditions with it; 0 only for a constant L."""
+    from ...checks import LIPSCHITZ_RANGE
+
+    edges = np.concatenate([triples[:, [0, 1]], triples[:, [1, 2]], triples[:, [2, 0]]])
+    change = np.abs(lfs[edges[:, 0]] - lfs[edges[:, 1]])
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    ratios = [lipschitz(points, lfs, None, near).extreme]
+    if len(edges):
+        ratios.append(float((change / length).max()))
+    value = max(ratios)
+    return 0.0 if value == 0 else max(value, LIPSCHITZ_RANGE[0])
+
+
 def _unique_pairs(first: np.ndarray, second: np.ndarray, count: int) -> np.ndarray:
     """Distinct unordered pairs as rows (i, j), i < j (one integer key per pair)."""
     low, high = np.minimum(first, second), np.maximum(first, second)
