@@ -3,7 +3,8 @@
 Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6``,
 ``python benchmarks/bench_engines.py tile --sizes 1e6``,
 ``python benchmarks/bench_engines.py binding --sizes 1e5`` and
-``python benchmarks/bench_engines.py reconstruct --eps 0.03 [--stages]``. Every measurement runs
+``python benchmarks/bench_engines.py reconstruct --eps 0.03 [--stages]`` and
+``python benchmarks/bench_engines.py cells --eps 0.03 [--cube]``. Every measurement runs
 in its own fresh process; printed are CPU and wall seconds and the load average before and after
 (the machine is shared: CPU seconds are the steadier measure).
 
@@ -29,6 +30,17 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
   with the compiled steps and with the numpy steps, and qhull) and the whole ``reconstruct`` of
   the surface. Target: M̂ ≤ 1.5× CGAL's
   tetrahedralization.
+* ``cells``: the tetrahedra of the seeds and their face-neighbour table (what M̂ starts from),
+  four ways on the same seeds (the torus (3, 1) at ε, or with ``--cube`` the CAD cube [−1, 1]³
+  of issue 32 at ε): CGAL's bare triangulation (GUDHI ``DelaunayComplex`` built, the issue's
+  baseline); M̂'s route (that, GUDHI's simplex tree read in bulk, the compiled face
+  neighbours); qhull (``scipy.spatial.Delaunay``, the cross-check); and the ``cgal`` package's
+  SWIG bindings (not a dependency: a skip line when not installed): the seeds handed over as
+  one array (``Point_set_3.insert_range``), ``Delaunay_triangulation_3`` built from them in one
+  call, ``write_to_file`` at 17 digits (exact coordinates) read back with numpy, vertices
+  matched to the seeds by sorting, the cells and their neighbour table brought to M̂'s layout
+  (finite cells, rows ascending, rows in lexicographic order). Each in a fresh process, with
+  its peak memory; the SWIG route's arrays are compared with M̂'s route's (a digest).
 """
 
 from __future__ import annotations
@@ -352,6 +364,127 @@ def child_stages(path: str) -> dict:
     return {"steps": steps, "tetrahedra": len(tets)}
 
 
+def child_cube_seeds(eps: str, out: str) -> dict:
+    """The labelled seeds of ``reconstruct --mesh cube.stl --eps E`` (the cube of issue 32)."""
+    import numpy as np
+
+    sys.path.insert(0, os.path.dirname(__file__))
+    from bench_reconstruct import _reconstruct_cube
+
+    seeds = _reconstruct_cube(float(eps), None).seeds
+    np.save(out, np.column_stack([seeds.points, seeds.inside]))
+    return {"seeds": len(seeds)}
+
+
+def swig_cells(points, lap):
+    """Tetrahedra (t, 4; rows ascending, in lexicographic order) and face neighbours (−1 on the
+    hull) of CGAL's Delaunay triangulation through the ``cgal`` package's SWIG bindings, in M̂'s
+    layout; ``lap(step)`` is called after each step."""
+    import numpy as np
+    from CGAL.CGAL_Point_set_3 import Point_set_3
+    from CGAL.CGAL_Triangulation_3 import Delaunay_triangulation_3
+
+    cloud = Point_set_3()
+    cloud.insert_range(np.ascontiguousarray(points, dtype=float).ravel())
+    lap("SWIG: seeds as one array (Point_set_3)")
+    triangulation = Delaunay_triangulation_3()
+    triangulation.insert(cloud.points())  # one call: CGAL sorts them in space itself
+    del cloud
+    lap("SWIG: Delaunay_triangulation_3 (built)")
+    with tempfile.TemporaryDirectory() as folder:
+        text = os.path.join(folder, "triangulation.txt")
+        triangulation.write_to_file(text, 17)  # 17 digits: every coordinate exact
+        del triangulation
+        lap("SWIG: write_to_file, triangulation freed")
+        with open(text, "rb") as stream:
+            data = stream.read()
+    ends = np.flatnonzero(np.frombuffer(data, np.uint8) == ord("\n"))
+    n_vertices = int(data[ends[0] + 1 : ends[1]])
+    vertices = np.fromstring(data[ends[1] + 1 : ends[1 + n_vertices]], sep=" ").reshape(-1, 3)
+    n_cells = int(data[ends[1 + n_vertices] + 1 : ends[2 + n_vertices]])
+    numbers = np.fromstring(data[ends[2 + n_vertices] + 1 :], dtype=np.int64, sep=" ")
+    del data, ends
+    cells, across = numbers[: 4 * n_cells].reshape(-1, 4), numbers[4 * n_cells :].reshape(-1, 4)
+    lap("SWIG: the file parsed (numpy)")
+    # The file lists the vertices in CGAL's order (0: the infinite vertex): match them to the
+    # seeds by sorting both (a repeated seed is one vertex, matched to its first copy).
+    by_seed = np.lexsort(points.T[::-1])
+    ordered = points[by_seed]
+    first = np.ones(len(points), dtype=bool)
+    first[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    by_vertex = np.lexsort(vertices.T[::-1])
+    if not np.array_equal(vertices[by_vertex], ordered[first]):
+        raise SystemExit("SWIG: the vertices written are not the seeds")
+    seed_of = np.empty(n_vertices + 1, dtype=np.int64)
+    seed_of[0] = -1
+    seed_of[1 + by_vertex] = by_seed[first]
+    finite = (cells != 0).all(axis=1)
+    renumber = np.full(n_cells, -1, dtype=np.int64)
+    renumber[finite] = np.arange(int(finite.sum()))
+    tets, across = seed_of[cells[finite]], renumber[across[finite]]
+    del cells, numbers
+    lap("SWIG: vertices matched, finite cells")
+    corner = np.argsort(tets, axis=1)
+    tets, across = np.take_along_axis(tets, corner, 1), np.take_along_axis(across, corner, 1)
+    row = np.lexsort(tets.T[::-1])
+    rank = np.empty_like(row)
+    rank[row] = np.arange(len(row))
+    tets, across = tets[row], across[row]
+    across = np.where(across >= 0, rank[np.maximum(across, 0)], -1)
+    lap("SWIG: rows ascending, in lexicographic order")
+    return tets, across
+
+
+def child_cells(path: str, route: str) -> dict:
+    """The tetrahedra and face neighbours of the seeds at ``path`` by one route: "cgal" (GUDHI
+    ``DelaunayComplex`` built, no more), "gudhi" (M̂'s route), "qhull" or "swig"."""
+    import hashlib
+
+    import numpy as np
+
+    from vorobound.sampling.reconstruct import facets
+
+    data = np.load(path)
+    shift, unit = facets.seed_frame(data[:, :3])
+    points = np.ascontiguousarray((data[:, :3] - shift) / unit)
+    kernel = facets._facets_kernel()
+    if route == "gudhi":  # numba and the kernels' machine code loaded first
+        warm = np.random.default_rng(0).random((40, 3))
+        facets.inout_facets(warm, warm[:, 0] < 0.5, compiled=True)
+    if route == "swig":
+        try:
+            import CGAL.CGAL_Triangulation_3  # noqa: F401
+        except ImportError:
+            return {"skipped": "the cgal package (SWIG bindings) is not installed"}
+    steps: dict[str, float] = {}
+    marks = [_cpu()]
+
+    def lap(name: str) -> None:
+        marks.append(_cpu())
+        steps[name] = marks[-1] - marks[-2]
+
+    cpu, wall = _cpu(), time.perf_counter()
+    if route == "cgal":
+        import gudhi
+
+        gudhi.DelaunayComplex(points=points, precision="fast")
+        tets = across = np.empty((0, 4), dtype=np.int64)
+    elif route == "gudhi":
+        tets, across, _ = facets._cgal_tetrahedra(points, kernel)
+    elif route == "qhull":
+        tets, across, _ = facets._qhull_tetrahedra(points)
+    else:
+        tets, across = swig_cells(points, lap)
+    spent = (_cpu() - cpu, time.perf_counter() - wall)
+    digest = hashlib.sha1(tets.tobytes() + across.tobytes()).hexdigest()[:12]
+    return {"cpu_wall": spent, "peak_gb": _peak_gb(), "tetrahedra": len(tets),
+            "steps": steps, "digest": digest, "seeds": len(points)}  # fmt: skip
+
+
+def _peak_gb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+
+
 def _pair(label: str, cpu_wall, base, load=None) -> str:
     ratio = cpu_wall[0] / base[0]
     text = f"  {label:44s} {cpu_wall[0]:7.2f} CPU-s {cpu_wall[1]:7.2f} s wall  {ratio:5.2f}×"
@@ -442,17 +575,60 @@ def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
             print(f"    {name:40s} {seconds:7.2f} CPU-s {seconds / unit:5.2f}×")
 
 
+CELL_ROUTES = {
+    "cgal": "CGAL Delaunay (GUDHI DelaunayComplex, built)",
+    "gudhi": "M̂'s route: + simplex tree, read, neighbours",
+    "swig": "cgal package (SWIG): tetrahedra + neighbours",
+    "qhull": "qhull (scipy Delaunay): + neighbours",
+}
+"""The routes of ``cells``, in the order run."""
+
+
+def bench_cells(eps: str, cube: bool, repeat: int = 1) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        seeds = os.path.join(folder, "seeds.npy")
+        _child("cube_seeds" if cube else "seeds", eps, seeds)
+        runs = {route: [] for route in CELL_ROUTES}
+        for _ in range(repeat):  # alternated, so each route sees the same loads
+            for route in CELL_ROUTES:
+                runs[route].append(_child("cells", seeds, route))
+    base = min((r["cpu_wall"] for r in runs["cgal"]), key=lambda cw: cw[0])
+    part = "cube [−1, 1]³" if cube else "torus (3, 1)"
+    print(f"{part}, ε = {eps}: {runs['cgal'][0]['seeds']:,} seeds")
+    for route, label in CELL_ROUTES.items():
+        if "skipped" in runs[route][0]:
+            print(f"  {label}: skipped ({runs[route][0]['skipped']})")
+            continue
+        for found in runs[route]:
+            text = _pair(label, found["cpu_wall"], base, found["load"])
+            print(f"{text}  peak {found['peak_gb']:.2f} GB")
+        found = min(runs[route], key=lambda r: r["cpu_wall"][0])
+        for name, spent in found["steps"].items():
+            print(f"    {name:44s} {spent:7.2f} CPU-s  {spent / base[0]:5.2f}× CGAL built")
+    tets = {r: runs[r][0]["tetrahedra"] for r in ("gudhi", "qhull")}
+    swig = runs["swig"][0]
+    same = "skipped" if "skipped" in swig else swig["digest"] == runs["gudhi"][0]["digest"]
+    print(
+        f"  tetrahedra: {tets['gudhi']:,} (CGAL), {tets['qhull']:,} (qhull); SWIG's arrays equal "
+        f"to M̂'s route's: {same}"
+    )
+
+
 def main() -> None:
     if len(sys.argv) > 2 and sys.argv[1] == "--child":
         print(json.dumps(globals()[f"child_{sys.argv[2]}"](*sys.argv[3:])))
         return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=["check", "tile", "binding", "reconstruct", "tiny"])
+    parser.add_argument(
+        "what", choices=["check", "tile", "binding", "reconstruct", "cells", "tiny"]
+    )
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
     parser.add_argument(
         "--stages", action="store_true", help="reconstruct: also time M̂'s steps one by one"
     )
+    parser.add_argument("--cube", action="store_true", help="cells: the cube's seeds")
+    parser.add_argument("--repeat", type=int, default=1, help="cells: runs of each route")
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
     args = parser.parse_args()
     if args.what == "tiny":  # CI: every measurement at a size that takes seconds
@@ -460,12 +636,15 @@ def main() -> None:
         bench_tile(args.data, 20_000)
         bench_binding(args.data, 20_000)
         bench_reconstruct("0.3", True)
+        bench_cells("0.3", False)
     elif args.what == "check":
         bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
     elif args.what == "binding":
         bench_binding(args.data, int(float(args.sizes.split(",")[-1])))
     elif args.what == "tile":
         bench_tile(args.data, int(float(args.sizes.split(",")[-1])))
+    elif args.what == "cells":
+        bench_cells(args.eps, args.cube, args.repeat)
     else:
         bench_reconstruct(args.eps, args.stages)
 
