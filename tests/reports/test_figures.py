@@ -148,11 +148,12 @@ def _in_view(axis, loc: float) -> bool:
     return low - 1e-10 * (high - low) <= at <= high + 1e-10 * (high - low)
 
 
-def _clipped_tick_labels(fig) -> list[str]:
-    """Drawn tick labels that reach outside the figure."""
+def _clipped_tick_labels(fig, renderer=None) -> list[str]:
+    """Drawn tick labels that reach outside the figure (``renderer``: of a draw of ``fig``
+    already made, else it is drawn)."""
     from vorobound.plotting import rendered, style
 
-    renderer = rendered(fig)
+    renderer = renderer or rendered(fig)
     bad = []
     with style():  # tick labels are made again from the settings in force
         bounds = fig.bbox
@@ -182,14 +183,14 @@ def _drawn_points(line, renderer, per_segment: int = 64) -> np.ndarray:
     return (vertices[:-1] + steps * (vertices[1:] - vertices[:-1])).reshape(-1, 2)
 
 
-def _legends_over_data(fig) -> list[str]:
+def _legends_over_data(fig, renderer=None) -> list[str]:
     """Artists with drawn data (lines, markers, bars) inside a legend's box, or legends that
     leave the figure."""
     from matplotlib.transforms import Bbox
 
     from vorobound.plotting import rendered, style
 
-    renderer = rendered(fig)
+    renderer = renderer or rendered(fig)
     found = []
     with style():
         legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
@@ -230,12 +231,12 @@ def committed_figures(target_data):
     )
 
 
-def _texts_outside(fig) -> list[str]:
+def _texts_outside(fig, renderer=None) -> list[str]:
     """Every drawn text (titles, labels, legend entries, tags) that reaches outside the
     figure, measured with the renderer's bounding boxes."""
     from vorobound.plotting import rendered, style
 
-    renderer = rendered(fig)
+    renderer = renderer or rendered(fig)
     bad = []
     ticks = {  # checked by _clipped_tick_labels, which knows the ones not drawn
         id(label)
@@ -263,6 +264,23 @@ def _texts_outside(fig) -> list[str]:
     return bad
 
 
+CLEAR = {"clipped tick labels": [], "legends over data": [], "texts outside the figure": []}
+"""What :func:`_layout_faults` finds in a figure laid out well."""
+
+
+def _layout_faults(fig) -> dict[str, list[str]]:
+    """The three layout checks above on one draw of ``fig`` (drawing is the costly part, and
+    the checks only read the extents a draw leaves)."""
+    from vorobound.plotting import rendered
+
+    renderer = rendered(fig)
+    return {
+        "clipped tick labels": _clipped_tick_labels(fig, renderer),
+        "legends over data": _legends_over_data(fig, renderer),
+        "texts outside the figure": _texts_outside(fig, renderer),
+    }
+
+
 HISTOGRAM_MARKS = [("paper", 2.34, "invalid"), ("rigorous", 2.34, "proven"), ("tight", 0.935, "p")]
 
 
@@ -284,9 +302,7 @@ CAD_TITLE = "cube.stl (L: estimated, 1-Lipschitz (docs/lfs.md))"
 
 def test_committed_figures_keep_tick_labels_and_legends_clear(committed_figures):
     for fig in committed_figures:
-        assert _clipped_tick_labels(fig) == []
-        assert _legends_over_data(fig) == []
-        assert _texts_outside(fig) == []
+        assert _layout_faults(fig) == CLEAR
 
 
 @pytest.mark.parametrize("sigma, rho_f", [(0.5, 1.1), (1.0, 2.0), (0.75, 5.0)])
@@ -302,9 +318,7 @@ def test_tick_labels_are_never_clipped(sigma, rho_f):
         plot_comparison(targets),
         plot_ratio(targets),
     ):
-        assert _clipped_tick_labels(fig) == []
-        assert _legends_over_data(fig) == []
-        assert _texts_outside(fig) == []
+        assert _layout_faults(fig) == CLEAR
 
 
 @pytest.fixture(scope="module")
@@ -317,9 +331,7 @@ def histograms():
 )
 def test_histogram_layout(histograms, name):
     fig = histograms[name]
-    assert _clipped_tick_labels(fig) == []
-    assert _legends_over_data(fig) == []
-    assert _texts_outside(fig) == []
+    assert _layout_faults(fig) == CLEAR
 
 
 def test_a_near_point_mass_is_drawn_on_its_own_scale(histograms):
@@ -400,8 +412,8 @@ def test_reconstruct_sweep_puts_each_cross_at_its_own_value():
     with style():
         one, two = (tags[k].get_window_extent(renderer) for k in ("1", "2"))
     assert one.y1 <= two.y0 or two.y1 <= one.y0  # readable apart
-    assert _texts_outside(fig) == []
-    assert _legends_over_data(fig) == []
+    assert _texts_outside(fig, renderer) == []
+    assert _legends_over_data(fig, renderer) == []
 
 
 def test_reconstruct_sweep_layout_with_every_mark():
@@ -423,9 +435,9 @@ def test_reconstruct_sweep_layout_with_every_mark():
     fig = plot_reconstruct_sweep(eps, panels, [True] * 4, marks, "M̂ of torus R=3, r=1")
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # "constrained_layout not applied" is a warning
-        rendered(fig)
-    assert _texts_outside(fig) == []
-    assert _legends_over_data(fig) == []
+        renderer = rendered(fig)
+    assert _texts_outside(fig, renderer) == []
+    assert _legends_over_data(fig, renderer) == []
 
 
 # --- the tiled check's histogram: counts on fixed bins ----------------------------------------
@@ -510,9 +522,7 @@ def test_a_tiled_check_of_a_tiny_spread_draws_its_range_on_its_own_scale(tiled_h
 @pytest.mark.parametrize("name", ["constant", "tiny spread"])
 def test_tiled_histogram_layout(tiled_histograms, name):
     fig = tiled_histograms[name][0]
-    assert _clipped_tick_labels(fig) == []
-    assert _legends_over_data(fig) == []
-    assert _texts_outside(fig) == []
+    assert _layout_faults(fig) == CLEAR
 
 
 def _counted(values, edges):
@@ -550,9 +560,7 @@ def test_tiled_counts_of_a_spread_are_grouped_bars_on_the_bounds_scale():
     assert ax.get_yscale() == "log" and len(ax.patches) == len(data.heights)
     assert [bar.get_height() for bar in ax.patches] == data.heights.tolist()
     assert "\n" not in ax.get_title() and len(ax.get_lines()) == 3
-    assert _clipped_tick_labels(fig) == []
-    assert _legends_over_data(fig) == []
-    assert _texts_outside(fig) == []
+    assert _layout_faults(fig) == CLEAR
 
 
 def test_tiled_counts_in_one_bar_are_a_point_mass():
