@@ -13,6 +13,10 @@ from vorobound import VoroboundError, weighted_triangles
 from vorobound.studies.cheng import cheng_constants, nearest_vertex_distances, simplex_radii
 
 ALPHAS = (0.1, 0.2, 0.3, 0.4, 0.45, 0.49)
+SLOW_ALPHAS = (0.2, 0.4)
+"""Each 2-D search costs about 1 CPU-s: these run with the slow marker only. The others (both
+ends of the range and 0.3, 0.45 between) run by default and are the ones the maximizer and
+sample tests below read."""
 SUP_RTOL = 1e-12
 """Rounding slack when comparing the numerical supremum with closed forms and samples."""
 REACH_RTOL = 1e-9
@@ -77,7 +81,12 @@ def random_admissible(rng, n, dim, alpha):
 # --- 2-D: triangles ------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("alpha", ALPHAS)
+def _alphas(alphas, slow):
+    """``alphas`` as parameters, those in ``slow`` under the slow marker."""
+    return [pytest.param(a, marks=pytest.mark.slow) if a in slow else a for a in alphas]
+
+
+@pytest.mark.parametrize("alpha", _alphas(ALPHAS, SLOW_ALPHAS))
 def test_triangle_sup_within_proven_bound_and_equal_to_conjecture(alpha):
     r = result(alpha, 2)
     assert r.numeric_sup <= r.c_rad
@@ -111,8 +120,16 @@ def test_triangle_sup_dominates_a_dense_random_sample(alpha):
     assert 1 < sample_max <= result(alpha, 2).numeric_sup * (1 + SUP_RTOL)
 
 
-def test_triangle_sup_increases_with_alpha():
-    sups = [result(0.0, 2).numeric_sup] + [result(a, 2).numeric_sup for a in ALPHAS]
+@pytest.mark.parametrize(
+    "alphas",
+    [
+        tuple(a for a in ALPHAS if a not in SLOW_ALPHAS),
+        pytest.param(ALPHAS, marks=pytest.mark.slow),
+    ],
+    ids=["default", "all"],
+)
+def test_triangle_sup_increases_with_alpha(alphas):
+    sups = [result(0.0, 2).numeric_sup] + [result(a, 2).numeric_sup for a in alphas]
     assert all(lo < hi for lo, hi in zip(sups, sups[1:], strict=False))
 
 
@@ -138,7 +155,11 @@ def test_triangle_maximizer_admissible_and_recomputed_independently(alpha):
 # --- 3-D: tetrahedra -----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("alpha", (0.1, 0.3))
+TETRA_ALPHAS = _alphas((0.1, 0.3), slow=(0.1,))
+"""A 3-D search costs about 2.5 CPU-s: α = 0.3 (also the one GUDHI checks) by default, 0.1 slow."""
+
+
+@pytest.mark.parametrize("alpha", TETRA_ALPHAS)
 def test_tetrahedron_sup_is_infinite(alpha):
     r = result(alpha, 3)
     assert math.isinf(r.numeric_sup)
@@ -149,7 +170,7 @@ def test_tetrahedron_sup_is_infinite(alpha):
     assert r.maximizer.ratio > 1e4 * r.c_rad
 
 
-@pytest.mark.parametrize("alpha", (0.1, 0.3))
+@pytest.mark.parametrize("alpha", TETRA_ALPHAS)
 def test_tetrahedron_maximizer_admissible_and_recomputed_independently(alpha):
     m = result(alpha, 3).maximizer
     points, weights = np.array(m.points), np.array(m.weights)
