@@ -95,7 +95,13 @@ def test_infimum_below_supremum_and_lipschitz_only_lowers_it(paper_tight):
     assert lipschitz.infimum >= plain.infimum
 
 
-@pytest.mark.parametrize("eps", [1e-4, 0.002, 0.0047, 0.02, 0.05])
+# Two searches per ε (about 0.9 CPU-s): both ends and the paper's ε by default, the two between
+# with the slow marker.
+@pytest.mark.parametrize(
+    "eps",
+    [1e-4, pytest.param(0.002, marks=pytest.mark.slow), 0.0047]
+    + [pytest.param(0.02, marks=pytest.mark.slow), 0.05],
+)
 def test_tight_never_exceeds_the_rigorous_chain(eps):
     params = QualityParams(target="additive").at(eps)
     rigorous = float(chain_bounds(params, "rigorous").bound)
