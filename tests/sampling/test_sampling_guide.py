@@ -79,17 +79,18 @@ def _random_surface_balls(count, seed):
     return make_balls(points, radii)
 
 
-@pytest.mark.parametrize(
-    "balls",
-    [
-        _balls(TorusShape(3.0, 1.0), 0.25),
-        _balls(TorusShape(1.5, 1.0), 0.2),
-        _random_surface_balls(400, 1),
-    ],
-    ids=["torus-equal-radii", "torus-variable-radii", "wavy-unequal-radii"],
-)
+REFERENCE_CASES = {
+    "torus-equal-radii": lambda: _balls(TorusShape(3.0, 1.0), 0.25),
+    "torus-variable-radii": lambda: _balls(TorusShape(1.5, 1.0), 0.2),
+    "wavy-unequal-radii": lambda: _random_surface_balls(400, 1),
+}
+"""Made in the test, not when the module is collected (every worker collects every module)."""
+
+
+@pytest.mark.parametrize("case", list(REFERENCE_CASES))
 @pytest.mark.slow
-def test_engines_agree_with_the_reference(balls):
+def test_engines_agree_with_the_reference(case):
+    balls = REFERENCE_CASES[case]()
     reference_guides, reference_halves = _reference_guides(balls)
     assert reference_guides  # the comparison is not vacuous
     for engine in (guide.Engine.gudhi, guide.Engine.brute):
@@ -99,10 +100,15 @@ def test_engines_agree_with_the_reference(balls):
         assert _as_set(halves) == reference_halves, engine
 
 
-def test_gudhi_slabs_and_filler_agree_with_brute_on_a_larger_sample(monkeypatch):
-    monkeypatch.setattr(guide, "SLAB_POINTS", 800)  # several slabs, each with filler points
-    balls = _balls(TorusShape(3.0, 1.0), 0.2)
-    assert len(balls) > 3 * 800
+# 1 483 balls in 5 slabs of 300 by default (the brute-force reference dominates the cost);
+# 3 279 balls in slabs of 800 with the slow marker.
+@pytest.mark.parametrize(
+    "eps, slab_points", [(0.3, 300), pytest.param(0.2, 800, marks=pytest.mark.slow)]
+)
+def test_gudhi_slabs_and_filler_agree_with_brute_on_a_larger_sample(monkeypatch, eps, slab_points):
+    monkeypatch.setattr(guide, "SLAB_POINTS", slab_points)  # several slabs, each with filler
+    balls = _balls(TorusShape(3.0, 1.0), eps)
+    assert len(balls) > 3 * slab_points
     by_gudhi = guide.find_guide_triangles(balls, guide.Engine.gudhi)
     by_brute = guide.find_guide_triangles(balls, guide.Engine.brute)
     assert _as_set(by_gudhi.guide.triples) == _as_set(by_brute.guide.triples)
