@@ -61,17 +61,31 @@ def _shape(mesh):
         return Surface(mesh=mesh).shape()
 
 
-def test_one_and_two_workers_give_one_sparse_covering_sample(cylinder, thin_slabs, tmp_path):
-    files = {}
-    for workers in (1, 2):
-        result, count = _sample(cylinder, tmp_path / f"w{workers}.npz", workers=workers)
-        assert count >= 6 and result.ok and result.workers == workers
-        files[workers] = dict(np.load(tmp_path / f"w{workers}.npz"))
-    assert files[1].keys() == {"x", "y", "z", "radius", "lfs"}
-    for name in files[1]:
-        assert np.array_equal(files[1][name], files[2][name]), name
-    points = np.column_stack([files[1][n] for n in "xyz"])
-    lfs = files[1]["lfs"]
+@pytest.fixture(scope="module")
+def two_workers(cylinder, tmp_path_factory):
+    """One run on two worker processes with thin slabs, streamed to a CSV file (seed 4): the
+    two tests below read it (a run on two processes costs about 1.5 CPU-s).
+    (result, slab count, path, table)."""
+    path = tmp_path_factory.mktemp("two") / "s.csv"
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(slabs, "MAX_SLAB_CANDIDATES", 1000.0)  # as thin_slabs
+        result, count = _sample(cylinder, path, workers=2, seed=4)
+    return result, count, path, np.loadtxt(path, delimiter=",", skiprows=1)
+
+
+def test_one_and_two_workers_give_one_sparse_covering_sample(
+    cylinder, thin_slabs, two_workers, tmp_path
+):
+    result, count = _sample(cylinder, tmp_path / "w1.npz", workers=1, seed=4)
+    assert count >= 6 and result.ok and result.workers == 1
+    one = dict(np.load(tmp_path / "w1.npz"))
+    assert one.keys() == {"x", "y", "z", "radius", "lfs"}
+    two, two_count, _, table = two_workers
+    assert two_count == count and two.ok and two.workers == 2
+    for column, name in enumerate(("x", "y", "z", "radius", "lfs")):  # the file's columns
+        assert np.array_equal(one[name], table[:, column]), name
+    points = np.column_stack([one[n] for n in "xyz"])
+    lfs = one["lfs"]
     assert _brute_sparsity(points, lfs) >= 1.0  # every pair, across every slab border
     probes, probe_lfs = _shape(cylinder).random_points(300_000, np.random.default_rng(5))
     gap, _ = cKDTree(points).query(probes)
@@ -79,15 +93,16 @@ def test_one_and_two_workers_give_one_sparse_covering_sample(cylinder, thin_slab
     assert result.n_samples == len(points)
 
 
-def test_the_streamed_file_and_measures_equal_the_in_memory_sample(cylinder, thin_slabs, tmp_path):
-    result, _ = _sample(cylinder, tmp_path / "s.csv", workers=2, seed=4)
+def test_the_streamed_file_and_measures_equal_the_in_memory_sample(
+    two_workers, cylinder, thin_slabs, tmp_path
+):
+    result, _, streamed, table = two_workers  # two workers, thin slabs, seed 4
     shape = _shape(cylinder)
     whole = sample_surface(shape, EPS, SIGMA, seed=4)  # in memory, in this process
-    table = np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1)
     assert np.array_equal(table[:, :3], whole.points) and np.array_equal(table[:, 4], whole.lfs)
     # The same text as the whole-array writer gives.
     write_balls(tmp_path / "w.csv", _balls(whole, result.quality.at(EPS).delta), {"lfs": whole.lfs})
-    assert (tmp_path / "s.csv").read_text() == (tmp_path / "w.csv").read_text()
+    assert streamed.read_text() == (tmp_path / "w.csv").read_text()
     # Block-wise measures equal the whole-set ones (same probes).
     sparse = conditions.sparsity(whole.points, whole.lfs, EPS, SIGMA)
     assert result.sparsity_min == sparse.extreme and result.sparsity_violations == 0
