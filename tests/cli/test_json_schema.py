@@ -39,7 +39,8 @@ RUNS = {
     "validate": ["validate", "--eps", "0.0047", "--samples", "500"],
     "cheng": ["cheng", "--alpha", "0.2"],
     "reconstruct": ["reconstruct", "--sphere", "1", "--eps", "0.2"],
-    "reconstruct-sweep": ["reconstruct", "--torus", "3,1", "--eps", "0.2,0.3"],
+    # ε = 0.3, 0.4: both M̂ correct, the same fields as at 0.2, 0.3 with a third of the balls.
+    "reconstruct-sweep": ["reconstruct", "--torus", "3,1", "--eps", "0.3,0.4"],
     "reconstruct-repeats": ["reconstruct", "--sphere", "1", "--eps", "0.3", "--repeats", "2"],
     "reconstruct-repeats-sweep": [
         "reconstruct",

@@ -291,7 +291,8 @@ def test_vertex_values_are_one_lipschitz_and_at_stays_at_or_below_them():
     )
 
 
-@pytest.mark.parametrize("slope", [0.1, 0.5])
+# One path for every slope: 0.5 by default, 0.1 with the slow marker (0.8 CPU-s).
+@pytest.mark.parametrize("slope", [pytest.param(0.1, marks=pytest.mark.slow), 0.5])
 def test_lipschitz_repair_is_the_envelope_of_the_site_values(slope):
     """L at the sites is min over sites of raw + λ·distance (brute force), and ``at`` is
     min over sites of value + max(a·(x − y), λ·(distance − piece radius)), a the site's
@@ -458,10 +459,16 @@ def test_unwelded_mesh_is_merged():
     assert np.allclose(estimate.lfs, 1.0, rtol=1e-9)
 
 
-@pytest.mark.parametrize("scale", [1e-150, 1e-6, 1e6, 1e150])
-def test_units_scale(scale):
+@pytest.fixture(scope="module")
+def unit_torus():
+    """The 48 × 16 torus (3, 1) and its vertices-only L, shared by the four scales below."""
     mesh = torus_mesh(3.0, 1.0, 48, 16)
-    base = quiet_estimate(mesh, samples=0).lfs
+    return mesh, quiet_estimate(mesh, samples=0).lfs
+
+
+@pytest.mark.parametrize("scale", [1e-150, 1e-6, 1e6, 1e150])
+def test_units_scale(scale, unit_torus):
+    mesh, base = unit_torus
     scaled = TriangleMesh(mesh.points * scale, mesh.triangles, "scaled")
     assert np.allclose(quiet_estimate(scaled, samples=0).lfs / scale, base, rtol=1e-6)
 
@@ -566,7 +573,8 @@ def _assert_lipschitz(points, values, slope):
     assert (jump <= slope * distance + ROUNDING * scale).all()
 
 
-@pytest.mark.parametrize("offset", [1e2, 1e6])
+# The same path at two offsets: the farther one (10⁶) by default, 10² with the slow marker.
+@pytest.mark.parametrize("offset", [pytest.param(1e2, marks=pytest.mark.slow), 1e6])
 def test_a_far_away_part_or_vertex_does_not_blur_the_estimate(offset):
     """Tolerances are local: two spheres far apart, or one stray vertex, keep L = R."""
     sphere = icosphere(2.0, 3)
