@@ -1,6 +1,7 @@
 """Invariances and identities of the weighted-triangle kernel (hypothesis)."""
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -26,9 +27,20 @@ def _close(x, y, scale):
     np.testing.assert_allclose(x, y, rtol=RTOL, atol=ATOL_REL * scale)
 
 
-@settings(max_examples=150, deadline=None)
-@given(triangles, weight_sets, arrays(np.float64, (3,), elements=coords), st.integers(0, 2**32 - 1))
-def test_rigid_motions_keep_radii_and_delta(points, weights, shift, seed):
+FAST_EXAMPLES = 50
+"""Examples of each invariance below in the default run (about 0.4 CPU-s each)."""
+FULL_EXAMPLES = 150
+"""Examples of each under the slow marker (the ``..._in_full`` twin; CI runs -m slow)."""
+
+
+def _twins(strategies, body):
+    """``body`` as two tests: FAST_EXAMPLES examples by default, FULL_EXAMPLES slow."""
+    fast = settings(max_examples=FAST_EXAMPLES, deadline=None)(given(*strategies)(body))
+    full = settings(max_examples=FULL_EXAMPLES, deadline=None)(given(*strategies)(body))
+    return fast, pytest.mark.slow(full)
+
+
+def _rigid_motions_keep_radii_and_delta(points, weights, shift, seed):
     assume(_well_shaped(points))
     q, r = np.linalg.qr(np.random.default_rng(seed).standard_normal((3, 3)))
     rot = q * np.sign(np.diag(r))
@@ -44,9 +56,13 @@ def test_rigid_motions_keep_radii_and_delta(points, weights, shift, seed):
     _close(moved.orthocenter, base.orthocenter @ rot.T + shift, scale)
 
 
-@settings(max_examples=150, deadline=None)
-@given(triangles, weight_sets, st.permutations(range(3)))
-def test_vertex_order_does_not_matter(points, weights, perm):
+test_rigid_motions_keep_radii_and_delta, test_rigid_motions_keep_radii_and_delta_in_full = _twins(
+    (triangles, weight_sets, arrays(np.float64, (3,), elements=coords), st.integers(0, 2**32 - 1)),
+    _rigid_motions_keep_radii_and_delta,
+)
+
+
+def _vertex_order_does_not_matter(points, weights, perm):
     assume(_well_shaped(points))
     assume(len(set(weights.tolist())) == 3)  # ties would make the apex order-dependent
     base = weighted_triangles(points, weights)
@@ -59,9 +75,12 @@ def test_vertex_order_does_not_matter(points, weights, perm):
     assert perm[int(other.min_weight_vertex)] == int(base.min_weight_vertex)
 
 
-@settings(max_examples=150, deadline=None)
-@given(triangles, weight_sets, st.floats(-5, 5))
-def test_uniform_weight_shift_eq5(points, weights, alpha):
+test_vertex_order_does_not_matter, test_vertex_order_does_not_matter_in_full = _twins(
+    (triangles, weight_sets, st.permutations(range(3))), _vertex_order_does_not_matter
+)
+
+
+def _uniform_weight_shift_eq5(points, weights, alpha):
     """Eq. (5): subtracting α from every weight keeps ẑ and adds α to R̂²."""
     assume(_well_shaped(points))
     base = weighted_triangles(points, weights)
@@ -72,14 +91,22 @@ def test_uniform_weight_shift_eq5(points, weights, alpha):
     _close(shifted.radius_gap, base.radius_gap, scale)
 
 
-@settings(max_examples=150, deadline=None)
-@given(triangles, weight_sets, st.floats(1e-3, 1e3))
-def test_scaling(points, weights, s):
+test_uniform_weight_shift_eq5, test_uniform_weight_shift_eq5_in_full = _twins(
+    (triangles, weight_sets, st.floats(-5, 5)), _uniform_weight_shift_eq5
+)
+
+
+def _scaling(points, weights, s):
     """Lengths ×s and weights ×s² multiply delta by s."""
     assume(_well_shaped(points))
     base = weighted_triangles(points, weights)
     scaled = weighted_triangles(points * s, weights * s * s)
     _close(scaled.radius_gap, s * base.radius_gap, s * float(base.circumradius))
+
+
+test_scaling, test_scaling_in_full = _twins(
+    (triangles, weight_sets, st.floats(1e-3, 1e3)), _scaling
+)
 
 
 @settings(max_examples=100, deadline=None)
