@@ -58,12 +58,22 @@ def _same(one, two):
     assert one.delaunay_edges == two.delaunay_edges
 
 
+_WHOLE: dict = {}
+"""Each seed set and M̂ of it in one piece, made once for both slab counts below."""
+
+
+def _whole_set(name):
+    if name not in _WHOLE:
+        points, inside = SEED_SETS[name](np.random.default_rng(3))
+        _WHOLE[name] = points, inside, inout_facets(points, inside, slabs=1)
+    return _WHOLE[name]
+
+
 @pytest.mark.parametrize("name", sorted(SEED_SETS))
 @pytest.mark.parametrize("count", [2, 5])
 def test_slabs_give_the_whole_sets_facets(name, count, monkeypatch):
     """Slabs of a few hundred seeds each build M̂ of the whole set exactly."""
-    points, inside = SEED_SETS[name](np.random.default_rng(3))
-    whole = inout_facets(points, inside, slabs=1)
+    points, inside, whole = _whole_set(name)
     calls = []
     real = slabs._merged
     monkeypatch.setattr(slabs, "_merged", lambda *a: calls.append(a) or real(*a))
