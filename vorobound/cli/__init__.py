@@ -247,7 +247,7 @@ def main(argv: list[str] | None = None) -> int:
         return _fail(f"{empty} needs a value, got an empty string", EXIT_ERROR)
     try:
         with _signals_raise_interrupted(), _warnings_as_lines():
-            result = app(args=args, prog_name="vorobound", standalone_mode=False)
+            result = _click_command()(args=args, prog_name="vorobound", standalone_mode=False)
             sys.stdout.flush()
     except Interrupted:
         return _fail("interrupted", EXIT_INTERRUPTED, prefix="")
@@ -278,6 +278,20 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # the last line of defence: one line, traceback only on request
         return _bug(exc)
     return result if isinstance(result, int) else 0
+
+
+_CLICK_COMMAND: list = []
+"""The click command typer makes of ``app``, once per process."""
+
+
+def _click_command():
+    """What ``app(...)`` runs: typer builds the whole click group (every command's options) on
+    each call, about 10 ms of every in-process run; it is built once here and kept. Exceptions
+    reach :func:`main` as from ``app(...)`` (typer only tags them for its traceback hook, and
+    every one that escapes main is a BaseException, which it does not tag)."""
+    if not _CLICK_COMMAND:
+        _CLICK_COMMAND.append(typer.main.get_command(app))
+    return _CLICK_COMMAND[0]
 
 
 def _empty_value(args: list[str]) -> str | None:
