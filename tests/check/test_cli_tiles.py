@@ -54,13 +54,16 @@ def _checked(code, out, err):
 def runs(torus_file, tmp_path_factory):
     """The check of ``torus_file`` untiled, on one worker and on two, each run once for the
     tests below: the untiled and the two-worker runs write ``--table npz`` rows (into
-    ``folder``/whole and ``folder``/tiled), which test_npz_rows_are_the_untiled_rows reads."""
+    ``folder``/whole and ``folder``/tiled), which test_npz_rows_are_the_untiled_rows reads; the
+    one-worker run writes ``--table csv`` (into ``folder``/csv: its tile's part files are joined
+    as the two workers' are), which test_csv_outputs_are_one_set reads."""
     folder = tmp_path_factory.mktemp("runs")
     base = ["check", "--balls", str(torus_file), "--eps", str(EPS), "--json"]
     npz = ["--table", "npz", "--out"]
+    csv = str(folder / "csv")
     return {
         "untiled": _checked(*run_main(*base, *npz, str(folder / "whole"))),
-        "one": _checked(*run_main(*base, "--workers", "1")),
+        "one": _checked(*run_main(*base, "--workers", "1", "--table", "csv", "--out", csv)),
         "two": _checked(*run_main(*base, "--workers", "2", *npz, str(folder / "tiled"))),
         "folder": folder,
     }
@@ -96,21 +99,8 @@ def _no_leftovers(folder: Path) -> None:
     assert not [p.name for p in folder.iterdir() if p.name.startswith(TEMP_PREFIX)]
 
 
-def test_csv_outputs_are_one_set(run_cli, torus_file, tmp_path):
-    out = tmp_path / "out"
-    s = _summary(
-        run_cli,
-        "--balls",
-        str(torus_file),
-        "--eps",
-        str(EPS),
-        "--workers",
-        "2",
-        "--out",
-        str(out),
-        "--table",
-        "csv",
-    )
+def test_csv_outputs_are_one_set(runs):
+    s, out = runs["one"], runs["folder"] / "csv"
     names = sorted(p.name for p in out.iterdir())
     assert names == ["gap_histogram.png", "sample.vtu", "summary.json", "triangles.csv"]
     rows = np.genfromtxt(out / "triangles.csv", delimiter=",", names=True)
