@@ -45,7 +45,10 @@ class FaceSites:
     sizes: np.ndarray
     """(n,) longest edge of each point's piece."""
     corners: np.ndarray
-    """(n, 3, 3) the piece itself (on the flat face)."""
+    """(n, 3, 3) the piece itself (on the flat face; of a merged site, the piece it is)."""
+    reach: np.ndarray | None = None
+    """(n,) distance from each point to the farthest corner of the pieces it stands for (None:
+    its own piece's)."""
 
 
 @dataclass(frozen=True)
@@ -67,6 +70,7 @@ def face_sites(
     spacing: Callable[[np.ndarray, np.ndarray], np.ndarray],
     max_sites: int = MAX_SITES,
     slope=None,
+    groups: np.ndarray | None = None,
 ) -> FaceSites:
     """Split every face until its pieces are at most ``spacing(centroid)`` long.
 
@@ -91,6 +95,10 @@ def face_sites(
         the bound this gives from the spacing at its parent's centroid is kept (or split)
         without asking ``spacing`` again: the pieces are the same, the spacing is asked at
         fewer points (:func:`_decided`).
+    groups : ndarray (f,), optional
+        The patch of each face. With it, thin pieces (the pieces of long thin faces, whose
+        width is the face's, not the spacing) of one patch are merged into one site where
+        all of them lie within the spacing of it (:func:`merge_thin`).
     """
     # The pieces follow the corner order: put the corners in vertex order, so a face listed
     # in either orientation (or rotated) gives the same sites.
@@ -104,7 +112,7 @@ def face_sites(
     # The spacing at each piece's parent (the face's centroid for the first pieces).
     parent_middle, parent_limit = centroid[owner], first[owner]
     slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
-    done_owner, done_bary = [], []
+    done_owner, done_bary, done_low = [], [], []
     for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
         size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
@@ -115,18 +123,22 @@ def face_sites(
         limit[known] = first[owner[known]]
         ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
         split = np.zeros(len(owner), dtype=bool)
+        low = np.full(len(owner), np.nan)  # a lower bound on the spacing at the piece
         if slopes is not None:
             reach = slopes[owner[ask]] * np.linalg.norm(middle[ask] - parent_middle[ask], axis=1)
             keep, cut = _decided(size[ask], parent_limit[ask], reach)
             split[ask[cut]] = True
+            low[ask[keep]] = (parent_limit[ask] - reach)[keep]
             limit[ask[keep | cut]] = np.nan  # decided without it (never used again)
             ask = ask[~(keep | cut)]
         limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
         split[ask] = size[ask] > limit[ask]
         if level == 0:
             split[known] = size[known] > limit[known]
+        low = np.where(np.isnan(low), limit, low)
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])
+        done_low.append(low[~split])
         if not split.any():
             break
         owner, bary = owner[split], bary[split]
@@ -148,6 +160,13 @@ def face_sites(
     xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
     lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)
     area = 0.5 * np.linalg.norm(np.cross(xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]), axis=1)
+    reach = None
+    if groups is not None:
+        low = np.concatenate(done_low)
+        # Without the spacing at a piece (a face left whole), its own size bounds it below.
+        low = np.where(np.isfinite(low), low, lengths.max(axis=1))
+        chosen, area, reach = merge_thin(xyz, area, lengths.max(axis=1), low, groups[owner])
+        owner, bary, xyz, lengths = owner[chosen], bary[chosen], xyz[chosen], lengths[chosen]
     centre = bary.mean(axis=1)  # barycentric coordinates of the piece's centroid
     position = np.einsum("nc,ncd->nd", centre, corners[owner])
     lifted = curved[owner]
@@ -157,7 +176,76 @@ def face_sites(
         )
     normal = np.einsum("nc,ncd->nd", centre, corner_normals[owner])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
-    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz)
+    if reach is not None:
+        # From the site (lifted onto its patch) to the farthest corner it stands for: its own
+        # piece's, or (merged) at most the reach from the flat centroid plus the lift.
+        own = np.linalg.norm(xyz - position[:, None], axis=2).max(axis=1)
+        lift = np.linalg.norm(position - xyz.mean(axis=1), axis=1)
+        reach = np.where(np.isnan(reach), own, reach + lift)
+    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz, reach)
+
+
+THIN = 0.1
+"""Pieces whose area is below this times their longest edge squared are thin (a slab piece of
+a well-shaped face: 0.25; of a face 20 times longer than wide: about 0.025)."""
+MERGE_CELL = 0.5
+"""Thin pieces are merged within cubes of about this times their spacing (a power of two)."""
+
+
+def merge_thin(xyz, area, size, spacing, group):
+    """Thin pieces of one patch (``group``) whose centroids fall in one cube of side about
+    MERGE_CELL times their spacing merged into one site: the piece nearest the merged
+    centroid stands for all, with their summed area (the sites still tile the surface). A
+    merge is kept only where every corner of its pieces lies within the smallest spacing of
+    its pieces from that piece's centroid (``spacing``: a lower bound of the spacing at each
+    piece), so no point of the surface is farther than the spacing from the site that stands
+    for it; the other pieces stay sites of their own.
+
+    Returns (the pieces kept as sites, their areas, their reach: the distance from each merged
+    one's centroid to the farthest corner it stands for, NaN for a piece of its own).
+    """
+    count = len(xyz)
+    middle = xyz.mean(axis=1)
+    own = np.full(count, np.nan)
+    thin = area < THIN * size**2
+    if thin.sum() < 2:
+        return np.arange(count), area, own
+    rows = np.flatnonzero(thin)
+    level = np.floor(np.log2(MERGE_CELL * spacing[rows]))
+    cell = np.floor(middle[rows] / np.exp2(level)[:, None])
+    key = np.c_[group[rows], level, cell]
+    _, cluster = np.unique(key, axis=0, return_inverse=True)
+    cluster = cluster.reshape(-1)
+    clusters = int(cluster.max()) + 1
+    weight = area[rows]
+    total = np.bincount(cluster, weight, clusters)
+    centre = (
+        np.stack(
+            [np.bincount(cluster, weight * middle[rows, k], clusters) for k in range(3)], axis=1
+        )
+        / np.where(total > 0, total, 1.0)[:, None]
+    )
+    # The representative: the member nearest the merged centroid (ties: the first).
+    gap = np.linalg.norm(middle[rows] - centre[cluster], axis=1)
+    order = np.lexsort((gap, cluster))
+    first = np.r_[True, cluster[order][1:] != cluster[order][:-1]]
+    rep = np.empty(clusters, dtype=np.int64)
+    rep[cluster[order][first]] = rows[order][first]
+    far = np.linalg.norm(xyz[rows] - middle[rep][cluster][:, None], axis=2).max(axis=1)
+    reach = np.zeros(clusters)
+    np.maximum.at(reach, cluster, far)
+    bound = np.full(clusters, np.inf)
+    np.minimum.at(bound, cluster, spacing[rows])
+    members = np.bincount(cluster, minlength=clusters)
+    merged = (members > 1) & (reach <= bound)
+    keep = np.ones(count, dtype=bool)
+    keep[rows[merged[cluster]]] = False
+    keep[rep[merged]] = True
+    new_area, new_reach = area.copy(), own.copy()
+    new_area[rep[merged]] = total[merged]
+    new_reach[rep[merged]] = reach[merged]
+    chosen = np.flatnonzero(keep)
+    return chosen, new_area[chosen], new_reach[chosen]
 
 
 DECIDED_RTOL = 1e-9
