@@ -36,8 +36,14 @@ def fan(count: int = 40, length: float = 8.0):
     return points, np.array(faces), groups
 
 
+@pytest.mark.parametrize("batch", [None, 50])
 @pytest.mark.parametrize("spacing", [1.0, 4.0])
-def test_merged_thin_pieces_tile_the_faces_within_the_spacing(spacing):
+def test_merged_thin_pieces_tile_the_faces_within_the_spacing(spacing, batch, monkeypatch):
+    """Also when the faces are cut in batches (``batch`` first pieces each)."""
+    import vorobound.sampling.lfs.face_sites as module
+
+    if batch is not None:
+        monkeypatch.setattr(module, "CHUNK_PIECES", batch)
     points, faces, groups = fan()
     normals = np.broadcast_to([0.0, 0.0, 1.0], (len(faces), 3, 3)).copy()
     curved = np.zeros(len(faces), dtype=bool)

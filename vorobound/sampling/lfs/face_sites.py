@@ -100,6 +100,80 @@ def face_sites(
         width is the face's, not the spacing) of one patch are merged into one site where
         all of them lie within the spacing of it (:func:`merge_thin`).
     """
+    if groups is None:
+        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope)
+    corners = points[faces]
+    centroid = corners.mean(axis=1)
+    first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
+    count = _first_pieces(corners, first)
+    if count.sum() <= CHUNK_PIECES:
+        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope, groups)
+    # Long thin faces make many pieces before they merge: cut the faces in batches, each of
+    # one patch's faces near one another (in cells of 1/64 of the part), so that a batch
+    # holds most of the pieces a merge joins and the pieces of one batch at a time are in
+    # memory. A cube split between two batches gives two merged sites, each within the
+    # spacing of its pieces.
+    extent = np.ptp(centroid, axis=0).max()
+    cell = np.floor(64 * (centroid - centroid.min(axis=0)) / (extent if extent > 0 else 1.0))
+    order = np.lexsort((cell[:, 2], cell[:, 1], cell[:, 0], groups))
+    batch = np.floor(np.cumsum(count[order]) / CHUNK_PIECES).astype(np.int64)
+    cuts = np.flatnonzero(np.diff(batch)) + 1
+    slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
+    parts = []
+    total = 0
+    for chosen in np.split(order, cuts):
+
+        def local(x, face, chosen=chosen):
+            return spacing(x, chosen[face])
+
+        part = _face_sites(
+            points,
+            faces[chosen],
+            corner_normals[chosen],
+            curved[chosen],
+            local,
+            max_sites,
+            None if slopes is None else slopes[chosen],
+            groups[chosen],
+        )
+        total += len(part.points)
+        if total > max_sites:
+            raise _too_many(max_sites)
+        parts.append(part)
+    reach = [p.reach for p in parts]
+    return FaceSites(
+        np.concatenate([p.points for p in parts]),
+        np.concatenate([p.normals for p in parts]),
+        np.concatenate(
+            [chosen[p.face] for chosen, p in zip(np.split(order, cuts), parts, strict=True)]
+        ),
+        np.concatenate([p.areas for p in parts]),
+        np.concatenate([p.sizes for p in parts]),
+        np.concatenate([p.corners for p in parts]),
+        np.concatenate(reach),
+    )
+
+
+CHUNK_PIECES = 1_000_000
+"""With ``groups``, faces whose first pieces are more than this many are cut in batches of
+about this many first pieces (:func:`face_sites`)."""
+
+
+def _first_pieces(corners: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+    """Pieces of each face's slabs (:func:`_slabs`) at ``spacing``: slabs times columns."""
+    lengths = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2)
+    step = spacing / np.sqrt(2)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        slabs = np.ceil(np.sort(lengths, axis=1)[:, 2] / step)
+        columns = np.maximum(np.ceil(lengths.min(axis=1) / step), 1)
+    out = slabs * columns
+    return np.where(np.isfinite(out), out, 1.0)
+
+
+def _face_sites(
+    points, faces, corner_normals, curved, spacing, max_sites=MAX_SITES, slope=None, groups=None
+) -> FaceSites:
+    """:func:`face_sites` of one batch of faces."""
     # The pieces follow the corner order: put the corners in vertex order, so a face listed
     # in either orientation (or rotated) gives the same sites.
     order = np.argsort(faces, axis=1, kind="stable")
