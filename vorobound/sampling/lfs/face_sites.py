@@ -4,7 +4,11 @@ The estimate of the local feature size must not depend on how an exporter triang
 part, so it is computed from points inside the faces, not only from the vertices. Every face
 is split by longest-edge bisection (which keeps even a needle's pieces well shaped) until no
 piece is longer than the spacing asked for at its centroid; each piece contributes its
-centroid, with the piece's area.
+centroid, with the piece's area. Given the patch of each face, the thin pieces of long thin
+faces (whose width is the face's, not the spacing) are halved across their longest edge
+rather than quartered, and those of one patch lying close together are merged into one site
+that stands for all of them (:func:`merge_thin`): the sites then follow the area of a patch,
+not the number of its faces.
 
 On a curved patch the centroid is moved onto a smooth surface through the vertices: the cubic
 point-normal triangle of Vlachos et al. ("Curved PN triangles", 2001) built from the patch's
@@ -154,7 +158,7 @@ def face_sites(
     )
 
 
-CHUNK_PIECES = 1_000_000
+CHUNK_PIECES = 250_000
 """With ``groups``, faces whose first pieces are more than this many are cut in batches of
 about this many first pieces (:func:`face_sites`)."""
 
@@ -216,17 +220,33 @@ def _face_sites(
         if not split.any():
             break
         owner, bary = owner[split], bary[split]
-        if sum(len(o) for o in done_owner) + 4 * len(owner) > max_sites:
+        # With groups, a thin piece is halved across its longest edge (two pieces, each
+        # about half as long and as wide as it), not quartered (four, each half as wide too:
+        # a needle's pieces would multiply by four per level where two suffice).
+        halve = np.zeros(len(owner), dtype=bool)
+        if groups is not None:
+            cut_xyz = xyz[split]
+            cut_area = 0.5 * np.linalg.norm(
+                np.cross(cut_xyz[:, 1] - cut_xyz[:, 0], cut_xyz[:, 2] - cut_xyz[:, 0]), axis=1
+            )
+            halve = cut_area < THIN * size[split] ** 2
+        children = np.where(halve, 2, 4)
+        if sum(len(o) for o in done_owner) + int(children.sum()) > max_sites:
             raise _too_many(max_sites)
         # A piece split without asking hands its parent's point and spacing down: its children
         # measure their reach from there.
         moved = np.isnan(limit[split])
         parent_middle = np.where(moved[:, None], parent_middle[split], middle[split])
         parent_limit = np.where(moved, parent_limit[split], limit[split])
-        parent_middle = np.repeat(parent_middle, 4, axis=0)
-        parent_limit = np.repeat(parent_limit, 4)
-        bary = _quarter(bary)
-        owner = np.repeat(owner, 4)
+        four, two = ~halve, halve
+        parent_middle = np.concatenate(
+            [np.repeat(parent_middle[four], 4, axis=0), np.repeat(parent_middle[two], 2, axis=0)]
+        )
+        parent_limit = np.concatenate(
+            [np.repeat(parent_limit[four], 4), np.repeat(parent_limit[two], 2)]
+        )
+        bary = np.concatenate([_quarter(bary[four]), _halve(bary[two], xyz[split][two])])
+        owner = np.concatenate([np.repeat(owner[four], 4), np.repeat(owner[two], 2)])
     else:
         raise InputError("face subdivision did not converge (the spacing is far too small)")
     owner = np.concatenate(done_owner)
@@ -396,6 +416,19 @@ def _slabs(corners: np.ndarray, spacing: np.ndarray, max_sites: int):
 def _at(t: np.ndarray, s: np.ndarray) -> np.ndarray:
     """(n, 3) weights of the slab corners A, B, C at height t and position s."""
     return np.stack([t * (1 - s), t * s, 1 - t], axis=1)
+
+
+def _halve(bary: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+    """Each piece split in two at the midpoint of its longest edge (``xyz``: its corners)."""
+    lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)  # edge k: k → k+1
+    k = lengths.argmax(axis=1)
+    rows = np.arange(len(bary))
+    a, b, c = bary[rows, k], bary[rows, (k + 1) % 3], bary[rows, (k + 2) % 3]
+    m = 0.5 * (a + b)
+    out = np.empty((2 * len(bary), 3, 3))
+    out[0::2] = np.stack([a, m, c], axis=1)
+    out[1::2] = np.stack([m, b, c], axis=1)
+    return out
 
 
 def _quarter(bary: np.ndarray) -> np.ndarray:
