@@ -282,8 +282,15 @@ def _face_sites(
 THIN = 0.1
 """Pieces whose area is below this times their longest edge squared are thin (a slab piece of
 a well-shaped face: 0.25; of a face 20 times longer than wide: about 0.025)."""
-MERGE_CELL = 0.5
+MERGE_CELL = 0.25
 """Thin pieces are merged within cubes of about this times their spacing (a power of two)."""
+MERGE_REACH = 1 / np.sqrt(3)
+"""A merge is kept where every corner of its pieces lies within this times their spacing s
+from the site: the bound a single piece of longest edge s meets (its centroid is within
+s/√3 of its corners), so a merged site stands for no more surface than a piece does."""
+MERGE_FLAT = 0.05
+"""... and where the spacing of its pieces varies by at most this share (L nearly constant
+over them: where L changes, the pieces stay sites of their own)."""
 
 
 def merge_thin(xyz, area, size, spacing, group):
@@ -330,8 +337,10 @@ def merge_thin(xyz, area, size, spacing, group):
     np.maximum.at(reach, cluster, far)
     bound = np.full(clusters, np.inf)
     np.minimum.at(bound, cluster, spacing[rows])
+    top = np.zeros(clusters)
+    np.maximum.at(top, cluster, spacing[rows])
     members = np.bincount(cluster, minlength=clusters)
-    merged = (members > 1) & (reach <= bound)
+    merged = (members > 1) & (reach <= MERGE_REACH * bound) & (top <= (1 + MERGE_FLAT) * bound)
     keep = np.ones(count, dtype=bool)
     keep[rows[merged[cluster]]] = False
     keep[rep[merged]] = True

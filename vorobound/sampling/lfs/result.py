@@ -153,7 +153,6 @@ def build_result(
         vertex=sites.vertex,
         gradient=sites.gradient,
         planes=sites.planes,
-        spacing=None if sites.spacing is None else scale * sites.spacing,
         cap_points=scale * sites.cap_points + centre,
         cap_values=scale * sites.cap_values,
         cap_radii=scale * sites.cap_radii,

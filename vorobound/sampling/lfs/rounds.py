@@ -22,15 +22,12 @@ from .mesh_quality import PreparedMesh
 from .patches import Patches
 from .poles import nearest_allowed_pole
 from .sites import (
-    FEATURE_SPACING,
     FIRST_SPACING,
     MIN_PIECES,
     SITE_SPACING,
     Sites,
     field_of,
     site_gradients,
-    spacing_field,
-    spacing_values,
     spacings,
     vertex_radius,
 )
@@ -182,7 +179,6 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
     points, faces = state.prepared.points, state.prepared.triangles
     patches = state.patches
     field = None
-    on_faces = None
     previous = None
     count = 0
     for done in range(1, ROUNDS + 1):
@@ -197,7 +193,7 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
 
         else:
             face_spacing, edge_spacing = spacings(
-                field, state.factor, state.face_floor, state.edge_floor, on_faces
+                field, state.factor, state.face_floor, state.edge_floor
             )
         counter = Counter(progress, "face sites", 1)
         # The spacing is SITE_SPACING times the last field (λ-Lipschitz), or a constant.
@@ -215,9 +211,8 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
         counter.step()
         sites, poles, envelope = evaluate_round(state, on_faces, feature, progress)
         counter = Counter(progress, "L at the vertices", 1)
+        # L between the sites, the feature cap's cones with them (docs/lfs.md).
         field = field_of(sites, state.slope, like=envelope)
-        # The face sites follow σ (L where the feature terms set nothing, docs/lfs.md).
-        on_faces = spacing_field(sites, state.slope, field, like=envelope)
         at_vertices = field(points)
         counter.step()
         current = at_vertices[state.surface_ids]
@@ -359,8 +354,6 @@ def evaluate_round(
         np.minimum(across, bend),
     )
     raw[feature_site] = np.minimum(raw[feature_site], feature_lfs)
-    # The terms sampled at the sites, without the feature cap: what the face sites resolve.
-    sampled = raw.copy()
     half = np.concatenate([np.zeros(len(feature_vertices)), feature.lengths / 2])
     raw = features.feature_cap(site_points, raw, site_points[feature_site], feature_lfs, half)
     counter.step()
@@ -368,22 +361,16 @@ def evaluate_round(
     # The largest ball tangent at the site that no other non-adjacent patch enters: medial
     # balls across the part that no normal ray finds (an L-bracket's corner). Inward always;
     # outward only where a ray found a gap (a convex outside has no medial ball to find).
-    # Searched up to the sampled terms (at most FEATURE_SPACING times raw): where the feature
-    # cap sets raw, σ needs to know how far the ball reaches beyond it. Capped at raw it is
-    # the value of before (the ball's radius, at most raw).
-    features_set = feature_site.any() and bool((raw < sampled).any())
-    search = np.minimum(sampled, FEATURE_SPACING * raw) if features_set else raw
     tangent, balls = _tangent_balls(
         state.balls,
         site_points[ray_sites],
         ray_normals,
         ray,
         site_patches[ray_sites, 0],
-        search[ray_sites],
+        raw[ray_sites],
         _last_balls(state.memo, last[ray_sites]),
     )
-    across[ray_sites] = np.minimum(across[ray_sites], np.minimum(tangent, raw[ray_sites]))
-    sampled[ray_sites] = np.minimum(sampled[ray_sites], tangent)
+    across[ray_sites] = np.minimum(across[ray_sites], tangent)
     raw[ray_sites] = np.minimum(raw[ray_sites], tangent)
     bound = np.minimum(across, bend)
     # A feature site takes the values of its patches next to it (their limit at the feature).
@@ -431,12 +418,11 @@ def evaluate_round(
             np.full(len(feature.points), -1),
         ]
     )
-    # σ and the cap cones only where features exist (a mesh without them keeps σ = L).
+    # The feature cap's cones (sites.field_of): L below the cap at every point.
     cap = {}
     if feature_site.any():
         finite = np.isfinite(feature_lfs)
         cap = {
-            "spacing": spacing_values(site_points, sampled, lfs, ray_sites, slope, gradient),
             "cap_points": site_points[feature_site][finite],
             "cap_values": feature_lfs[finite],
             "cap_radii": feature_lfs[finite] + half[finite],

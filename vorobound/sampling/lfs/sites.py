@@ -41,12 +41,6 @@ the tangent plane above this (0.25 for an even spread, 0 on a line)."""
 GRADIENT_BLOCK = 1 << 16
 """Sites whose gradients are fitted together (bounds the temporaries to about 0.1 GB)."""
 
-FEATURE_SPACING = 4.0
-"""Where the feature terms set L (the feature cap, or the feature sites' values through the
-envelope), the face sites follow the sampled terms instead (medial, thickness, curvature,
-tangent balls), up to this many times L: the cap is known in closed form and enters L between
-the sites as exact cones (:func:`field_of`), so it needs no sites (docs/lfs.md)."""
-
 
 @dataclass(frozen=True)
 class Sites:
@@ -78,9 +72,6 @@ class Sites:
     planes: np.ndarray
     """(n, 3) gradient of L fitted at each face site to the nearest sites of its patch (at
     most λ long; zero at the other sites and where no fit was possible)."""
-    spacing: np.ndarray | None = None
-    """σ ≥ L at each site, what the next round's face sites follow (:func:`spacing_values`);
-    None: L itself."""
     cap_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     """The feature points whose cap max(|x − p| − h, L_F(p)) bounds L everywhere."""
     cap_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -113,46 +104,12 @@ def field_of(sites: Sites, slope: float, like: Envelope | None = None) -> Envelo
     )
 
 
-def spacing_field(sites: Sites, slope: float, field: Envelope, like: Envelope | None = None):
-    """What the next round's face sites follow: ``field`` (L) where :attr:`Sites.spacing` is
-    L, else the cones of σ with L's radii (and planes where σ is L)."""
-    if sites.spacing is None or np.array_equal(sites.spacing, sites.values):
-        return field
-    planes = np.where((sites.spacing == sites.values)[:, None], sites.planes, 0.0)
-    return Envelope(sites.points, sites.spacing, slope, sites.radii, like=like, gradients=planes)
-
-
-def spacing_values(points, sampled, lfs, ray_sites, slope: float, gradient) -> np.ndarray:
-    """σ at each site: at the sites inside patches (``ray_sites``) the λ-envelope over them of
-    ``sampled`` (the terms evaluated at sites: medial, thickness, curvature, tangent balls;
-    not the feature terms), at most c·L; at the feature sites c·L. c = min(FEATURE_SPACING,
-    λ/g), g the local rate of change of L (``gradient``), at least 1: a piece c times larger
-    than L asks sees L change across it by g·c·(its size at L) ≤ λ·(its size at L), no more
-    than the pieces of L itself see where L changes at the rate λ. Never below L; L itself
-    where the feature terms set nothing (on a mesh without features the envelope of
-    ``sampled`` is L)."""
-    gradient = np.asarray(gradient, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        room = np.where(gradient > 0, slope / gradient, np.inf)
-    room = np.clip(room, 1.0, FEATURE_SPACING)
-    sigma = room * lfs
-    if len(ray_sites):
-        finite = np.isfinite(sampled[ray_sites])
-        inner = ray_sites[finite]
-        if len(inner):
-            own = Envelope(points[inner], sampled[inner], slope)(points[ray_sites])
-            sigma[ray_sites] = np.minimum(sigma[ray_sites], own)
-    return np.maximum(sigma, lfs)
-
-
-def spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor, faces=None):
-    """The next round's spacing: SITE_SPACING (per face) times L of the last round (on the
-    faces: times ``faces``, the field of σ, :func:`spacing_field`, if given), at least the
-    floors (:data:`MIN_PIECES`)."""
-    on_faces = field if faces is None else faces
+def spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor):
+    """The next round's spacing: SITE_SPACING (per face) times L of the last round, at least
+    the floors (:data:`MIN_PIECES`)."""
 
     def face_spacing(x, face):
-        return np.maximum(factor[face] * on_faces(x), face_floor[face])
+        return np.maximum(factor[face] * field(x), face_floor[face])
 
     def edge_spacing(x, edge):
         return np.maximum(SITE_SPACING["curved"] * field(x), edge_floor[edge])
