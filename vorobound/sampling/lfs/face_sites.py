@@ -297,10 +297,12 @@ def merge_thin(xyz, area, size, spacing, group):
     """Thin pieces of one patch (``group``) whose centroids fall in one cube of side about
     MERGE_CELL times their spacing merged into one site: the piece nearest the merged
     centroid stands for all, with their summed area (the sites still tile the surface). A
-    merge is kept only where every corner of its pieces lies within the smallest spacing of
-    its pieces from that piece's centroid (``spacing``: a lower bound of the spacing at each
-    piece), so no point of the surface is farther than the spacing from the site that stands
-    for it; the other pieces stay sites of their own.
+    merge is kept only where every corner of its pieces lies within MERGE_REACH = 1/√3 times
+    the smallest spacing s of its pieces from that piece's centroid (``spacing``: a lower
+    bound of the spacing at each piece), the bound every single piece no longer than s meets,
+    and where the spacing of its pieces varies by at most MERGE_FLAT: so a merged site stands
+    for no more surface than a piece of the spacing does, and the resolution of L the spacing
+    asks for is kept; the other pieces stay sites of their own.
 
     Returns (the pieces kept as sites, their areas, their reach: the distance from each merged
     one's centroid to the farthest corner it stands for, NaN for a piece of its own).
