@@ -4,7 +4,11 @@ The estimate of the local feature size must not depend on how an exporter triang
 part, so it is computed from points inside the faces, not only from the vertices. Every face
 is split by longest-edge bisection (which keeps even a needle's pieces well shaped) until no
 piece is longer than the spacing asked for at its centroid; each piece contributes its
-centroid, with the piece's area.
+centroid, with the piece's area. Given the patch of each face, the thin pieces of long thin
+faces (whose width is the face's, not the spacing) are halved across their longest edge
+rather than quartered, and those of one patch lying close together are merged into one site
+that stands for all of them (:func:`merge_thin`): the sites then follow the area of a patch,
+not the number of its faces.
 
 On a curved patch the centroid is moved onto a smooth surface through the vertices: the cubic
 point-normal triangle of Vlachos et al. ("Curved PN triangles", 2001) built from the patch's
@@ -45,7 +49,10 @@ class FaceSites:
     sizes: np.ndarray
     """(n,) longest edge of each point's piece."""
     corners: np.ndarray
-    """(n, 3, 3) the piece itself (on the flat face)."""
+    """(n, 3, 3) the piece itself (on the flat face; of a merged site, the piece it is)."""
+    reach: np.ndarray | None = None
+    """(n,) distance from each point to the farthest corner of the pieces it stands for (None:
+    its own piece's)."""
 
 
 @dataclass(frozen=True)
@@ -67,6 +74,7 @@ def face_sites(
     spacing: Callable[[np.ndarray, np.ndarray], np.ndarray],
     max_sites: int = MAX_SITES,
     slope=None,
+    groups: np.ndarray | None = None,
 ) -> FaceSites:
     """Split every face until its pieces are at most ``spacing(centroid)`` long.
 
@@ -91,7 +99,85 @@ def face_sites(
         the bound this gives from the spacing at its parent's centroid is kept (or split)
         without asking ``spacing`` again: the pieces are the same, the spacing is asked at
         fewer points (:func:`_decided`).
+    groups : ndarray (f,), optional
+        The patch of each face. With it, thin pieces (the pieces of long thin faces, whose
+        width is the face's, not the spacing) of one patch are merged into one site where
+        all of them lie within the spacing of it (:func:`merge_thin`).
     """
+    if groups is None:
+        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope)
+    corners = points[faces]
+    centroid = corners.mean(axis=1)
+    first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
+    count = _first_pieces(corners, first)
+    if count.sum() <= CHUNK_PIECES:
+        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope, groups)
+    # Long thin faces make many pieces before they merge: cut the faces in batches, each of
+    # one patch's faces near one another (in cells of 1/64 of the part), so that a batch
+    # holds most of the pieces a merge joins and the pieces of one batch at a time are in
+    # memory. A cube split between two batches gives two merged sites, each within the
+    # spacing of its pieces.
+    extent = np.ptp(centroid, axis=0).max()
+    cell = np.floor(64 * (centroid - centroid.min(axis=0)) / (extent if extent > 0 else 1.0))
+    order = np.lexsort((cell[:, 2], cell[:, 1], cell[:, 0], groups))
+    batch = np.floor(np.cumsum(count[order]) / CHUNK_PIECES).astype(np.int64)
+    cuts = np.flatnonzero(np.diff(batch)) + 1
+    slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
+    parts = []
+    total = 0
+    for chosen in np.split(order, cuts):
+
+        def local(x, face, chosen=chosen):
+            return spacing(x, chosen[face])
+
+        part = _face_sites(
+            points,
+            faces[chosen],
+            corner_normals[chosen],
+            curved[chosen],
+            local,
+            max_sites,
+            None if slopes is None else slopes[chosen],
+            groups[chosen],
+        )
+        total += len(part.points)
+        if total > max_sites:
+            raise _too_many(max_sites)
+        parts.append(part)
+    reach = [p.reach for p in parts]
+    return FaceSites(
+        np.concatenate([p.points for p in parts]),
+        np.concatenate([p.normals for p in parts]),
+        np.concatenate(
+            [chosen[p.face] for chosen, p in zip(np.split(order, cuts), parts, strict=True)]
+        ),
+        np.concatenate([p.areas for p in parts]),
+        np.concatenate([p.sizes for p in parts]),
+        np.concatenate([p.corners for p in parts]),
+        np.concatenate(reach),
+    )
+
+
+CHUNK_PIECES = 250_000
+"""With ``groups``, faces whose first pieces are more than this many are cut in batches of
+about this many first pieces (:func:`face_sites`)."""
+
+
+def _first_pieces(corners: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+    """Pieces of each face's slabs (:func:`_slabs`) at ``spacing``: slabs times columns."""
+    lengths = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2)
+    step = spacing / np.sqrt(2)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        slabs = np.ceil(np.sort(lengths, axis=1)[:, 2] / step)
+        columns = np.maximum(np.ceil(lengths.min(axis=1) / step), 1)
+    out = slabs * columns
+    return np.where(np.isfinite(out), out, 1.0)
+
+
+def _face_sites(
+    points, faces, corner_normals, curved, spacing, max_sites=MAX_SITES, slope=None, groups=None
+) -> FaceSites:
+    """:func:`face_sites` of one batch of faces."""
     # The pieces follow the corner order: put the corners in vertex order, so a face listed
     # in either orientation (or rotated) gives the same sites.
     order = np.argsort(faces, axis=1, kind="stable")
@@ -104,7 +190,7 @@ def face_sites(
     # The spacing at each piece's parent (the face's centroid for the first pieces).
     parent_middle, parent_limit = centroid[owner], first[owner]
     slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
-    done_owner, done_bary = [], []
+    done_owner, done_bary, done_low = [], [], []
     for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
         size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
@@ -115,32 +201,52 @@ def face_sites(
         limit[known] = first[owner[known]]
         ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
         split = np.zeros(len(owner), dtype=bool)
+        low = np.full(len(owner), np.nan)  # a lower bound on the spacing at the piece
         if slopes is not None:
             reach = slopes[owner[ask]] * np.linalg.norm(middle[ask] - parent_middle[ask], axis=1)
             keep, cut = _decided(size[ask], parent_limit[ask], reach)
             split[ask[cut]] = True
+            low[ask[keep]] = (parent_limit[ask] - reach)[keep]
             limit[ask[keep | cut]] = np.nan  # decided without it (never used again)
             ask = ask[~(keep | cut)]
         limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
         split[ask] = size[ask] > limit[ask]
         if level == 0:
             split[known] = size[known] > limit[known]
+        low = np.where(np.isnan(low), limit, low)
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])
+        done_low.append(low[~split])
         if not split.any():
             break
         owner, bary = owner[split], bary[split]
-        if sum(len(o) for o in done_owner) + 4 * len(owner) > max_sites:
+        # With groups, a thin piece is halved across its longest edge (two pieces, each
+        # about half as long and as wide as it), not quartered (four, each half as wide too:
+        # a needle's pieces would multiply by four per level where two suffice).
+        halve = np.zeros(len(owner), dtype=bool)
+        if groups is not None:
+            cut_xyz = xyz[split]
+            cut_area = 0.5 * np.linalg.norm(
+                np.cross(cut_xyz[:, 1] - cut_xyz[:, 0], cut_xyz[:, 2] - cut_xyz[:, 0]), axis=1
+            )
+            halve = cut_area < THIN * size[split] ** 2
+        children = np.where(halve, 2, 4)
+        if sum(len(o) for o in done_owner) + int(children.sum()) > max_sites:
             raise _too_many(max_sites)
         # A piece split without asking hands its parent's point and spacing down: its children
         # measure their reach from there.
         moved = np.isnan(limit[split])
         parent_middle = np.where(moved[:, None], parent_middle[split], middle[split])
         parent_limit = np.where(moved, parent_limit[split], limit[split])
-        parent_middle = np.repeat(parent_middle, 4, axis=0)
-        parent_limit = np.repeat(parent_limit, 4)
-        bary = _quarter(bary)
-        owner = np.repeat(owner, 4)
+        four, two = ~halve, halve
+        parent_middle = np.concatenate(
+            [np.repeat(parent_middle[four], 4, axis=0), np.repeat(parent_middle[two], 2, axis=0)]
+        )
+        parent_limit = np.concatenate(
+            [np.repeat(parent_limit[four], 4), np.repeat(parent_limit[two], 2)]
+        )
+        bary = np.concatenate([_quarter(bary[four]), _halve(bary[two], xyz[split][two])])
+        owner = np.concatenate([np.repeat(owner[four], 4), np.repeat(owner[two], 2)])
     else:
         raise InputError("face subdivision did not converge (the spacing is far too small)")
     owner = np.concatenate(done_owner)
@@ -148,6 +254,13 @@ def face_sites(
     xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
     lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)
     area = 0.5 * np.linalg.norm(np.cross(xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]), axis=1)
+    reach = None
+    if groups is not None:
+        low = np.concatenate(done_low)
+        # Without the spacing at a piece (a face left whole), its own size bounds it below.
+        low = np.where(np.isfinite(low), low, lengths.max(axis=1))
+        chosen, area, reach = merge_thin(xyz, area, lengths.max(axis=1), low, groups[owner])
+        owner, bary, xyz, lengths = owner[chosen], bary[chosen], xyz[chosen], lengths[chosen]
     centre = bary.mean(axis=1)  # barycentric coordinates of the piece's centroid
     position = np.einsum("nc,ncd->nd", centre, corners[owner])
     lifted = curved[owner]
@@ -157,7 +270,87 @@ def face_sites(
         )
     normal = np.einsum("nc,ncd->nd", centre, corner_normals[owner])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
-    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz)
+    if reach is not None:
+        # From the site (lifted onto its patch) to the farthest corner it stands for: its own
+        # piece's, or (merged) at most the reach from the flat centroid plus the lift.
+        own = np.linalg.norm(xyz - position[:, None], axis=2).max(axis=1)
+        lift = np.linalg.norm(position - xyz.mean(axis=1), axis=1)
+        reach = np.where(np.isnan(reach), own, reach + lift)
+    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz, reach)
+
+
+THIN = 0.1
+"""Pieces whose area is below this times their longest edge squared are thin (a slab piece of
+a well-shaped face: 0.25; of a face 20 times longer than wide: about 0.025)."""
+MERGE_CELL = 0.25
+"""Thin pieces are merged within cubes of about this times their spacing (a power of two)."""
+MERGE_REACH = 1 / np.sqrt(3)
+"""A merge is kept where every corner of its pieces lies within this times their spacing s
+from the site: the bound a single piece of longest edge s meets (its centroid is within
+s/√3 of its corners), so a merged site stands for no more surface than a piece does."""
+MERGE_FLAT = 0.05
+"""... and where the spacing of its pieces varies by at most this share (L nearly constant
+over them: where L changes, the pieces stay sites of their own)."""
+
+
+def merge_thin(xyz, area, size, spacing, group):
+    """Thin pieces of one patch (``group``) whose centroids fall in one cube of side about
+    MERGE_CELL times their spacing merged into one site: the piece nearest the merged
+    centroid stands for all, with their summed area (the sites still tile the surface). A
+    merge is kept only where every corner of its pieces lies within MERGE_REACH = 1/√3 times
+    the smallest spacing s of its pieces from that piece's centroid (``spacing``: a lower
+    bound of the spacing at each piece), the bound every single piece no longer than s meets,
+    and where the spacing of its pieces varies by at most MERGE_FLAT: so a merged site stands
+    for no more surface than a piece of the spacing does, and the resolution of L the spacing
+    asks for is kept; the other pieces stay sites of their own.
+
+    Returns (the pieces kept as sites, their areas, their reach: the distance from each merged
+    one's centroid to the farthest corner it stands for, NaN for a piece of its own).
+    """
+    count = len(xyz)
+    middle = xyz.mean(axis=1)
+    own = np.full(count, np.nan)
+    thin = area < THIN * size**2
+    if thin.sum() < 2:
+        return np.arange(count), area, own
+    rows = np.flatnonzero(thin)
+    level = np.floor(np.log2(MERGE_CELL * spacing[rows]))
+    cell = np.floor(middle[rows] / np.exp2(level)[:, None])
+    key = np.c_[group[rows], level, cell]
+    _, cluster = np.unique(key, axis=0, return_inverse=True)
+    cluster = cluster.reshape(-1)
+    clusters = int(cluster.max()) + 1
+    weight = area[rows]
+    total = np.bincount(cluster, weight, clusters)
+    centre = (
+        np.stack(
+            [np.bincount(cluster, weight * middle[rows, k], clusters) for k in range(3)], axis=1
+        )
+        / np.where(total > 0, total, 1.0)[:, None]
+    )
+    # The representative: the member nearest the merged centroid (ties: the first).
+    gap = np.linalg.norm(middle[rows] - centre[cluster], axis=1)
+    order = np.lexsort((gap, cluster))
+    first = np.r_[True, cluster[order][1:] != cluster[order][:-1]]
+    rep = np.empty(clusters, dtype=np.int64)
+    rep[cluster[order][first]] = rows[order][first]
+    far = np.linalg.norm(xyz[rows] - middle[rep][cluster][:, None], axis=2).max(axis=1)
+    reach = np.zeros(clusters)
+    np.maximum.at(reach, cluster, far)
+    bound = np.full(clusters, np.inf)
+    np.minimum.at(bound, cluster, spacing[rows])
+    top = np.zeros(clusters)
+    np.maximum.at(top, cluster, spacing[rows])
+    members = np.bincount(cluster, minlength=clusters)
+    merged = (members > 1) & (reach <= MERGE_REACH * bound) & (top <= (1 + MERGE_FLAT) * bound)
+    keep = np.ones(count, dtype=bool)
+    keep[rows[merged[cluster]]] = False
+    keep[rep[merged]] = True
+    new_area, new_reach = area.copy(), own.copy()
+    new_area[rep[merged]] = total[merged]
+    new_reach[rep[merged]] = reach[merged]
+    chosen = np.flatnonzero(keep)
+    return chosen, new_area[chosen], new_reach[chosen]
 
 
 DECIDED_RTOL = 1e-9
@@ -234,6 +427,19 @@ def _slabs(corners: np.ndarray, spacing: np.ndarray, max_sites: int):
 def _at(t: np.ndarray, s: np.ndarray) -> np.ndarray:
     """(n, 3) weights of the slab corners A, B, C at height t and position s."""
     return np.stack([t * (1 - s), t * s, 1 - t], axis=1)
+
+
+def _halve(bary: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+    """Each piece split in two at the midpoint of its longest edge (``xyz``: its corners)."""
+    lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)  # edge k: k → k+1
+    k = lengths.argmax(axis=1)
+    rows = np.arange(len(bary))
+    a, b, c = bary[rows, k], bary[rows, (k + 1) % 3], bary[rows, (k + 2) % 3]
+    m = 0.5 * (a + b)
+    out = np.empty((2 * len(bary), 3, 3))
+    out[0::2] = np.stack([a, m, c], axis=1)
+    out[1::2] = np.stack([m, b, c], axis=1)
+    return out
 
 
 def _quarter(bary: np.ndarray) -> np.ndarray:

@@ -21,7 +21,7 @@ from .mesh_quality import MeshReport, PreparedMesh
 from .patches import Patches
 from .poles import Midpoints
 from .rounds import Rounds
-from .sites import Sites
+from .sites import Sites, field_of
 
 COARSE_EDGE_RATIO = 0.5
 """An edge of a curved patch longer than COARSE_EDGE_RATIO·L is reported as coarse: the
@@ -95,8 +95,7 @@ class LfsEstimate:
 
     @cached_property
     def _field(self) -> Envelope:
-        s = self._sites
-        return Envelope(s.points, s.values, self.lipschitz, s.radii, gradients=s.planes)
+        return field_of(self._sites, self.lipschitz)
 
     def surface(self) -> SurfaceCounts:
         """Area and ∫ dA/L² from the face sites (:class:`SurfaceCounts`, what the advice
@@ -154,6 +153,9 @@ def build_result(
         vertex=sites.vertex,
         gradient=sites.gradient,
         planes=sites.planes,
+        cap_points=scale * sites.cap_points + centre,
+        cap_values=scale * sites.cap_values,
+        cap_radii=scale * sites.cap_radii,
     )
     # A vertex is a site: its output is its own L (the envelope of the raw values there).
     # `at` spreads each site's value over its piece, so at a vertex it is at most this (lower

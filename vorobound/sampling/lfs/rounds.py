@@ -26,6 +26,7 @@ from .sites import (
     MIN_PIECES,
     SITE_SPACING,
     Sites,
+    field_of,
     site_gradients,
     spacings,
     vertex_radius,
@@ -198,20 +199,20 @@ def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
         # The spacing is SITE_SPACING times the last field (λ-Lipschitz), or a constant.
         slope = 0.0 if field is None else state.factor * state.slope * (1 + SLOPE_SLACK)
         on_faces = face_sites(
-            points, faces, patches.corner_normals, state.curved_face, face_spacing, slope=slope
+            points,
+            faces,
+            patches.corner_normals,
+            state.curved_face,
+            face_spacing,
+            slope=slope,
+            groups=patches.face_patch,
         )
         feature = edge_sites(points, patches.feature_edges, edge_spacing)
         counter.step()
         sites, poles, envelope = evaluate_round(state, on_faces, feature, progress)
         counter = Counter(progress, "L at the vertices", 1)
-        field = Envelope(
-            sites.points,
-            sites.values,
-            state.slope,
-            sites.radii,
-            like=envelope,
-            gradients=sites.planes,
-        )
+        # L between the sites, the feature cap's cones with them (docs/lfs.md).
+        field = field_of(sites, state.slope, like=envelope)
         at_vertices = field(points)
         counter.step()
         current = at_vertices[state.surface_ids]
@@ -389,9 +390,12 @@ def evaluate_round(
     areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
     radii = np.zeros(count)
     face_rows = slice(n_vertex, n_vertex + len(on_faces.points))
-    radii[face_rows] = np.linalg.norm(on_faces.corners - on_faces.points[:, None], axis=2).max(
-        axis=1
-    )
+    if on_faces.reach is None:
+        radii[face_rows] = np.linalg.norm(on_faces.corners - on_faces.points[:, None], axis=2).max(
+            axis=1
+        )
+    else:
+        radii[face_rows] = on_faces.reach
     radii[len(site_points) - len(feature.points) :] = feature.lengths / 2
     # A site's value is spread over a ball of radius ρ(1 − g/λ), g the local rate of change of
     # L, beyond which its cone rises at λ; at a face site it follows L's tangent plane there
@@ -414,6 +418,15 @@ def evaluate_round(
             np.full(len(feature.points), -1),
         ]
     )
+    # The feature cap's cones (sites.field_of): L below the cap at every point.
+    cap = {}
+    if feature_site.any():
+        finite = np.isfinite(feature_lfs)
+        cap = {
+            "cap_points": site_points[feature_site][finite],
+            "cap_values": feature_lfs[finite],
+            "cap_radii": feature_lfs[finite] + half[finite],
+        }
     sites = Sites(
         site_points,
         raw,
@@ -428,6 +441,7 @@ def evaluate_round(
         vertex,
         gradient,
         planes,
+        **cap,
     )
     per_ray = balls | {
         "inward": ray.inward,

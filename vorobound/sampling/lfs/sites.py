@@ -4,7 +4,7 @@ evaluated, how finely the faces are cut into them, and the local rate of change 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -72,6 +72,36 @@ class Sites:
     planes: np.ndarray
     """(n, 3) gradient of L fitted at each face site to the nearest sites of its patch (at
     most λ long; zero at the other sites and where no fit was possible)."""
+    cap_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """The feature points whose cap max(|x − p| − h, L_F(p)) bounds L everywhere."""
+    cap_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    """L_F at each cap point."""
+    cap_radii: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    """L_F + h at each cap point (h: half its piece of feature edge)."""
+
+
+def field_of(sites: Sites, slope: float, like: Envelope | None = None) -> Envelope:
+    """L everywhere: min over sites y of v(y) + max(a(y)·(x − y), λ(|x − y| − ρ(y))) and over
+    cap points p of L_F(p) + λ·max(0, |x − p| − h(p) − L_F(p)).
+
+    The second cone is the largest λ-Lipschitz function below the feature cap of p,
+    max(|x − p| − h, L_F(p)) (λ ≤ 1; for λ = 1 the cap itself): on the segment from p to x the
+    cap plus λ times the rest of the way is smallest at distance h + L_F(p) from p. So L is
+    at most the cap at every point, not only at the sites, and stays λ-Lipschitz (a minimum
+    of λ-Lipschitz cones). ``like``: an envelope of the sites alone, whose tree lends its shape
+    when there are no cap points.
+    """
+    if not len(sites.cap_points):
+        return Envelope(
+            sites.points, sites.values, slope, sites.radii, like=like, gradients=sites.planes
+        )
+    return Envelope(
+        np.vstack([sites.points, sites.cap_points]),
+        np.concatenate([sites.values, sites.cap_values]),
+        slope,
+        np.concatenate([sites.radii, sites.cap_radii]),
+        gradients=np.vstack([sites.planes, np.zeros((len(sites.cap_points), 3))]),
+    )
 
 
 def spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor):

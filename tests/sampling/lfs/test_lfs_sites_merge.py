@@ -1,0 +1,128 @@
+"""Issue 35: fewer face sites on CAD parts of long thin triangles, with what L promises kept:
+merged thin pieces still tile the faces and lie within s/√3 of their site (as one piece of
+the spacing s does), and the feature cap bounds L at every point, not only at the sites."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from vorobound.errors import VoroboundWarning
+from vorobound.sampling.lfs.estimate import estimate_lfs
+from vorobound.sampling.lfs.face_sites import face_sites, merge_thin
+from vorobound.sampling.surfaces import cad_meshes
+from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+from vorobound.sampling.surfaces.mesh import points_on_mesh
+
+
+def quiet(mesh, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VoroboundWarning)
+        return estimate_lfs(mesh, **options)
+
+
+def fan(count: int = 40, length: float = 8.0):
+    """A flat fan of ``count`` slivers (length ``length``, width about length·π/2/count) in
+    one plane, plus a second fan: two patches."""
+    angle = np.linspace(0, np.pi / 2, count + 1)
+    rim = length * np.c_[np.cos(angle), np.sin(angle), np.zeros(count + 1)]
+    points = np.vstack([np.zeros(3), rim, rim + [0, 0, 5], [0, 0, 5]])
+    faces = [(0, k + 1, k + 2) for k in range(count)]
+    top = len(points) - 1
+    faces += [(top, count + 2 + k, count + 3 + k) for k in range(count)]
+    groups = np.r_[np.zeros(count, np.int64), np.ones(count, np.int64)]
+    return points, np.array(faces), groups
+
+
+@pytest.mark.parametrize("batch", [None, 50])
+@pytest.mark.parametrize("spacing", [1.0, 4.0])
+def test_merged_thin_pieces_tile_the_faces_within_the_spacing(spacing, batch, monkeypatch):
+    """Also when the faces are cut in batches (``batch`` first pieces each)."""
+    import vorobound.sampling.lfs.face_sites as module
+
+    if batch is not None:
+        monkeypatch.setattr(module, "CHUNK_PIECES", batch)
+    points, faces, groups = fan()
+    normals = np.broadcast_to([0.0, 0.0, 1.0], (len(faces), 3, 3)).copy()
+    curved = np.zeros(len(faces), dtype=bool)
+
+    def constant(x, face):
+        return np.full(len(x), spacing)
+
+    plain = face_sites(points, faces, normals, curved, constant)
+    merged = face_sites(points, faces, normals, curved, constant, groups=groups)
+    assert len(merged.points) < len(plain.points)  # slivers: far fewer sites
+    assert merged.areas.sum() == pytest.approx(plain.areas.sum(), rel=1e-12)
+    # No more surface than one piece of the spacing stands for (its centroid within s/√3).
+    assert (merged.reach <= spacing / np.sqrt(3) * (1 + 1e-12)).all()
+    # Every corner of every piece lies within the reach of a site of its own patch.
+    corners = plain.corners.reshape(-1, 3)
+    patch = np.repeat(groups[plain.face], 3)
+    from scipy.spatial import cKDTree
+
+    near = cKDTree(merged.points).query_ball_point(corners, merged.reach.max() * (1 + 1e-12))
+    site_patch = groups[merged.face]
+    for corner, mine, found in zip(corners, patch, near, strict=True):
+        found = np.asarray(found, dtype=np.int64)
+        gap = np.linalg.norm(merged.points[found] - corner, axis=1)
+        assert ((gap <= merged.reach[found] * (1 + 1e-12)) & (site_patch[found] == mine)).any()
+
+
+def test_merge_thin_leaves_well_shaped_pieces_alone():
+    corners = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0], [0, 1, 0]]])
+    area = np.full(2, 0.5)
+    chosen, areas, reach = merge_thin(
+        corners.astype(float), area, np.full(2, 2**0.5), np.full(2, 5.0), np.zeros(2, np.int64)
+    )
+    assert chosen.tolist() == [0, 1] and areas.tolist() == [0.5, 0.5] and np.isnan(reach).all()
+
+
+@pytest.fixture(scope="module")
+def bracket():
+    mesh = cad_meshes.l_bracket()
+    return mesh, quiet(mesh)
+
+
+def feature_cap(estimate, x):
+    """min over cap points of max(|x − p| − h, L_F(p)), h = radius − L_F."""
+    s = estimate.sites
+    half = s.cap_radii - s.cap_values
+    distance = np.linalg.norm(x[:, None] - s.cap_points[None], axis=2) - half[None]
+    return np.maximum(distance, s.cap_values[None]).min(axis=1)
+
+
+def test_the_feature_cap_bounds_l_everywhere(bracket):
+    mesh, estimate = bracket
+    assert len(estimate.sites.cap_points)
+    x = points_on_mesh(mesh, 3000, np.random.default_rng(5))
+    # Near the surface and off it: the cones of the cap hold at every point.
+    x = np.vstack([x, x + np.random.default_rng(6).normal(scale=0.3, size=x.shape)])
+    assert (estimate.at(x) <= feature_cap(estimate, x) * (1 + 1e-9)).all()
+
+
+def test_without_features_there_is_no_cap():
+    estimate = quiet(torus_mesh(3.0, 1.0, 48, 16, jitter=0.2, seed=1))
+    assert len(estimate.sites.cap_points) == 0
+
+
+@pytest.mark.slow
+def test_a_small_gear_has_far_fewer_face_sites_on_its_caps(monkeypatch):
+    """The caps of a gear are fans of slivers from the bore to the teeth: merged, their sites
+    follow the area, not the faces; the sites still tile the caps."""
+    import vorobound.sampling.lfs.face_sites as module
+
+    def gear():  # a new mesh object each time (the estimate is cached on it)
+        return cad_meshes.gear(teeth=12, faces=400, width=3.0, bore=3.0)
+
+    def caps(estimate):
+        s = estimate.sites
+        face = s.kind == 1
+        z = s.points[face, 2]
+        on_caps = (np.abs(z - z.min()) < 1e-9) | (np.abs(z - z.max()) < 1e-9)
+        return int(on_caps.sum()), s.areas[face][on_caps].sum()
+
+    merged_count, merged_area = caps(quiet(gear()))
+    monkeypatch.setattr(module, "THIN", 0.0)  # no piece is thin: one site per piece
+    plain_count, plain_area = caps(quiet(gear()))
+    assert merged_count < 0.75 * plain_count
+    assert merged_area == pytest.approx(plain_area, rel=1e-9)
