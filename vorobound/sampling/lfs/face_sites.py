@@ -144,7 +144,9 @@ def face_sites(
         if total > max_sites:
             raise _too_many(max_sites)
         parts.append(part)
-    reach = [p.reach for p in parts]
+    # Every batch is cut with its groups, so every part carries the reach of its sites.
+    reach = [p.reach for p in parts if p.reach is not None]
+    assert len(reach) == len(parts)
     return FaceSites(
         np.concatenate([p.points for p in parts]),
         np.concatenate([p.normals for p in parts]),
