@@ -344,13 +344,15 @@ def circumcentres(
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
     (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
     computes the circumcentres (else numpy, by chunks)."""
-    centres, radius, error, _ = flat_circumcentres(points, simplices, neighbors, kernel)
+    centres, radius, error, _, _ = flat_circumcentres(points, simplices, neighbors, kernel)
     return centres, radius, error
 
 
 def flat_circumcentres(points, simplices, neighbors, kernel=None):
-    """:func:`circumcentres`, and (t,) which tetrahedra are flat (their circumcentre borrowed
-    from a neighbour)."""
+    """:func:`circumcentres`, (t,) which tetrahedra are flat (their circumcentre borrowed from
+    a neighbour), and (t,) the last face whose neighbour a flat tetrahedron's centre depends on
+    (int8: k when it was found across face k in the first round, after trying faces 0 … k − 1;
+    3 otherwise, when every face was tried)."""
     count = len(simplices)
     if kernel is not None:
         centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
@@ -363,7 +365,8 @@ def flat_circumcentres(points, simplices, neighbors, kernel=None):
     centres[flat] = np.nan
     error[flat] = np.nan
     todo = np.flatnonzero(flat)
-    for _ in range(FLAT_ROUNDS):
+    last = np.full(count, 3, dtype=np.int8)
+    for round_ in range(FLAT_ROUNDS):
         if len(todo) == 0:
             break
         found = np.zeros(len(todo), dtype=bool)
@@ -377,10 +380,12 @@ def flat_circumcentres(points, simplices, neighbors, kernel=None):
                 fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
             centres[todo[fits]] = candidate[fits]
             error[todo[fits]] = error[np.maximum(other, 0)][fits]
+            if round_ == 0:
+                last[todo[fits]] = k
             found |= fits
         todo = todo[~found]
     radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
-    return centres, radius, error, flat
+    return centres, radius, error, flat, last
 
 
 def _circumcentres(corner: np.ndarray):
