@@ -15,9 +15,10 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
-On request (``slabs=``) the tetrahedralization is built in overlapping slabs, one at a time,
-and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same facets,
-certified by the empty-ball property; memory bounded by a slab; opt-in, see there).
+Above ``slabs.WHOLE_SEEDS`` seeds (or on request, ``slabs=``) the tetrahedralization is built
+in overlapping slabs, one at a time, and only the tetrahedra around the in/out edges are kept
+(:mod:`.slabs`: the same facets, certified by the empty-ball property and a completeness
+certificate; memory bounded by a slab).
 
 The frame: the seeds are moved to a frame near the origin and of unit size before anything is
 computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
@@ -199,6 +200,9 @@ class InOutFacets:
     duplicate_seeds: int = 0
     """Seeds at the very coordinates of another seed with the same label: one Voronoi cell,
     triangulated once (the copies change nothing in M̂)."""
+    slabs: int = 1
+    """Slabs the seeds were triangulated in (1: the whole set at once, also when the slabs
+    asked for could not certify their facets)."""
 
 
 def inout_facets(
@@ -228,11 +232,10 @@ def inout_facets(
         is installed. Both give the same facets (the tests compare them).
     slabs : int, optional
         Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
-        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab).
-        None or 1 (default): the whole set at once. The slabs are opt-in: their completeness
-        argument leaves a gap (a component of M̂ whose seed pairs all lie more than twice the
-        margin apart could be missed), so no default depends on them;
-        ``slabs.slab_count(n)`` is the count they are tuned for.
+        compiled kernels only; :mod:`.slabs`: the same facets, certified complete, memory
+        bounded by a slab; where a check fails, the whole set at once). 1: the whole set at
+        once. None (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS``
+        (750,000) seeds, where the whole set is faster, then one per ``SLAB_SEEDS``.
 
     Returns
     -------
@@ -257,10 +260,10 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    from .slabs import slab_fans
+    from .slabs import slab_count, slab_fans
 
     if slabs is None:
-        slabs = 1
+        slabs = slab_count(len(points))
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
@@ -308,6 +311,7 @@ def inout_facets(
         duplicate_seeds=duplicates,
         delaunay_edges=cycles.edge_count,
         tetrahedra=tetrahedra,
+        slabs=1 if fans is None else fans.slabs,
     )
 
 
