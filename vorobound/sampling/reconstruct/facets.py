@@ -68,6 +68,8 @@ import numpy as np
 
 from ...errors import InputError
 from ...progress import Counter, Progress
+from .engine import delaunay_tetrahedra
+from .slabs import dense_unique, slab_count, slab_fans
 
 WELD_RTOL = 1e-9
 """Neighbouring Voronoi vertices closer than WELD_RTOL times their circumradius (plus their
@@ -260,8 +262,6 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    from .slabs import slab_count, slab_fans
-
     if slabs is None:
         slabs = slab_count(len(points))
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
@@ -420,9 +420,9 @@ def _circumcentres(corner: np.ndarray):
 def _cgal_tetrahedra(points: np.ndarray, kernel=None):
     """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL (the
     neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
-    from ..simplices import delaunay_simplices, face_neighbours
+    from ..simplices import face_neighbours
 
-    _, simplices, _ = delaunay_simplices(points, triangles=False)
+    simplices = delaunay_tetrahedra(points)
     if not len(simplices):
         raise InputError(
             "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
@@ -650,7 +650,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    used, corner_vertex = _dense_unique(cycles.tets, len(centres))
+    used, corner_vertex = dense_unique(cycles.tets, len(centres))
     position = centres[used]
     slack = WELD_RTOL * radius[used] + error[used]
     sizes = np.diff(cycles.offsets)
@@ -691,7 +691,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     vertex, polygon = vertex[keep], polygon[keep]
     offsets = np.concatenate([[0], np.cumsum(distinct[good])])
     # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
-    used_clusters, vertex = _dense_unique(vertex, count)
+    used_clusters, vertex = dense_unique(vertex, count)
     is_used = np.zeros(count, dtype=bool)
     is_used[used_clusters] = True
     member = np.flatnonzero(known & is_used[np.maximum(cluster, 0)])
@@ -707,17 +707,6 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     non_simple = _non_simple(vertex, offsets)
     surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
     return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
-
-
-def _dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray]:
-    """``np.unique(values, return_inverse=True)`` for integers in [0, bound), by a table of
-    ``bound`` entries instead of a sort."""
-    present = np.zeros(bound, dtype=bool)
-    present[values] = True
-    unique = np.flatnonzero(present)
-    rank = np.empty(bound, dtype=np.int64)
-    rank[unique] = np.arange(len(unique))
-    return unique, rank[values]
 
 
 def _non_simple(corners, offsets) -> int:

@@ -91,6 +91,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...progress import Counter, Progress
+from .engine import delaunay_tetrahedra
 
 WHOLE_SEEDS = 750_000
 """Up to this many seeds the whole set is triangulated at once (faster: the slabs trade CPU
@@ -372,14 +373,12 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     of :func:`_complete`: the seeds triangulated, the seeds of the core on the window's hull,
     and (a union–find over the seeds) the vertices of one label of each certified
     tetrahedron joined."""
-    from ..simplices import delaunay_simplices
-
     kernel, circumcentres = steps
     low, high = core[0] - margin, core[1] + margin
     window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
     if len(window) < 5:
         return None, None, None
-    _, local, _ = delaunay_simplices(points[window], triangles=False)
+    local = delaunay_tetrahedra(points[window])
     if not len(local):
         return None, None, None
     neighbours, ok = kernel.face_neighbours(local, len(window))
@@ -398,9 +397,13 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
         seen.on_hull[face[in_core]] = True
     centres, radius, error, flat, last = circumcentres(points, tets, neighbours, kernel)
     reach = ((radius + error) * (1 + BALL_RTOL))[:, None]
-    with np.errstate(invalid="ignore"):
-        certified = ((centres - reach >= low) & (centres + reach <= high)).all(axis=1)
-    certified &= np.isfinite(centres).all(axis=1) & np.isfinite(reach[:, 0])
+    finite = np.isfinite(centres).all(axis=1)
+    certified = finite & np.isfinite(reach[:, 0])
+    for axis in np.flatnonzero(np.isfinite(low) | np.isfinite(high)):  # a slab: one axis
+        with np.errstate(invalid="ignore"):
+            certified &= (centres[:, axis] - reach[:, 0] >= low[axis]) & (
+                centres[:, axis] + reach[:, 0] <= high[axis]
+            )
     # A flat tetrahedron's borrowed centre depends on its neighbours up to FLAT_LEVELS steps
     # away through flat ones: all of them must be the whole set's (module docstring).
     flat_rows = np.flatnonzero(flat)
@@ -415,7 +418,8 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     del flat_rows, flat_neighbours, tried, last
     if seen.parent is not None:
         kernel.join_same_label(seen.parent, tets, certified, inside)
-    middle = np.where(np.isfinite(centres), centres, points[tets].mean(axis=1))
+    middle = centres.copy()
+    middle[~finite] = points[tets[~finite]].mean(axis=1)
     tetrahedra = int(((middle >= core[0]) & (middle < core[1])).all(axis=1).sum())
     first, inner, outer, length, turn, found, ok = kernel.find_edges(
         points, tets, neighbours, inside
@@ -450,7 +454,7 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
         first, inner, outer, length, turn = (v[good] for v in (first, inner, outer, length, turn))
         cycle = cycle[np.repeat(good, offsets[1:] - offsets[:-1])]
 
-    used, corners = np.unique(cycle, return_inverse=True)
+    used, corners = dense_unique(cycle, len(tets))
     quads = tets[used]
     label = inside[quads]
     required = []
@@ -479,6 +483,17 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
         tetrahedra=tetrahedra,
     )
     return part, needed, rest
+
+
+def dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(values, return_inverse=True)`` for integers in [0, bound), by a table of
+    ``bound`` entries instead of a sort."""
+    present = np.zeros(bound, dtype=bool)
+    present[values] = True
+    unique = np.flatnonzero(present)
+    rank = np.empty(bound, dtype=np.int64)
+    rank[unique] = np.arange(len(unique))
+    return unique, rank[values]
 
 
 def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
