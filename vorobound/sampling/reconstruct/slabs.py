@@ -272,8 +272,7 @@ def _complete(points, inside, kernel, seen, parts) -> bool:
     seeds = np.flatnonzero(present)
     if not len(seeds):
         return False
-    values, counts = np.unique(root[seeds], return_counts=True)
-    apart = seeds[root[seeds] != values[np.argmax(counts)]]
+    apart = seeds[root[seeds] != np.argmax(np.bincount(root[seeds]))]
     if len(apart):
         from scipy.spatial import cKDTree
 
