@@ -498,42 +498,48 @@ def dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray
 def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
     """The slabs' parts as one set of numbered tetrahedra and edges in key order; None when
     two slabs disagree on a tetrahedron or an in/out edge of a certified tetrahedron was built
-    by no slab."""
-    quads = np.concatenate([p.quads for p in parts])
+    by no slab. The parts' arrays are released as they are gathered (the merge was the memory
+    peak of the slabs)."""
+    sizes = [len(p.quads) for p in parts]
+    quads = _taken(parts, "quads")
     high = (quads[:, 0] << 32) | quads[:, 1]
     low = (quads[:, 2] << 32) | quads[:, 3]
+    del quads
     order = np.lexsort((low, high))
+    high, low = high[order], low[order]
     new = np.ones(len(order), dtype=bool)
-    new[1:] = (high[order][1:] != high[order][:-1]) | (low[order][1:] != low[order][:-1])
-    rank = np.cumsum(new) - 1
+    new[1:] = (high[1:] != high[:-1]) | (low[1:] != low[:-1])
+    del high, low
     number = np.empty(len(order), dtype=np.int64)
-    number[order] = rank
-    values = [np.concatenate([getattr(p, name) for p in parts]) for name in _VALUES]
+    number[order] = np.cumsum(new) - 1
     pick = order[new]
-    merged = [v[pick] for v in values]
-    for v, m in zip(values, merged, strict=True):
-        if not np.array_equal(v, m[number], equal_nan=True):
+    del order, new
+    merged = {}
+    for name in _VALUES:
+        value = _taken(parts, name)
+        merged[name] = value[pick]
+        if not np.array_equal(value, merged[name][number], equal_nan=True):
             return None
-    start = np.cumsum([0] + [len(p.quads) for p in parts])
-    tets = np.concatenate([p.corners + s for p, s in zip(parts, start, strict=False)])
-    tets = number[tets]
-    inner = np.concatenate([p.inner for p in parts])
-    outer = np.concatenate([p.outer for p in parts])
-    lengths = np.concatenate([p.lengths for p in parts])
+        del value
+    start = np.cumsum([0] + sizes)
+    tets = number[np.concatenate([p.corners + s for p, s in zip(parts, start, strict=False)])]
+    del number
+    inner, outer, lengths = (_taken(parts, name) for name in ("inner", "outer", "lengths"))
     key = np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer)
     required = np.unique(np.concatenate([p.required for p in parts]))
     if not np.isin(required, key).all():
         return None
     order = np.argsort(key, kind="stable")
+    del key
     offsets = np.concatenate([[0], np.cumsum(lengths)])
     new_offsets = np.concatenate([[0], np.cumsum(lengths[order])])
     index = np.arange(int(new_offsets[-1])) - np.repeat(new_offsets[:-1], lengths[order])
     tets = tets[np.repeat(offsets[:-1][order], lengths[order]) + index]
     return SlabFans(
-        centres=merged[0],
-        radius=merged[1],
-        error=merged[2],
-        flat=merged[3],
+        centres=merged["centres"],
+        radius=merged["radius"],
+        error=merged["error"],
+        flat=merged["flat"],
         pairs=np.column_stack([inner[order], outer[order]]),
         tets=tets,
         offsets=new_offsets,
@@ -541,3 +547,11 @@ def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
         tetrahedra=sum(p.tetrahedra for p in parts),
         slabs=slabs,
     )
+
+
+def _taken(parts, name) -> np.ndarray:
+    """The parts' arrays ``name``, concatenated; each part's array released."""
+    value = np.concatenate([getattr(p, name) for p in parts])
+    for part in parts:
+        setattr(part, name, np.empty((0,) + value.shape[1:], value.dtype))
+    return value
