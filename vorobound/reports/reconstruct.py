@@ -339,6 +339,7 @@ def _from_balls(
             float(balls.radii.max()) / params.delta,
         )
     info = SampleInfo(len(balls), guides, search.half_covered, search.engine, lfs_range)
+    del search, found, inside  # the guide triangles are not needed for M̂ (memory)
     report = _finish(
         seeds,
         shape,
