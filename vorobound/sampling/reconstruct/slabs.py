@@ -95,8 +95,9 @@ from .engine import delaunay_tetrahedra
 
 WHOLE_SEEDS = 750_000
 """Up to this many seeds the whole set is triangulated at once (faster: the slabs trade CPU
-time for memory, docs/reconstruct.md; the whole set's peak grows about linearly, 3.17 GB for
-the cube's 1.08·10⁶ seeds by ``bench_reconstruct.py --slabs cube-0.0095``)."""
+time for memory, docs/reconstruct.md; the whole set's peak grows about linearly, 3.16 GB for
+M̂ of the cube's 1.08·10⁶ seeds against 1.88 GB in 3 slabs, by ``bench_reconstruct.py --slabs
+cube-0.0095``)."""
 SLAB_SEEDS = 400_000
 """Seeds per slab core above ``WHOLE_SEEDS``."""
 PROBE_SIZE = 0.005
