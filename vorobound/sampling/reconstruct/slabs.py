@@ -122,6 +122,9 @@ FLAT_LEVELS = 32
 """Levels of neighbours a flat tetrahedron's certificate looks at: at least the steps of
 :func:`.facets.flat_circumcentres` (``4 * FLAT_ROUNDS``: a round tries the four faces one
 after another, each reading the centres the previous one borrowed; a test checks this)."""
+EXACT_REACH_SEEDS = 50_000
+"""Windows of up to this many seeds (the probe, the boxes) measure how far their balls reach
+from their edges' midpoints; larger ones (the slabs) bound it by the balls' diameters."""
 GABRIEL_NEIGHBOURS = 8
 """Nearest neighbours tried for each seed the certified tetrahedra leave apart."""
 GABRIEL_RTOL = 1e-9
@@ -367,12 +370,13 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     """One slab's part: the seeds in the box ``core`` widened by ``margin``, the in/out edges
     whose midpoint is in the core (and whose key is not among the sorted keys ``built``) and
     whose balls stay in the window; the margin its certified balls need (how far the farthest
-    reaches from the midpoint of its edge along an axis); and the keys of the owned edges left
-    out (a ball leaves the window, or the edge is on the window's hull). The part is None when
-    the triangulation fails (too few seeds, or inconsistent). ``seen`` gathers the evidence
-    of :func:`_complete`: the seeds triangulated, the seeds of the core on the window's hull,
-    and (a union–find over the seeds) the vertices of one label of each certified
-    tetrahedron joined."""
+    reaches from the midpoint of its edge along an axis: measured in a window of at most
+    ``EXACT_REACH_SEEDS`` seeds, else bounded by twice its widened radius); and the keys of
+    the owned edges left out (a ball leaves the window, or the edge is on the window's hull).
+    The part is None when the triangulation fails (too few seeds, or inconsistent). ``seen``
+    gathers the evidence of :func:`_complete`: the seeds triangulated, the seeds of the core
+    on the window's hull, and (a union–find over the seeds) the vertices of one label of each
+    certified tetrahedron joined."""
     kernel, circumcentres = steps
     low, high = core[0] - margin, core[1] + margin
     window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
@@ -442,11 +446,7 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     offsets = np.concatenate([[0], np.cumsum(length)])
     cycle = np.empty(int(offsets[-1]), dtype=np.int64)
     kernel.write_cycles(tets, neighbours, first, inner, outer, turn < 0, offsets, cycle)
-    # How far each certified ball reaches from its edge's midpoint along an axis.
     sure = certified[cycle]
-    edge_midpoint = np.repeat(midpoint[owned], length, axis=0)
-    extent = (np.abs(centres[cycle] - edge_midpoint) + reach[cycle]).max(axis=1)
-    needed = float(extent[sure].max()) if sure.any() else 0.0
     edge = np.repeat(np.arange(len(length)), length)
     good = np.bincount(edge, ~sure, minlength=len(length)) == 0
     rest = np.concatenate([rest, key[~good]])
@@ -455,6 +455,15 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
         cycle = cycle[np.repeat(good, offsets[1:] - offsets[:-1])]
 
     used, corners = dense_unique(cycle, len(tets))
+    # How far a certified ball around a kept edge reaches from the edge's midpoint along an
+    # axis: measured in a small window (the probe, a box), else bounded by its radius (the
+    # ball holds the midpoint) plus its widened radius (no (corner, 3) arrays for a slab).
+    if len(window) <= EXACT_REACH_SEEDS:
+        edge_midpoint = np.repeat(midpoint[owned][good], length, axis=0)
+        extent = (np.abs(centres[cycle] - edge_midpoint) + reach[cycle]).max(axis=1)
+        needed = float(extent.max()) if len(extent) else 0.0
+    else:
+        needed = float((radius[used] + reach[used, 0]).max()) if len(used) else 0.0
     quads = tets[used]
     label = inside[quads]
     required = []
