@@ -72,10 +72,11 @@ most as far as it reaches from that midpoint along the axis (at most its diamete
 the midpoint). A probe (a small box about the median seed, its window the box widened by a
 margin on every side, certified the same way) measures the farthest reach of the balls
 around its in/out edges; the margin is ``MARGIN_GROWTH`` times it. The boxes start from the
-farthest reach the slabs certified (a wide core certifies balls wider than its margin) and
-double it each round. An edge left out after the last round (an unbounded facet: on the hull
-of all the seeds), a failed check, or two slabs that computed different circumcentres for one
-tetrahedron make :func:`slab_fans` return None, and the caller triangulates the whole set.
+farthest reach of the balls the slabs certified (bounded by their diameters; a wide core
+certifies balls wider than its margin) and double it each round. An edge left out after the
+last round (an unbounded facet: on the hull of all the seeds), a failed check, or two slabs
+that computed different circumcentres for one tetrahedron make :func:`slab_fans` return None,
+and the caller triangulates the whole set.
 
 References
 ----------
