@@ -121,6 +121,7 @@ def run_case(name: str) -> dict:
         "n_seeds": summary["n_seeds"],
         "n_facets": summary["n_facets"],
         "tetrahedra": report.facets.tetrahedra,
+        "slabs": report.facets.slabs,
         "delaunay_edges": report.facets.delaunay_edges,
         "collapsed": report.facets.collapsed,
         "guide_facets": int((triangle[pairs[:, 0]] == triangle[pairs[:, 1]]).sum()),
@@ -414,7 +415,8 @@ def main() -> None:
         memory = "ok" if r["peak_gb"] <= MEMORY_TARGET_GB else "OVER"
         print(
             f"\n{name}: {r['n_samples']:,} samples, {r['n_seeds']:,} seeds, "
-            f"{r['tetrahedra']:,} tetrahedra, {r['n_facets']:,} facets of M̂, ε = {r['eps']}, "
+            f"{r['tetrahedra']:,} tetrahedra ({r.get('slabs', 1)} slab(s)), "
+            f"{r['n_facets']:,} facets of M̂, ε = {r['eps']}, "
             f"topology {'right' if r['topology_correct'] else 'WRONG'}"
         )
         print(

@@ -73,3 +73,25 @@ def test_the_torus_writes_its_l_once():
     np.testing.assert_array_equal(torus.profile_lfs(t), torus.lfs_at(points))
     assert torus.lfs_min(0.0, 2 * math.pi) == pytest.approx(torus.profile_lfs(t).min(), rel=1e-6)
     assert torus.counts().lfs_min == 0.5
+
+
+def test_a_small_mesh_gets_the_exact_winding_number():
+    """A cube (12 triangles, the exact winding number) and an icosphere (the fast one) say
+    inside exactly where the shapes are."""
+    from vorobound.sampling.surfaces import cad_meshes, mesh
+
+    rng = np.random.default_rng(4)
+    points = rng.uniform(-1.5, 1.5, (4000, 3))
+    cube = cad_meshes.cube()
+    assert len(cube.triangles) <= mesh.EXACT_WINDING_TRIANGLES
+    shape = MeshShape(cube, np.ones(len(cube.points)), "constant 1")
+    box = np.abs(points - 1).max(axis=1)  # the cube is [0, 2]³
+    away = np.abs(box - 1) > 1e-3
+    want = box < 1
+    np.testing.assert_array_equal(shape.inside(points)[away], want[away])
+    sphere = icosphere(1.0, 3)
+    assert len(sphere.triangles) > mesh.EXACT_WINDING_TRIANGLES
+    shape = MeshShape(sphere, np.ones(len(sphere.points)), "constant 1")
+    radius = np.linalg.norm(points, axis=1)
+    away = np.abs(radius - 1) > 0.05
+    np.testing.assert_array_equal(shape.inside(points)[away], radius[away] < 1)

@@ -28,6 +28,8 @@ if TYPE_CHECKING:
 
 REPEATS_MAX = 10_000
 """Most draws per ε (``repeats``)."""
+SLABS_MAX = 10_000
+"""Most slabs M̂'s triangulation may be cut into (``slabs``)."""
 
 
 @dataclass(frozen=True, repr=False)
@@ -228,6 +230,7 @@ def reconstruct(
     seed: int = 0,
     repeats: int | None = None,
     engine: str = "auto",
+    slabs: int | None = None,
     out: str | os.PathLike | None = None,
     figure_format: str = "png",
     progress: Progress | None = None,
@@ -252,6 +255,10 @@ def reconstruct(
     which every draw was right, the smallest at which none was); ``ok`` when every draw was
     right.
 
+    ``slabs`` (N ≥ 1): triangulate the seeds in N overlapping slabs, one at a time (memory
+    bounded by a slab, the same M̂, certified complete; the whole set where a check fails);
+    1 the whole set at once; None (default) one slab per 400,000 seeds above 750,000 seeds.
+
     ``out``: mhat.vtu, mhat.ply, seeds.vtu, seeds.csv, summary.json and the quality figure (a
     sweep: sweep.csv, summary.json and its figure; repeated draws: draws.csv, summary.json and,
     over several ε, the sweep figure with the share of right draws), written as one set.
@@ -269,7 +276,7 @@ def reconstruct(
         return _vorocrust(
             vorocrust,
             dict(sphere=sphere, torus=torus, mesh=mesh, lfs=lfs, sizing=sizing),
-            eps is None and balls is None and seeds is None and not half_covered,
+            eps is None and balls is None and seeds is None and not half_covered and not slabs,
             compare_sheets,
             seed,
             out,
@@ -281,6 +288,8 @@ def reconstruct(
     seed = checked_seed(seed)
     if repeats is not None:
         repeats = checked_count(repeats, "repeats", 1, REPEATS_MAX)
+    if slabs is not None:
+        slabs = checked_count(slabs, "slabs", 1, SLABS_MAX)
     quality = QualityParams(sigma, delta_ratio)
     values = _eps_values(eps)
     sampled = balls is None and seeds is None
@@ -297,8 +306,8 @@ def reconstruct(
     )
     if shape is not None and not sampled and values is None:
         raise InputError("give eps to measure against the surface (distances over ε·L)")
-    asked = {"seed": seed if sampled else None, "engine": engine}
-    options = MhatOptions(half_covered, engine, compare_sheets)
+    asked = {"seed": seed if sampled else None, "engine": engine, "slabs": slabs}
+    options = MhatOptions(half_covered, engine, compare_sheets, slabs)
     if repeats is not None:
         asked |= {"repeats": repeats}
         draws = _draws(shape, values, quality, seed, repeats, options, asked, progress)
@@ -337,8 +346,8 @@ def _vorocrust(vorocrust, surface, alone, compare, seed, out, figure_format, pro
 
     if not alone or compare:
         raise InputError(
-            "vorocrust reads the run's seeds.csv: eps, balls, seeds, half_covered and "
-            "compare_sheets do not go with it"
+            "vorocrust reads the run's seeds.csv: eps, balls, seeds, half_covered, slabs "
+            "and compare_sheets do not go with it"
         )
     report = reconstruct_run(
         vorocrust=vorocrust, surface=surface, seed=checked_seed(seed), progress=progress
@@ -357,7 +366,9 @@ def _one(shape, params, quality, seed, balls, seeds, options, progress):
 
         if options.half_covered or options.compare_sheets:
             raise InputError("half_covered and compare_sheets need balls, not seeds")
-        return workflow.reconstruct_seeds(read_seed_file(seeds), shape, params, seed, progress)
+        return workflow.reconstruct_seeds(
+            read_seed_file(seeds), shape, params, seed, progress, options.slabs
+        )
     if balls is not None:
         from ..reports.vorocrust import off_surface, warn_off_surface
         from ..sampling.io.balls import read_balls
@@ -374,6 +385,7 @@ def _one(shape, params, quality, seed, balls, seeds, options, progress):
             os.path.basename(os.fspath(balls)),
             options.compare_sheets,
             progress,
+            options.slabs,
         )
     return workflow.reconstruct_surface(shape, params.eps, quality, seed, options, progress)
 

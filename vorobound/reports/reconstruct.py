@@ -54,7 +54,7 @@ class SampleInfo:
 @dataclass(frozen=True)
 class MhatOptions:
     """How M̂ is built from the balls, whatever their source (``vorobound reconstruct``'s
-    --half-covered, --engine and --compare-sheets)."""
+    --half-covered, --engine, --compare-sheets and --slabs)."""
 
     half_covered: bool = False
     """Also use the uncovered seed of each half-covered triple."""
@@ -62,6 +62,9 @@ class MhatOptions:
     """Source of candidate triples (as for ``vorobound check``)."""
     compare_sheets: bool = False
     """Also label the seeds by the union's sheets and count the disagreements."""
+    slabs: int | None = None
+    """Triangulate the seeds in this many overlapping slabs (1: all at once; None: by their
+    count, :func:`vorobound.sampling.reconstruct.slabs.slab_count`)."""
 
 
 @dataclass(frozen=True)
@@ -163,6 +166,7 @@ class ReconstructReport:
             "non_simple_facets": self.facets.non_simple,
             "skipped_seeds": self.facets.skipped_seeds,
             "duplicate_seeds": self.facets.duplicate_seeds,
+            "slabs": self.facets.slabs,
             "nonmanifold_facets": self._listed(top.bad_facets),
             "unbounded_seed_pairs": self.facets.unbounded[:LISTED_FACETS].tolist(),
             "edge_ratio_min": _min(q.edge_ratio),
@@ -283,10 +287,12 @@ def reconstruct_balls(
     source: str = "balls",
     compare_sheets: bool = False,
     progress: Progress | None = None,
+    slabs: int | None = None,
 ) -> ReconstructReport:
     """M̂ of balls made elsewhere: seeds of their guide triangles, labelled by ``shape`` when
-    given (then also measured against it at ``params.eps``), else by the union's sheets."""
-    options = MhatOptions(half_covered, engine, compare_sheets)
+    given (then also measured against it at ``params.eps``), else by the union's sheets
+    (``slabs``: as :class:`MhatOptions`)."""
+    options = MhatOptions(half_covered, engine, compare_sheets, slabs)
     return _from_balls(
         balls, params, shape, 0, options, clock=_Clock(), source=source, progress=progress
     )
@@ -333,6 +339,7 @@ def _from_balls(
             float(balls.radii.max()) / params.delta,
         )
     info = SampleInfo(len(balls), guides, search.half_covered, search.engine, lfs_range)
+    del search, found, inside  # the guide triangles are not needed for M̂ (memory)
     report = _finish(
         seeds,
         shape,
@@ -344,6 +351,7 @@ def _from_balls(
         clock,
         source,
         progress,
+        options.slabs,
     )
     return replace(report, sheet_note=sheet_note)
 
@@ -354,15 +362,18 @@ def reconstruct_seeds(
     params: SamplingParams | None = None,
     seed: int = 0,
     progress: Progress | None = None,
+    slabs: int | None = None,
 ) -> ReconstructReport:
     """M̂ of labelled seeds (a VoroCrust seed file), measured against ``shape`` at ``params.eps``
-    when both are given."""
+    when both are given (``slabs``: as :class:`MhatOptions`)."""
     clock = _Clock()
-    return _finish(seeds, shape, params, seed, None, False, None, clock, seeds.source, progress)
+    return _finish(
+        seeds, shape, params, seed, None, False, None, clock, seeds.source, progress, slabs
+    )
 
 
 def _finish(
-    seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress
+    seeds, shape, params, seed, info, half_covered, disagreements, clock, source, progress, slabs
 ) -> ReconstructReport:
     note = None
     if len(seeds) < MIN_SEEDS or seeds.inside.all() or not seeds.inside.any():
@@ -372,7 +383,7 @@ def _finish(
         )
         facets = _empty_facets()
     else:
-        facets = inout_facets(seeds.points, seeds.inside, progress)
+        facets = inout_facets(seeds.points, seeds.inside, progress, slabs=slabs)
     clock.lap("mhat (Delaunay, facets)")
     topology = surface_topology(facets.surface, len(facets.unbounded))
     quality = facet_quality(facets.surface)

@@ -287,3 +287,29 @@ def test_the_draws_figure_shades_the_band():
         corners = np.asarray(band.get_xy())
         low, high = corners[:, 0].min(), corners[:, 0].max()
     assert (low, high) == pytest.approx((0.3, 0.5), rel=1e-12)
+
+
+@pytest.mark.parametrize("bad", ["0", "-3", str(2**64)])
+def test_a_bad_slab_count_is_one_line_and_exit_2(run_cli, bad):
+    code, stdout, stderr = run_cli("reconstruct", "--sphere", "1", "--eps", "0.3", "--slabs", bad)
+    assert code == 2
+    assert stderr.startswith("error:") and len(stderr.strip().splitlines()) == 1
+    assert "slabs" in stderr
+
+
+def test_slabs_in_python_and_json_mirror_the_option(run_cli):
+    """--slabs 3 builds the same M̂ as --slabs 1 (the whole set), and says how many slabs it
+    used; below WHOLE_SEEDS the default is the whole set."""
+    import vorobound
+
+    code, stdout, stderr = run_cli(
+        "reconstruct", "--sphere", "1", "--eps", "0.2", "--slabs", "3", "--json"
+    )
+    assert code == 0, stderr
+    split = json.loads(stdout)
+    whole = vorobound.reconstruct(sphere=1, eps=0.2, slabs=1).payload()
+    default = vorobound.reconstruct(sphere=1, eps=0.2).payload()
+    assert split["slabs"] == 3 and whole["slabs"] == 1 and default["slabs"] == 1
+    assert split["params"]["slabs"] == 3 and default["params"]["slabs"] is None
+    for key in KEYS | {"n_vertices", "collapsed_facets", "components"}:
+        assert split[key] == whole[key] == default[key], key

@@ -146,9 +146,9 @@ def test_compiled_true_without_numba_is_refused(monkeypatch):
 
 def test_dense_unique_is_numpys_unique():
     values = np.random.default_rng(6).integers(0, 50, 300)
-    unique, inverse = facets._dense_unique(values, 60)
+    unique, inverse = facets.dense_unique(values, 60)
     want, want_inverse = np.unique(values, return_inverse=True)
     np.testing.assert_array_equal(unique, want)
     np.testing.assert_array_equal(inverse, want_inverse)
-    empty, none = facets._dense_unique(np.empty(0, dtype=np.int64), 5)
+    empty, none = facets.dense_unique(np.empty(0, dtype=np.int64), 5)
     assert len(empty) == len(none) == 0

@@ -156,3 +156,130 @@ def test_the_merge_refuses_disagreeing_or_incomplete_slabs():
     missing = 2 * 4 + 3  # the key of edge (2, 3): no part built it
     assert slabs._merged([_part([0, 0, 0], [missing])], present, 4, 1) is None
     assert slabs._merged([_part([0, 0, 0], [1])], present, 4, 1) is not None
+
+
+def _patch_seeds(rng):
+    """An inside patch (3 × 3 seeds, 2 apart, in the plane x = 0.5) between outside planes at
+    x = −5.5, −3.5, −1.5, 2.5, 4.5, 6.5 (5 × 5 seeds, 2 apart): every in/out Delaunay edge
+    joins the patch to a plane 2 away along x, and the outside seeds hold the hull."""
+    grid = np.arange(-4.0, 4.01, 2.0)
+    plane = np.stack(np.meshgrid(grid, grid, indexing="ij"), axis=-1).reshape(-1, 2)
+    patch = plane[(np.abs(plane) <= 2).all(axis=1)]
+    rows, labels = [], []
+    for x, yz, label in [(0.5, patch, True)] + [
+        (x, plane, False) for x in (-5.5, -3.5, -1.5, 2.5, 4.5, 6.5)
+    ]:
+        rows.append(np.column_stack([np.full(len(yz), x), yz]))
+        labels.append(np.full(len(yz), label))
+    points = np.concatenate(rows)
+    return points + rng.uniform(-0.01, 0.01, points.shape), np.concatenate(labels)
+
+
+def test_a_component_no_window_holds_is_not_lost(monkeypatch):
+    """Cores cut at x = −1.6, 0.4, 0.6, 2.6 with a margin of 0.05: no window holds both seeds
+    of any in/out edge of the patch, so no slab sees its facets (a closed component of M̂).
+    The rule before the certificate built M̂ without them; the certificate (the seeds are not
+    connected through certified edges) sends the whole set to CGAL, and M̂ is the whole set's."""
+    points, inside = _patch_seeds(np.random.default_rng(1))
+    whole = inout_facets(points, inside, slabs=1)
+    assert whole.surface.n_facets > 0 and len(whole.unbounded) == 0
+    unit = facets.seed_frame(points)[1]
+    assert np.array_equal(facets.seed_frame(points)[0], np.zeros(3))
+    monkeypatch.setattr(slabs, "_cuts", lambda x, n: np.array([-1.6, 0.4, 0.6, 2.6]) / unit)
+    monkeypatch.setattr(slabs, "_probe_reach", lambda *a: 0.04 / unit)
+    calls = []
+    real = slabs._merged
+    monkeypatch.setattr(slabs, "_merged", lambda *a: calls.append(a) or real(*a))
+    _same(inout_facets(points, inside, slabs=5), whole)
+    assert not calls, "the slabs did not see the gap"
+    # Without the certificate's checks 3 and 4 (the rule before), the patch is lost.
+    monkeypatch.setattr(slabs, "_complete", lambda *a: True)
+    blind = inout_facets(points, inside, slabs=5)
+    assert calls, "the slabs fell back for another reason"
+    assert blind.surface.n_facets < whole.surface.n_facets
+
+
+def _sparse_pairs(rng):
+    """Dense VoroCrust seeds of a sphere, and far-apart seeds of both labels around it inside
+    a box of outside seeds (long in/out edges, large empty balls)."""
+    points, inside = _voro_seeds(SphereShape(1), 0.15)
+    loose = rng.uniform(-3, 3, (60, 3))
+    loose = loose[np.linalg.norm(loose, axis=1) > 1.5]
+    grid = np.arange(-4.0, 4.01, 2.0)
+    box = np.stack(np.meshgrid(grid, grid, grid, indexing="ij"), axis=-1).reshape(-1, 3)
+    box = box[(np.abs(box) == 4).any(axis=1)] + rng.uniform(-0.01, 0.01, (98, 3))
+    points = np.concatenate([points, loose, box])
+    labels = np.concatenate([inside, rng.random(len(loose)) < 0.5, np.zeros(len(box), bool)])
+    return points, labels
+
+
+def _shells(rng):
+    """Cospherical seeds: icosahedron-like shells of 42 points on spheres of radius 1 … 6 about
+    one centre (the inside two shells), each shell turned at random."""
+    from scipy.spatial.transform import Rotation
+
+    golden = (1 + 5**0.5) / 2
+    base = np.array(
+        [[0, s, t * golden] for s in (-1, 1) for t in (-1, 1)]
+        + [[s, t * golden, 0] for s in (-1, 1) for t in (-1, 1)]
+        + [[t * golden, 0, s] for s in (-1, 1) for t in (-1, 1)],
+        dtype=float,
+    )
+    edges = [
+        (i, j)
+        for i in range(12)
+        for j in range(i)
+        if np.isclose(np.linalg.norm(base[i] - base[j]), 2.0)
+    ]
+    shell = np.concatenate([base, [base[i] + base[j] for i, j in edges]])
+    shell /= np.linalg.norm(shell, axis=1)[:, None]
+    rows = [Rotation.random(random_state=rng).apply(shell) * r for r in range(1, 7)]
+    return np.concatenate(rows), np.repeat(np.arange(1, 7) <= 2, len(shell))
+
+
+ADVERSARIAL = {
+    "patch": _patch_seeds,
+    "sparse pairs": _sparse_pairs,
+    "shells": _shells,
+    "lattice": lambda rng: (p := _lattice(10), _ball_labels(p)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(ADVERSARIAL))
+@pytest.mark.parametrize("count", [2, 3, 7])
+def test_adversarial_layouts_give_the_whole_sets_facets(name, count):
+    """Sparse components, far-apart in/out pairs, cospherical shells, a lattice: the slabs
+    (certified, or falling back) give the whole set's M̂ for any slab count."""
+    points, inside = ADVERSARIAL[name](np.random.default_rng(7))
+    _same(inout_facets(points, inside, slabs=count), inout_facets(points, inside, slabs=1))
+
+
+@pytest.mark.parametrize("name", ["random", "lattice", "torus", "sphere"])
+@pytest.mark.parametrize("count", [2, 5])
+def test_the_certificate_holds_on_ordinary_seeds(name, count):
+    """On ordinary seeds every check of the certificate passes: no fall-back to the whole set
+    (the Gabriel edges join the random set's lone hull seeds)."""
+    points, inside = SEED_SETS[name](np.random.default_rng(3))
+    shift, unit = facets.seed_frame(points)
+    fans = slabs.slab_fans(
+        (points - shift) / unit, inside, facets._facets_kernel(), facets.flat_circumcentres, count
+    )
+    assert fans is not None
+
+
+def test_the_flat_certificate_covers_every_borrowing_step():
+    """A flat tetrahedron's borrowed centre is read after at most 4 · FLAT_ROUNDS steps."""
+    assert slabs.FLAT_LEVELS >= 4 * facets.FLAT_ROUNDS
+
+
+def test_seeds_of_both_labels_on_the_hull_are_refused():
+    """Check 3: both labels among the seeds on the hull (an unbounded facet of M̂) fail it;
+    seeds of the other label inside the hull do not."""
+    corners = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+    points = np.concatenate([corners, [[0.5, 0.5, 0.5]], [[0.5, 0.5, 0.0]]])
+    candidates = np.arange(len(points))
+    inside = np.zeros(len(points), bool)
+    inside[8] = True  # the centre: not on the hull
+    assert slabs._one_hull_label(points, inside, candidates)
+    inside[9] = True  # the middle of a face: on the hull
+    assert not slabs._one_hull_label(points, inside, candidates)

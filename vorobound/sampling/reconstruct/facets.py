@@ -15,9 +15,10 @@ the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
 time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
 never need to. docs/reconstruct.md says why the Delaunay route is preferred to
 :class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
-On request (``slabs=``) the tetrahedralization is built in overlapping slabs, one at a time,
-and only the tetrahedra around the in/out edges are kept (:mod:`.slabs`: the same facets,
-certified by the empty-ball property; memory bounded by a slab; opt-in, see there).
+Above ``slabs.WHOLE_SEEDS`` seeds (or on request, ``slabs=``) the tetrahedralization is built
+in overlapping slabs, one at a time, and only the tetrahedra around the in/out edges are kept
+(:mod:`.slabs`: the same facets, certified by the empty-ball property and a completeness
+certificate; memory bounded by a slab).
 
 The frame: the seeds are moved to a frame near the origin and of unit size before anything is
 computed, and M̂'s vertices moved back. Along each axis whose seeds lie far from 0 (the centre
@@ -67,6 +68,8 @@ import numpy as np
 
 from ...errors import InputError
 from ...progress import Counter, Progress
+from .engine import delaunay_tetrahedra
+from .slabs import dense_unique, slab_count, slab_fans
 
 WELD_RTOL = 1e-9
 """Neighbouring Voronoi vertices closer than WELD_RTOL times their circumradius (plus their
@@ -199,6 +202,9 @@ class InOutFacets:
     duplicate_seeds: int = 0
     """Seeds at the very coordinates of another seed with the same label: one Voronoi cell,
     triangulated once (the copies change nothing in M̂)."""
+    slabs: int = 1
+    """Slabs the seeds were triangulated in (1: the whole set at once, also when the slabs
+    asked for could not certify their facets)."""
 
 
 def inout_facets(
@@ -228,11 +234,10 @@ def inout_facets(
         is installed. Both give the same facets (the tests compare them).
     slabs : int, optional
         Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
-        compiled kernels only; :mod:`.slabs`: the same facets, memory bounded by a slab).
-        None or 1 (default): the whole set at once. The slabs are opt-in: their completeness
-        argument leaves a gap (a component of M̂ whose seed pairs all lie more than twice the
-        margin apart could be missed), so no default depends on them;
-        ``slabs.slab_count(n)`` is the count they are tuned for.
+        compiled kernels only; :mod:`.slabs`: the same facets, certified complete, memory
+        bounded by a slab; where a check fails, the whole set at once). 1: the whole set at
+        once. None (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS``
+        (750,000) seeds, where the whole set is faster, then one per ``SLAB_SEEDS``.
 
     Returns
     -------
@@ -257,10 +262,8 @@ def inout_facets(
     kernel = _facets_kernel() if compiled is None or compiled else None
     if compiled and kernel is None:
         raise InputError("compiled: the kernels need numba (pip install vorobound[fast])")
-    from .slabs import slab_fans
-
     if slabs is None:
-        slabs = 1
+        slabs = slab_count(len(points))
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
@@ -308,6 +311,7 @@ def inout_facets(
         duplicate_seeds=duplicates,
         delaunay_edges=cycles.edge_count,
         tetrahedra=tetrahedra,
+        slabs=1 if fans is None else fans.slabs,
     )
 
 
@@ -344,13 +348,15 @@ def circumcentres(
     a flat one borrows the circumcentre of a face neighbour equidistant from its four vertices
     (and that neighbour's error; NaN where none is found). ``kernel``: :mod:`.facets_kernel`
     computes the circumcentres (else numpy, by chunks)."""
-    centres, radius, error, _ = flat_circumcentres(points, simplices, neighbors, kernel)
+    centres, radius, error, _, _ = flat_circumcentres(points, simplices, neighbors, kernel)
     return centres, radius, error
 
 
 def flat_circumcentres(points, simplices, neighbors, kernel=None):
-    """:func:`circumcentres`, and (t,) which tetrahedra are flat (their circumcentre borrowed
-    from a neighbour)."""
+    """:func:`circumcentres`, (t,) which tetrahedra are flat (their circumcentre borrowed from
+    a neighbour), and (t,) the last face whose neighbour a flat tetrahedron's centre depends on
+    (int8: k when it was found across face k in the first round, after trying faces 0 … k − 1;
+    3 otherwise, when every face was tried)."""
     count = len(simplices)
     if kernel is not None:
         centres, error, flat = kernel.circumcentres(points, simplices, ROUNDING_FACTOR, FLAT_RTOL)
@@ -363,7 +369,8 @@ def flat_circumcentres(points, simplices, neighbors, kernel=None):
     centres[flat] = np.nan
     error[flat] = np.nan
     todo = np.flatnonzero(flat)
-    for _ in range(FLAT_ROUNDS):
+    last = np.full(count, 3, dtype=np.int8)
+    for round_ in range(FLAT_ROUNDS):
         if len(todo) == 0:
             break
         found = np.zeros(len(todo), dtype=bool)
@@ -377,10 +384,12 @@ def flat_circumcentres(points, simplices, neighbors, kernel=None):
                 fits = (other >= 0) & ~found & (spread <= WELD_RTOL * distance.max(axis=1))
             centres[todo[fits]] = candidate[fits]
             error[todo[fits]] = error[np.maximum(other, 0)][fits]
+            if round_ == 0:
+                last[todo[fits]] = k
             found |= fits
         todo = todo[~found]
     radius = np.linalg.norm(centres - points[simplices[:, 0]], axis=1)
-    return centres, radius, error, flat
+    return centres, radius, error, flat, last
 
 
 def _circumcentres(corner: np.ndarray):
@@ -411,9 +420,9 @@ def _circumcentres(corner: np.ndarray):
 def _cgal_tetrahedra(points: np.ndarray, kernel=None):
     """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL (the
     neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
-    from ..simplices import delaunay_simplices, face_neighbours
+    from ..simplices import face_neighbours
 
-    _, simplices, _ = delaunay_simplices(points, triangles=False)
+    simplices = delaunay_tetrahedra(points)
     if not len(simplices):
         raise InputError(
             "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
@@ -641,7 +650,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    used, corner_vertex = _dense_unique(cycles.tets, len(centres))
+    used, corner_vertex = dense_unique(cycles.tets, len(centres))
     position = centres[used]
     slack = WELD_RTOL * radius[used] + error[used]
     sizes = np.diff(cycles.offsets)
@@ -682,7 +691,7 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     vertex, polygon = vertex[keep], polygon[keep]
     offsets = np.concatenate([[0], np.cumsum(distinct[good])])
     # Renumber the clusters that polygons use; a vertex is the mean of its cluster.
-    used_clusters, vertex = _dense_unique(vertex, count)
+    used_clusters, vertex = dense_unique(vertex, count)
     is_used = np.zeros(count, dtype=bool)
     is_used[used_clusters] = True
     member = np.flatnonzero(known & is_used[np.maximum(cluster, 0)])
@@ -698,17 +707,6 @@ def _weld(points, inside, centres, radius, error, cycles: _Cycles, given: float 
     non_simple = _non_simple(vertex, offsets)
     surface = PolygonSurface(vertices, vertex, offsets, pairs, normals)
     return surface, int(collapsed_mask.sum()), int(broken.sum()), non_simple
-
-
-def _dense_unique(values: np.ndarray, bound: int) -> tuple[np.ndarray, np.ndarray]:
-    """``np.unique(values, return_inverse=True)`` for integers in [0, bound), by a table of
-    ``bound`` entries instead of a sort."""
-    present = np.zeros(bound, dtype=bool)
-    present[values] = True
-    unique = np.flatnonzero(present)
-    rank = np.empty(bound, dtype=np.int64)
-    rank[unique] = np.arange(len(unique))
-    return unique, rank[values]
 
 
 def _non_simple(corners, offsets) -> int:

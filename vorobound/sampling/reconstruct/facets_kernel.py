@@ -16,6 +16,8 @@ as CGAL's triangulation itself.
   opposite c first, as the numpy walk does), its turn summed as in ``facets._oriented``; a
   second pass writes the cycles in the order of the edges' keys, reversed where the turn is
   negative.
+* :func:`join_same_label`, :func:`join_pairs`, :func:`roots`: a union–find over the seeds, for
+  the slabs' completeness certificate (:mod:`.slabs`).
 
 Importing this module compiles nothing; the first call compiles and caches the machine code on
 disk. The kernels live in their own file (numba checks only the defining file's timestamp
@@ -273,6 +275,53 @@ def write_cycles(tets, neighbors, first_tet, inner, outer, reverse, offsets, out
         for step in range(high - low):
             out[high - 1 - step if reverse[e] else low + step] = current
             previous, current = current, _next(tets, neighbors, previous, current, a, b)[0]
+
+
+@njit(inline="always")
+def _root(parent, v):
+    """The representative of ``v``'s set (the path halved on the way)."""
+    while parent[v] != v:
+        parent[v] = parent[parent[v]]
+        v = parent[v]
+    return v
+
+
+@njit(inline="always")
+def _join(parent, a, b):
+    ra, rb = _root(parent, a), _root(parent, b)
+    if ra != rb:
+        parent[max(ra, rb)] = min(ra, rb)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def join_same_label(parent, tets, certified, inside):
+    """Join (union–find over ``parent``, (n,)) every two vertices of one label in each
+    ``certified`` tetrahedron of ``tets`` (each vertex to the first of its label in the row:
+    the same sets as all same-label edges)."""
+    for t in range(tets.shape[0]):
+        if not certified[t]:
+            continue
+        for p in range(1, 4):
+            for q in range(p):
+                if inside[tets[t, p]] == inside[tets[t, q]]:
+                    _join(parent, tets[t, p], tets[t, q])
+                    break
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def join_pairs(parent, first, second):
+    """Join ``first[i]`` and ``second[i]`` for every i (union–find over ``parent``)."""
+    for i in range(first.shape[0]):
+        _join(parent, first[i], second[i])
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def roots(parent):
+    """The representative of every element's set."""
+    out = np.empty(parent.shape[0], np.int64)
+    for v in range(parent.shape[0]):
+        out[v] = _root(parent, v)
+    return out
 
 
 @njit(inline="always")

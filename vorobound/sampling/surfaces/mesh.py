@@ -16,6 +16,10 @@ from .base import SPARSITY_SLACK, ClosestPoints, ExpectedTopology, SurfaceCounts
 
 WINDING_INSIDE = 0.5
 """A point is inside a mesh where its generalized winding number exceeds this."""
+EXACT_WINDING_TRIANGLES = 64
+"""Meshes of up to this many triangles get the exact winding number (a sum over every
+triangle: for the 12 triangles of a cube, 10 times faster than the fast approximation on 10⁶
+points); larger ones libigl's fast winding number (a tree of expansions)."""
 LIPSCHITZ_SLACK = 1e-6
 """A sizing may change by up to (1 + LIPSCHITZ_SLACK) per unit length before a warning."""
 
@@ -102,7 +106,11 @@ class _TriangleSurface:
         import igl
 
         query = np.ascontiguousarray(points, dtype=float)
-        return igl.fast_winding_number(self.vertices, self.triangles, query) > WINDING_INSIDE
+        if len(self.triangles) <= EXACT_WINDING_TRIANGLES:
+            winding = igl.winding_number(self.vertices, self.triangles, query)
+        else:
+            winding = igl.fast_winding_number(self.vertices, self.triangles, query)
+        return winding > WINDING_INSIDE
 
 
 class MeshShape(_TriangleSurface):
