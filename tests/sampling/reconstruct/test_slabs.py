@@ -267,9 +267,31 @@ def test_the_certificate_holds_on_ordinary_seeds(name, count):
     assert fans is not None
 
 
-def test_the_flat_certificate_covers_every_borrowing_step():
-    """A flat tetrahedron's borrowed centre is read after at most 4 · FLAT_ROUNDS steps."""
-    assert slabs.FLAT_LEVELS >= 4 * facets.FLAT_ROUNDS
+def test_a_flat_tetrahedron_is_certified_through_all_four_faces(monkeypatch):
+    """Found by an independent review: a flat tetrahedron T = (v, g) whose centre was borrowed
+    from the one face it tried first was certified by its neighbour's ball, though its own
+    circumscribed ball (radius about 10) holds a seed outside slab 0's window: T was in the
+    slab's triangulation and not in the whole set's, every check passed, and M̂ lost the facet
+    of edge (1, 2). Certifying flat tetrahedra through all four faces sends this case back to
+    the whole set."""
+    r, h, d, phi = 0.1, 1e-12, 1e-10, np.pi / 3
+    v = [0.9 + h, (r + d) * np.cos(phi), (r + d) * np.sin(phi)]  # just off the circle's plane
+    g = [[0.9, r * np.cos(t), r * np.sin(t)] for t in (0, 2 * np.pi / 3, 4 * np.pi / 3)]
+    u = [0.8 - 0.02**0.5, 0, 0]  # the neighbour across face 0: ball about (0.8, 0, 0)
+    fill = np.random.default_rng(0).uniform([-1, -1, -1], [0.5, 1, 1], (40, 3))
+    side = [[0.9, y, z] for y in (-0.8, 0.8) for z in (-0.8, 0.8)]
+    far = [[1.5, 0, 0]]  # outside slab 0's window, inside T's own circumscribed ball
+    points = np.concatenate([[v], g, [u], fill, side, far])
+    inside = np.zeros(len(points), bool)
+    inside[1] = True
+    unit = facets.seed_frame(points)[1]
+    monkeypatch.setattr(slabs, "_cuts", lambda x, n: np.array([0.95]) / unit)
+    monkeypatch.setattr(slabs, "_probe_reach", lambda *a: 0.05 / unit / slabs.MARGIN_GROWTH)
+    whole = inout_facets(points, inside, slabs=1)
+    split = inout_facets(points, inside, slabs=2)
+    assert whole.surface.n_facets == 10
+    assert _pairs(split) == _pairs(whole)
+    assert split.surface.n_facets == whole.surface.n_facets and split.collapsed == 0
 
 
 def test_seeds_of_both_labels_on_the_hull_are_refused():
@@ -283,3 +305,8 @@ def test_seeds_of_both_labels_on_the_hull_are_refused():
     assert slabs._one_hull_label(points, inside, candidates)
     inside[9] = True  # the middle of a face: on the hull
     assert not slabs._one_hull_label(points, inside, candidates)
+
+
+def _pairs(mesh):
+    """The in/out seed pairs of M̂'s facets, sorted."""
+    return sorted(map(tuple, mesh.surface.seed_pairs.tolist()))

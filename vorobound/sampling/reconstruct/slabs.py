@@ -25,11 +25,20 @@ order). A flat tetrahedron borrows its circumcentre from a face neighbour
 (:func:`.facets.flat_circumcentres`: faces 0 … 3 tried in turn, each reading the centres
 borrowed before it, for up to ``FLAT_ROUNDS`` rounds); its value depends only on the
 neighbours across the faces it tried (up to the one it borrowed from in the first round; all
-four otherwise) and, for the flat ones among them, on theirs. It is certified only when its
-own ball is, and the neighbours across the faces it tried exist and are certified, to
-``FLAT_LEVELS`` levels (≥ the ``4 · FLAT_ROUNDS`` steps of the borrowing, so every value it
-can depend on is the whole set's; a certified neighbour is the whole set's neighbour across
-that face, a face being shared by two tetrahedra only).
+four otherwise) and, for the flat ones among them, on theirs. Its own circumscribed ball can be
+huge and reach past the window, so the borrowed ball certifies nothing about it: a flat
+tetrahedron is certified only when all four of its face neighbours exist and are certified,
+repeated until nothing changes (an independent review found a flat tetrahedron certified
+through the one face it borrowed from, in the slab's triangulation but not the whole set's,
+all four checks below passing and a facet of M̂ lost:
+``test_a_flat_tetrahedron_is_certified_through_all_four_faces``). Why that suffices: a
+certified non-flat tetrahedron is one of DT(P) (its empty ball lies in the window); every face
+of a certified flat tetrahedron is then shared with a certified tetrahedron, so the certified
+set is a union of tetrahedra whose every interior face passes the local Delaunay test with
+seeds of the window and the same symbolic perturbation; a locally Delaunay triangulation of a
+region bounded by faces of DT(P) is DT(P) there (the Delaunay lemma; the perturbation makes it
+unique), so each certified flat tetrahedron is the whole set's too, and its circumcentre,
+computed from the same neighbours in the same order, is the whole set's bit for bit.
 
 Completeness: every in/out facet of DT(P) is built, by exactly one slab. Edges are *owned* by
 the slab whose core holds their midpoint (the cores partition space), or, for the edges left
@@ -119,10 +128,6 @@ BALL_RTOL = 1e-6
 """A ball is widened by this fraction of its radius (and its rounding error) before it is
 compared with the window (a flat tetrahedron's borrowed centre is equidistant from its
 vertices only to ``facets.WELD_RTOL``)."""
-FLAT_LEVELS = 32
-"""Levels of neighbours a flat tetrahedron's certificate looks at: at least the steps of
-:func:`.facets.flat_circumcentres` (``4 * FLAT_ROUNDS``: a round tries the four faces one
-after another, each reading the centres the previous one borrowed; a test checks this)."""
 EXACT_REACH_SEEDS = 50_000
 """Windows of up to this many seeds (the probe, the boxes) measure how far their balls reach
 from their edges' midpoints; larger ones (the slabs) bound it by the balls' diameters."""
@@ -289,7 +294,13 @@ def _complete(points, inside, kernel, seen, parts) -> bool:
         first, second = first[keep], second[keep]
         middle = 0.5 * (points[first] + points[second])
         radius = 0.5 * np.linalg.norm(points[first] - points[second], axis=1)
-        inner = tree.query_ball_point(middle, radius * (1 + GABRIEL_RTOL), return_length=True)
+        # Widened by the midpoint's rounding too, so both ends are always counted: a count of
+        # 2 then means no third seed (near-duplicate ends could otherwise drop out of their
+        # own ball and let a third seed in unseen).
+        slack = 8 * np.finfo(float).eps * np.abs(middle).max(axis=1)
+        inner = tree.query_ball_point(
+            middle, radius * (1 + GABRIEL_RTOL) + slack, return_length=True
+        )
         empty = inner <= 2
         kernel.join_pairs(parent, first[empty], second[empty])
         root = kernel.roots(parent)
@@ -409,18 +420,20 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
             certified &= (centres[:, axis] - reach[:, 0] >= low[axis]) & (
                 centres[:, axis] + reach[:, 0] <= high[axis]
             )
-    # A flat tetrahedron's borrowed centre depends on its neighbours up to FLAT_LEVELS steps
-    # away through flat ones: all of them must be the whole set's (module docstring).
+    # A flat tetrahedron's own ball says nothing (its borrowed centre is a neighbour's): it is
+    # certified only when all four face neighbours exist and are certified, until nothing
+    # changes (the loop only removes, so it ends). Then each certified flat tetrahedron's four
+    # faces are faces of DT(P) and, with the certified set locally Delaunay under the same
+    # perturbation, it is a tetrahedron of DT(P) (module docstring).
     flat_rows = np.flatnonzero(flat)
     flat_neighbours = neighbours[flat_rows]
-    tried = np.arange(4) <= last[flat_rows, None]
-    for _ in range(FLAT_LEVELS):
+    while True:
         around = certified[np.maximum(flat_neighbours, 0)] & (flat_neighbours >= 0)
-        settled = certified[flat_rows] & (around | ~tried).all(axis=1)
+        settled = certified[flat_rows] & around.all(axis=1)
         if np.array_equal(settled, certified[flat_rows]):
             break
         certified[flat_rows] = settled
-    del flat_rows, flat_neighbours, tried, last
+    del flat_rows, flat_neighbours, last
     if seen.parent is not None:
         kernel.join_same_label(seen.parent, tets, certified, inside)
     middle = centres.copy()
