@@ -93,6 +93,9 @@ class MedialSample:
     several labels appears once per label, poles closer than MERGE_RTOL once), aligned with
     ``labelled_points``."""
     labelled_points: np.ndarray | None = None
+    labelled_reach: np.ndarray | None = None
+    """With labels: the distance from each labelled pole to the nearest corner of its
+    tetrahedron (a sample point): an upper bound on its distance to the sample."""
 
 
 def vertex_poles(
@@ -166,7 +169,7 @@ def vertex_poles(
     poles = centres[chosen]
     key = np.round(poles / MERGE_RTOL).astype(np.int64)
     _, first = np.unique(key, axis=0, return_index=True)
-    labelled = labelled_points = None
+    labelled = labelled_points = labelled_reach = None
     if labels is not None and len(candidates):
         # The final pole of every (point, side) group, tagged with the point's label.
         position = _farthest(candidates, starts, usable)
@@ -180,9 +183,16 @@ def vertex_poles(
         _, once = np.unique(np.c_[merged, pairs[:, 1]], axis=0, return_index=True)
         pairs = pairs[np.sort(once)]
         labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
+        corners = points[tets[pairs[:, 0]]]
+        labelled_reach = np.linalg.norm(corners - labelled_points[:, None], axis=2).min(axis=1)
     counter.step()
     return MedialSample(
-        poles[np.sort(first)], len(tets), int((~usable).sum()), labelled, labelled_points
+        poles[np.sort(first)],
+        len(tets),
+        int((~usable).sum()),
+        labelled,
+        labelled_points,
+        labelled_reach,
     )
 
 
