@@ -55,7 +55,8 @@ class PoleTree:
 
     def nearest_allowed(self, queries, query_labels, allowed) -> tuple[np.ndarray, np.ndarray]:
         """(distance, pole index in the caller's order) of the nearest pole whose label
-        ``allowed[query label, pole label]`` accepts, per query (inf and −1 where none)."""
+        ``allowed[query label, pole label]`` accepts, per query (inf and −1 where none); of
+        equally near poles the one of lowest index (boxes as near as the best are walked)."""
         queries = np.ascontiguousarray(queries, dtype=float)
         query_labels = np.ascontiguousarray(query_labels, dtype=np.int64)
         allowed = np.ascontiguousarray(allowed, dtype=np.bool_)
@@ -67,7 +68,16 @@ class PoleTree:
         def task(bounds):
             lo, hi = bounds
             _nearest_allowed_kernel(
-                lo, hi, queries, query_labels, allowed, self.labels, distance, found, self.tree
+                lo,
+                hi,
+                queries,
+                query_labels,
+                allowed,
+                self.labels,
+                self.order,
+                distance,
+                found,
+                self.tree,
             )
 
         run_in_threads(task, chunk_bounds(len(queries), QUERY_CHUNK))
@@ -87,7 +97,9 @@ def _box_gap(low, high, node, c0, c1, c2):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _nearest_allowed_kernel(lo, hi, queries, query_labels, allowed, labels, distance, found, tree):
+def _nearest_allowed_kernel(
+    lo, hi, queries, query_labels, allowed, labels, order, distance, found, tree
+):
     points, node_low, node_high, node_range, node_child = tree
     stack = np.zeros(256, dtype=np.int64)
     for i in range(lo, hi):
@@ -109,7 +121,7 @@ def _nearest_allowed_kernel(lo, hi, queries, query_labels, allowed, labels, dist
                         continue
                     d0, d1, d2 = points[p, 0] - x0, points[p, 1] - x1, points[p, 2] - x2
                     value = d0 * d0 + d1 * d1 + d2 * d2
-                    if value < squared:
+                    if value < squared or (value == squared and order[p] < order[which]):
                         squared, which = value, p
                 continue
             right = node_child[node, 1]

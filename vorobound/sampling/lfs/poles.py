@@ -5,18 +5,16 @@ empty of the mesh), and the distance from a site to the nearest pole that its pa
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import InputError
-from ...geometry.kernels import load_kernel, pure_numpy
 from ...geometry.threads import thread_count
 from ...mesh.nearest import nearest_allowed
 from ...progress import Counter, Progress
 from .curved import edge_midpoints
-from .medial import vertex_poles
+from .medial import compiled_poles, vertex_poles
 from .mesh_quality import PreparedMesh
 from .patches import Patches
 from .thickness import RayCaster
@@ -154,7 +152,7 @@ def nearest_allowed_pole(pole_points, pole_labels, queries, query_labels, allowe
     that is a curve)."""
     from scipy.spatial import cKDTree
 
-    compiled = _compiled_poles()
+    compiled = compiled_poles()
     if compiled is not None:
         tree = compiled.PoleTree(pole_points, pole_labels)
         return tree.nearest_allowed(queries, query_labels, allowed)[0]
@@ -172,16 +170,6 @@ def nearest_allowed_pole(pole_points, pole_labels, queries, query_labels, allowe
                 tree = cKDTree(pole_points[keep])
                 out[mine] = tree.query(queries[mine], workers=thread_count())[0]
     return out
-
-
-@functools.cache
-def _load_compiled_poles():
-    return load_kernel(f"{__package__}.compiled_poles")
-
-
-def _compiled_poles():
-    """:mod:`.compiled_poles`, or None without numba or with ``VOROBOUND_PURE_NUMPY`` set."""
-    return None if pure_numpy() else _load_compiled_poles()
 
 
 def rounding_error(points: np.ndarray) -> float:
