@@ -17,10 +17,13 @@ both are CGAL's Delaunay triangulation with exact predicates, unique for the jit
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ...errors import VoroboundError
-from ..simplices import delaunay_simplices, face_neighbours
+from ...geometry.kernels import load_kernel
+from ..simplices import delaunay_simplices, face_neighbours, kernel_available
 
 
 def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -31,7 +34,24 @@ def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     _, tets, _ = delaunay_simplices(np.asarray(points, dtype=float), triangles=False)
     if not len(tets):
         return tets, np.zeros((0, 4), dtype=np.int64)
-    neighbours = face_neighbours(tets)
+    kernel = _facets_kernel()
+    if kernel is not None:  # linear (a counting sort of the faces); the same array
+        neighbours, ok = kernel.face_neighbours(tets, int(tets.max()) + 1)
+        neighbours = neighbours if ok else None
+    else:
+        neighbours = face_neighbours(tets)
     if neighbours is None:  # a face of three tetrahedra: not a triangulation
         raise VoroboundError("CGAL's triangulation has a face of more than two tetrahedra")
     return tets, neighbours
+
+
+@functools.cache
+def _load_facets_kernel():
+    return load_kernel("vorobound.sampling.reconstruct.facets_kernel")
+
+
+def _facets_kernel():
+    """The compiled face matching of M̂ (:mod:`vorobound.sampling.reconstruct.facets_kernel`,
+    tested equal to :func:`vorobound.sampling.simplices.face_neighbours`), or None without
+    numba or with ``VOROBOUND_PURE_NUMPY`` set."""
+    return _load_facets_kernel() if kernel_available() else None

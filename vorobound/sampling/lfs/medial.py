@@ -357,12 +357,14 @@ def _pole_candidates(points, normals, tets, centres, usable, unbounded, labels=N
     offset = centres[tet] - points[vertex]
     side = (offset * normals[vertex]).sum(axis=1) > 0
     keep = unbounded[vertex] != np.where(side, 1, -1)
-    if labels is not None and adjacent is not None:
+    if labels is not None and adjacent is not None and adjacent.any():
         corner_labels = labels[tets[tet]]  # (entries, 4)
         keep &= ~adjacent[labels[vertex][:, None], corner_labels].any(axis=1)
     vertex, tet, side, offset = vertex[keep], tet[keep], side[keep], offset[keep]
-    order = np.lexsort((np.linalg.norm(offset, axis=1), side, vertex))
-    group = 2 * vertex[order] + side[order]
+    # One key for (point, side): the same order as sorting by point, then side (a sort less).
+    group = 2 * vertex + side
+    order = np.lexsort((np.linalg.norm(offset, axis=1), group))
+    group = group[order]
     starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]]) if len(group) else group
     return tet[order], starts, vertex[order]
 
