@@ -8,9 +8,9 @@ scipy's tree, whose boxes are cut along the coordinate axes, opens all of them: 
 measured 44 µs a site on the 65 536-vertex torus, growing about as N^0.75 a site with the
 vertex count N (the poles along the circle get denser, their spread stays).
 
-Here the poles are sorted along a Morton curve and halved into ranges of LEAF_SIZE, each with
-its bounding box (the tree of :class:`.compiled_search.PieceTree`, built by the same Python
-calls, with points as the pieces): the boxes follow the curve the poles lie on, so a query
+Here the poles are sorted along a Morton curve and split into the ranges of an octree's cells,
+each with its bounding box (the tree of :class:`.compiled_search.PieceTree`, built by the same
+Python calls, with points as the pieces): the boxes follow the curve the poles lie on, so a query
 walks, nearest box first, only the few boxes that can hold a pole nearer than its best so far.
 Each pole's distance is ``sqrt(dx² + dy² + dz²)``, summed in that order, as scipy's k-d tree
 computes it, and a pole replaces the best only when strictly nearer: the distance is the exact
@@ -38,20 +38,15 @@ class PoleTree:
     """Poles (p, 3) with a label each, in a bounding-box tree along a Morton curve."""
 
     def __init__(self, points: np.ndarray, labels: np.ndarray):
-        from .compiled_search import LEAF_SIZE, _build, _morton_order
+        from .compiled_search import build_tree, morton_order
 
         points = np.asarray(points, dtype=float)
-        order = _morton_order(points) if len(points) else np.zeros(0, np.int64)
+        order, codes = morton_order(points)
         self.order = order
         self.points = np.ascontiguousarray(points[order])
         self.labels = np.ascontiguousarray(np.asarray(labels)[order], dtype=np.int64)
-        nodes = max(1, 4 * (len(order) // LEAF_SIZE + 1))
-        node_low, node_high = np.zeros((nodes, 3)), np.zeros((nodes, 3))
-        node_range = np.zeros((nodes, 2), dtype=np.int64)
-        node_child = np.full((nodes, 2), -1, dtype=np.int64)
-        if len(order):
-            _build(self.points, self.points, node_low, node_high, node_range, node_child)
-        self.tree = (self.points, node_low, node_high, node_range, node_child)
+        _, nodes = build_tree(codes, self.points, self.points)
+        self.tree = (self.points, *nodes)
 
     def nearest_allowed(self, queries, query_labels, allowed) -> tuple[np.ndarray, np.ndarray]:
         """(distance, pole index in the caller's order) of the nearest pole whose label

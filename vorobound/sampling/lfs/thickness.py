@@ -126,9 +126,9 @@ class RayCaster:
             tree, owner = compiled
             # Queries in the order of the tree's Morton curve: neighbouring queries walk the
             # same boxes (cache), each answer unchanged (the queries are independent).
-            from .compiled_search import _morton_order
+            from .compiled_search import morton_order
 
-            order = _morton_order(queries) if len(queries) > 1 else np.arange(len(queries))
+            order = morton_order(queries)[0]
             distance, piece = np.full(len(queries), np.inf), np.full(len(queries), -1)
             distance[order], piece[order] = tree.nearest_within(queries[order], bound[order])
             return distance, np.where(piece >= 0, owner[np.maximum(piece, 0)], -1)
