@@ -7,8 +7,9 @@ the triangle pieces, and two queries bounded by each query's own ball.
   nearer_than`).
 
 The pieces (long triangles cut by :func:`.tangent_ball.split_long`) are sorted along a Morton
-curve of their centroids; the tree halves each range of that order (leaves of LEAF_SIZE
-pieces) and keeps the box of each range. A query walks the tree nearest box first and drops
+curve of their centroids; the tree splits each range of that order where the codes first
+differ in their highest bit (an octree's cells; leaves of at most LEAF_SIZE pieces) and keeps the
+box of each range. A query walks the tree nearest box first and drops
 every box its ball misses, shrinking the ball as pieces are found (the balls are nested), so
 it visits only the pieces around it, however long the triangles they were cut from. Each
 (query, piece) value is computed with the same operations in the same order as the numpy
@@ -42,7 +43,7 @@ class PieceTree:
 
     def __init__(self, pieces: np.ndarray, group: np.ndarray | None = None):
         pieces = np.asarray(pieces, dtype=float)
-        order = _morton_order(pieces.mean(axis=1)) if len(pieces) else np.zeros(0, np.int64)
+        order, codes = morton_order(pieces.mean(axis=1))
         self.order = order
         self.pieces = np.ascontiguousarray(pieces[order])
         self.group = np.ascontiguousarray(
@@ -51,14 +52,8 @@ class PieceTree:
         )
         self.low = self.pieces.min(axis=1)
         self.high = self.pieces.max(axis=1)
-        nodes = max(1, 4 * (len(order) // LEAF_SIZE + 1))
-        self.node_low = np.zeros((nodes, 3))
-        self.node_high = np.zeros((nodes, 3))
-        self.node_range = np.zeros((nodes, 2), dtype=np.int64)
-        self.node_child = np.full((nodes, 2), -1, dtype=np.int64)
-        self.count = _build(
-            self.low, self.high, self.node_low, self.node_high, self.node_range, self.node_child
-        )
+        self.count, nodes = build_tree(codes, self.low, self.high)
+        self.node_low, self.node_high, self.node_range, self.node_child = nodes
         self.arrays = (
             self.pieces,
             self.low,
@@ -121,12 +116,34 @@ class PieceTree:
         return distance, found
 
 
-def _morton_order(centroid: np.ndarray) -> np.ndarray:
-    """The order of the points along a Morton (Z-order) curve of their bounding box."""
+def morton_order(centroid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The order of the points along a Morton (Z-order) curve of their bounding box, and
+    their Morton codes in that order."""
+    if not len(centroid):
+        return np.zeros(0, np.int64), np.zeros(0, np.uint64)
     low, span = centroid.min(axis=0), np.ptp(centroid, axis=0)
     scale = (2**MORTON_BITS - 1) / np.where(span > 0, span, 1.0)
     cells = ((centroid - low) * scale).astype(np.uint64)
-    return np.argsort(_interleave(cells), kind="stable")
+    codes = _interleave(cells)
+    order = np.argsort(codes, kind="stable")
+    return order, codes[order]
+
+
+def build_tree(codes: np.ndarray, low: np.ndarray, high: np.ndarray):
+    """(node count, (node_low, node_high, node_range, node_child)) of the boxes (low, high)
+    ordered by their Morton ``codes``: each range is split where its codes first differ in
+    the highest bit (the cells of an octree: a node's box stays inside its cell, instead of
+    spanning the jumps of the curve that halving the range by count cuts through; issue 35,
+    the pole check on a torus: 3 160 against 1 630 nodes a query at 262 144 vertices), halved
+    where all codes are equal, down to LEAF_SIZE. Arrays trimmed to the node count."""
+    n = len(low)
+    nodes = max(1, 2 * n + 1)  # every split leaves both sides non-empty
+    node_low, node_high = np.zeros((nodes, 3)), np.zeros((nodes, 3))
+    node_range = np.zeros((nodes, 2), dtype=np.int64)
+    node_child = np.full((nodes, 2), -1, dtype=np.int64)
+    count = _build(codes, low, high, node_low, node_high, node_range, node_child)
+    arrays = tuple(a[:count].copy() for a in (node_low, node_high, node_range, node_child))
+    return count, arrays
 
 
 @njit(cache=True, error_model="numpy")
@@ -143,11 +160,12 @@ def _interleave(cells):
 
 
 @njit(cache=True, error_model="numpy")
-def _build(low, high, node_low, node_high, node_range, node_child):
-    """Halve ranges of the ordered pieces down to LEAF_SIZE; boxes bottom-up. Returns the
+def _build(codes, low, high, node_low, node_high, node_range, node_child):
+    """Split ranges of the ordered pieces at the highest bit where their Morton codes differ
+    (halve them where the codes are equal) down to LEAF_SIZE; boxes bottom-up. Returns the
     number of nodes (node 0 is the root)."""
     n = len(low)
-    stack = np.zeros(128, dtype=np.int64)
+    stack = np.zeros(256, dtype=np.int64)
     node_range[0, 0], node_range[0, 1] = 0, n
     count = 1
     top = 0
@@ -157,7 +175,22 @@ def _build(low, high, node_low, node_high, node_range, node_child):
         top -= 1
         start, end = node_range[node, 0], node_range[node, 1]
         if end - start > LEAF_SIZE:
-            middle = (start + end) // 2
+            differ = codes[start] ^ codes[end - 1]
+            if differ == 0:
+                middle = (start + end) // 2
+            else:
+                bit = np.uint64(63)
+                while not (differ >> bit) & np.uint64(1):
+                    bit -= np.uint64(1)
+                mask = np.uint64(1) << bit
+                lo, hi = start, end - 1  # the first code with the bit set (codes ascending)
+                while lo < hi:
+                    mid = (lo + hi) // 2
+                    if codes[mid] & mask:
+                        hi = mid
+                    else:
+                        lo = mid + 1
+                middle = lo
             for k, (s, e) in enumerate(((start, middle), (middle, end))):
                 node_range[count, 0], node_range[count, 1] = s, e
                 node_child[node, k] = count

@@ -5,15 +5,25 @@ four tetrahedra across its faces. scipy's qhull gives both, but on samples with 
 cospherical points, as every regularly meshed curved surface is, it slows down far more than
 linearly even after the jitter of :mod:`.medial`: 80 s for the 262 144 vertices of a torus grid,
 against 5 s for a quarter of them. CGAL's incremental triangulation with exact predicates
-(GUDHI's Delaunay complex) takes a few seconds for the same points; the neighbours come from
-matching the faces of the tetrahedra.
+(GUDHI's Delaunay complex) takes a few seconds for the same points; the tetrahedra are read out
+of its simplex tree in bulk (:func:`vorobound.sampling.simplices.delaunay_simplices`, no Python
+loop per simplex: issue 35 measured that loop at as much CPU as qhull's whole triangulation of a
+65 536-vertex torus) and the neighbours come from matching the faces of the tetrahedra.
+
+The triangulation is the same as before (GUDHI's ``AlphaComplex``, read simplex by simplex):
+both are CGAL's Delaunay triangulation with exact predicates, unique for the jittered points
+(no five cospherical), and the vertex indices are those of the input (tested).
 """
 
 from __future__ import annotations
 
-import itertools
+import functools
 
 import numpy as np
+
+from ...errors import VoroboundError
+from ...geometry.kernels import load_kernel
+from ..simplices import delaunay_simplices, face_neighbours, kernel_available
 
 
 def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -21,29 +31,27 @@ def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     the tetrahedron across the face opposite each corner (t, 4), −1 on the convex hull (the
     layout of scipy's ``Delaunay.simplices`` and ``neighbors``). No tetrahedron at all for
     coplanar points."""
-    import gudhi
-
-    complex_ = gudhi.AlphaComplex(points=np.asarray(points, dtype=float))
-    tree = complex_.create_simplex_tree(default_filtration_value=True)
-    corners = itertools.chain.from_iterable(
-        simplex for simplex, _ in tree.get_skeleton(3) if len(simplex) == 4
-    )
-    tets = np.fromiter(corners, dtype=np.int64).reshape(-1, 4)
-    return tets, _neighbours(tets)
-
-
-def _neighbours(tets: np.ndarray) -> np.ndarray:
-    """The tetrahedron sharing the face opposite each corner (−1 where none)."""
-    out = np.full(tets.shape, -1, dtype=np.int64)
+    _, tets, _ = delaunay_simplices(np.asarray(points, dtype=float), triangles=False)
     if not len(tets):
-        return out
-    faces = np.sort(np.stack([np.delete(tets, corner, axis=1) for corner in range(4)]), axis=2)
-    faces = faces.reshape(-1, 3)  # face k·t + i is tetrahedron i without corner k
-    order = np.lexsort((faces[:, 2], faces[:, 1], faces[:, 0]))
-    ordered = faces[order]
-    twin = np.flatnonzero((ordered[1:] == ordered[:-1]).all(axis=1))
-    first, second = order[twin], order[twin + 1]
-    count = len(tets)
-    out[first % count, first // count] = second % count
-    out[second % count, second // count] = first % count
-    return out
+        return tets, np.zeros((0, 4), dtype=np.int64)
+    kernel = _facets_kernel()
+    if kernel is not None:  # linear (a counting sort of the faces); the same array
+        neighbours, ok = kernel.face_neighbours(tets, int(tets.max()) + 1)
+        neighbours = neighbours if ok else None
+    else:
+        neighbours = face_neighbours(tets)
+    if neighbours is None:  # a face of three tetrahedra: not a triangulation
+        raise VoroboundError("CGAL's triangulation has a face of more than two tetrahedra")
+    return tets, neighbours
+
+
+@functools.cache
+def _load_facets_kernel():
+    return load_kernel("vorobound.sampling.reconstruct.facets_kernel")
+
+
+def _facets_kernel():
+    """The compiled face matching of M̂ (:mod:`vorobound.sampling.reconstruct.facets_kernel`,
+    tested equal to :func:`vorobound.sampling.simplices.face_neighbours`), or None without
+    numba or with ``VOROBOUND_PURE_NUMPY`` set."""
+    return _load_facets_kernel() if kernel_available() else None

@@ -29,11 +29,13 @@ them:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import InputError
+from ...geometry.kernels import load_kernel, pure_numpy
 from ...geometry.threads import thread_count
 from ...progress import Counter, Progress
 from .delaunay import delaunay_tetrahedra
@@ -93,6 +95,9 @@ class MedialSample:
     several labels appears once per label, poles closer than MERGE_RTOL once), aligned with
     ``labelled_points``."""
     labelled_points: np.ndarray | None = None
+    labelled_reach: np.ndarray | None = None
+    """With labels: the distance from each labelled pole to the nearest corner of its
+    tetrahedron (a sample point): an upper bound on its distance to the sample."""
 
 
 def vertex_poles(
@@ -166,7 +171,7 @@ def vertex_poles(
     poles = centres[chosen]
     key = np.round(poles / MERGE_RTOL).astype(np.int64)
     _, first = np.unique(key, axis=0, return_index=True)
-    labelled = labelled_points = None
+    labelled = labelled_points = labelled_reach = None
     if labels is not None and len(candidates):
         # The final pole of every (point, side) group, tagged with the point's label.
         position = _farthest(candidates, starts, usable)
@@ -180,10 +185,27 @@ def vertex_poles(
         _, once = np.unique(np.c_[merged, pairs[:, 1]], axis=0, return_index=True)
         pairs = pairs[np.sort(once)]
         labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
+        corners = points[tets[pairs[:, 0]]]
+        labelled_reach = np.linalg.norm(corners - labelled_points[:, None], axis=2).min(axis=1)
     counter.step()
     return MedialSample(
-        poles[np.sort(first)], len(tets), int((~usable).sum()), labelled, labelled_points
+        poles[np.sort(first)],
+        len(tets),
+        int((~usable).sum()),
+        labelled,
+        labelled_points,
+        labelled_reach,
     )
+
+
+@functools.cache
+def _load_compiled_poles():
+    return load_kernel(f"{__package__}.compiled_poles")
+
+
+def compiled_poles():
+    """:mod:`.compiled_poles`, or None without numba or with ``VOROBOUND_PURE_NUMPY`` set."""
+    return None if pure_numpy() else _load_compiled_poles()
 
 
 def nearest_spacing(points: np.ndarray) -> np.ndarray:
@@ -202,8 +224,18 @@ def nearest_site(sites: np.ndarray, queries: np.ndarray) -> tuple[np.ndarray, np
     apart without measuring every one. The tree therefore holds one site per cluster closer
     than MERGE_RTOL; the clusters near enough to hold the nearest site are then measured in
     full.
+
+    With numba the search is instead the compiled walk of :mod:`.compiled_poles` (exact, the
+    lowest index among equally near sites): the poles of a curved medial axis (a torus's core
+    circle) put thousands of sites at nearly one distance from each query, which scipy's tree
+    opens all of (issue 35: 3.5 CPU-s of a 65 536-vertex torus, growing faster than N).
     """
     from scipy.spatial import cKDTree
+
+    compiled = compiled_poles()
+    if compiled is not None:
+        tree = compiled.PoleTree(sites, np.zeros(len(sites), dtype=np.int64))
+        return tree.nearest_allowed(queries, np.zeros(len(queries)), np.ones((1, 1), bool))
 
     key = np.round(sites / MERGE_RTOL).astype(np.int64)
     _, first, cluster = np.unique(key, axis=0, return_index=True, return_inverse=True)
@@ -325,12 +357,14 @@ def _pole_candidates(points, normals, tets, centres, usable, unbounded, labels=N
     offset = centres[tet] - points[vertex]
     side = (offset * normals[vertex]).sum(axis=1) > 0
     keep = unbounded[vertex] != np.where(side, 1, -1)
-    if labels is not None and adjacent is not None:
+    if labels is not None and adjacent is not None and adjacent.any():
         corner_labels = labels[tets[tet]]  # (entries, 4)
         keep &= ~adjacent[labels[vertex][:, None], corner_labels].any(axis=1)
     vertex, tet, side, offset = vertex[keep], tet[keep], side[keep], offset[keep]
-    order = np.lexsort((np.linalg.norm(offset, axis=1), side, vertex))
-    group = 2 * vertex[order] + side[order]
+    # One key for (point, side): the same order as sorting by point, then side (a sort less).
+    group = 2 * vertex + side
+    order = np.lexsort((np.linalg.norm(offset, axis=1), group))
+    group = group[order]
     starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]]) if len(group) else group
     return tet[order], starts, vertex[order]
 

@@ -272,12 +272,12 @@ def evaluate_round(
     medial = np.full(count, np.inf)
     medial[seen] = state.memo.get("medial", last[seen])
     if poles is not None:
-        for column in range(width):
-            lab = site_patches[:, column]
-            ok = np.flatnonzero((lab >= 0) & ~seen)
-            if len(ok):
-                values = nearest_allowed_pole(*poles, site_points[ok], lab[ok], state.allowed)
-                medial[ok] = np.minimum(medial[ok], values)
+        # Every (site, patch of the site) in one search (the poles' tree is built once).
+        row, column = np.nonzero((site_patches >= 0) & ~seen[:, None])
+        if len(row):
+            lab = site_patches[row, column]
+            values = nearest_allowed_pole(*poles, site_points[row], lab, state.allowed)
+            np.minimum.at(medial, row, values)
     counter.step()
     # --- B: thickness and curvature at the vertices inside patches and the face sites -------
     counter = Counter(progress, "rays", 1)

@@ -124,7 +124,13 @@ class RayCaster:
         compiled = self._piece_tree()
         if compiled is not None:
             tree, owner = compiled
-            distance, piece = tree.nearest_within(queries, bound)
+            # Queries in the order of the tree's Morton curve: neighbouring queries walk the
+            # same boxes (cache), each answer unchanged (the queries are independent).
+            from .compiled_search import morton_order
+
+            order = morton_order(queries)[0]
+            distance, piece = np.full(len(queries), np.inf), np.full(len(queries), -1)
+            distance[order], piece[order] = tree.nearest_within(queries[order], bound[order])
             return distance, np.where(piece >= 0, owner[np.maximum(piece, 0)], -1)
         distance = np.full(len(queries), np.inf)
         face = np.full(len(queries), -1, dtype=np.int64)
