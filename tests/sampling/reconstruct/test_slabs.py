@@ -310,3 +310,18 @@ def test_seeds_of_both_labels_on_the_hull_are_refused():
 def _pairs(mesh):
     """The in/out seed pairs of M̂'s facets, sorted."""
     return sorted(map(tuple, mesh.surface.seed_pairs.tolist()))
+
+
+def test_slabs_without_the_compiled_steps_say_so(monkeypatch):
+    """Slabs need numba's kernels: without them the whole set is triangulated (the same M̂),
+    and the user who asked for slabs is told why memory is not bounded by a slab."""
+    from vorobound.errors import VoroboundWarning
+
+    rng = np.random.default_rng(3)
+    points = rng.normal(size=(300, 3))
+    inside = np.linalg.norm(points, axis=1) < 1.0
+    whole = inout_facets(points, inside, slabs=1)
+    monkeypatch.setattr(facets, "_facets_kernel", lambda: None)
+    with pytest.warns(VoroboundWarning, match="7 slabs need CGAL and numba"):
+        split = inout_facets(points, inside, slabs=7)
+    assert _pairs(split) == _pairs(whole)

@@ -66,7 +66,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...errors import InputError
+from ...errors import InputError, warn_once
 from ...progress import Counter, Progress
 from .engine import delaunay_tetrahedra
 from .slabs import dense_unique, slab_count, slab_fans
@@ -267,6 +267,11 @@ def inout_facets(
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
+    if slabs > 1 and (triangulation != "cgal" or kernel is None):
+        warn_once(
+            f"{slabs} slabs need CGAL and numba's compiled steps (pip install vorobound[fast]): "
+            "the whole set is triangulated at once (more memory)"
+        )
     if triangulation == "cgal" and kernel is not None and slabs > 1:
         fans = slab_fans(points, inside, kernel, flat_circumcentres, slabs, progress)
     if fans is not None:
