@@ -34,15 +34,7 @@ sys.argv = ["vorobound", "--help"]
     ids=["python -m vorobound", "console script"],
 )
 def test_an_interrupt_during_import_is_one_line(run):
-    env = os.environ | {"PYTHONPATH": str(ROOT)}
-    done = subprocess.run(
-        [sys.executable, "-c", INTERRUPT_DURING_IMPORT.format(run=run)],
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=60,
-        preexec_fn=signals_as_from_a_terminal,
-    )
+    done = _child(INTERRUPT_DURING_IMPORT.format(run=run))
     assert done.returncode == 130, done.stderr
     assert done.stderr == "interrupted\n"
 
@@ -61,15 +53,19 @@ entry()
 def test_an_interrupt_while_the_process_exits_is_one_line(signal):
     """Found by the hostile-input pass: Ctrl-C in the last half second, while the interpreter
     shut down, ended the run with exit 0 and an 'Exception ignored' traceback (or no line)."""
-    env = os.environ | {"PYTHONPATH": str(ROOT)}
-    done = subprocess.run(
-        [sys.executable, "-c", INTERRUPT_WHILE_EXITING.format(signal=signal)],
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=60,
-        preexec_fn=signals_as_from_a_terminal,
-    )
+    done = _child(INTERRUPT_WHILE_EXITING.format(signal=signal))
     assert done.returncode == 130, done.stderr
     assert done.stderr == "interrupted\n"
     assert '"command": "solve"' in done.stdout  # the output was complete and is kept
+
+
+def _child(code: str) -> subprocess.CompletedProcess:
+    """Run ``code`` in a fresh interpreter that takes signals as a terminal's foreground job."""
+    return subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        env=os.environ | {"PYTHONPATH": str(ROOT)},
+        timeout=60,
+        preexec_fn=signals_as_from_a_terminal,
+    )

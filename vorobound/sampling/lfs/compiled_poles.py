@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from ...geometry.threads import chunk_bounds, run_in_threads
+from .compiled_search import _box_gap, _push_children
 
 QUERY_CHUNK = 4096
 """Queries handed to a worker thread at a time."""
@@ -81,16 +82,6 @@ class PoleTree:
         return distance, found
 
 
-@njit(inline="always", error_model="numpy")
-def _box_gap(low, high, node, c0, c1, c2):
-    """Squared distance from a point to a box (0 inside)."""
-    g = 0.0
-    for axis, c in ((0, c0), (1, c1), (2, c2)):
-        t = max(low[node, axis] - c, c - high[node, axis], 0.0)
-        g += t * t
-    return g
-
-
 @njit(cache=True, nogil=True, error_model="numpy")
 def _nearest_allowed_kernel(
     lo, hi, queries, query_labels, allowed, labels, order, distance, found, tree
@@ -119,14 +110,7 @@ def _nearest_allowed_kernel(
                     if value < squared or (value == squared and order[p] < order[which]):
                         squared, which = value, p
                 continue
-            right = node_child[node, 1]
-            near = _box_gap(node_low, node_high, left, x0, x1, x2)
-            far = _box_gap(node_low, node_high, right, x0, x1, x2)
-            if near <= far:
-                stack[top + 1], stack[top + 2] = right, left
-            else:
-                stack[top + 1], stack[top + 2] = left, right
-            top += 2
+            top = _push_children(stack, top, node_low, node_high, node_child, node, x0, x1, x2)
         if which >= 0:
             best = math.sqrt(squared)
         distance[i] = best
