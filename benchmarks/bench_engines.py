@@ -437,7 +437,8 @@ def swig_cells(points, lap):
 
 def child_cells(path: str, route: str) -> dict:
     """The tetrahedra and face neighbours of the seeds at ``path`` by one route: "cgal" (GUDHI
-    ``DelaunayComplex`` built, no more), "gudhi" (M̂'s route), "qhull" or "swig"."""
+    ``DelaunayComplex`` built, no more), "gudhi" (M̂'s route), "geogram" (the package's compiled
+    module, tetrahedra only: lfs's route), "qhull" or "swig"."""
     import hashlib
 
     import numpy as np
@@ -451,6 +452,11 @@ def child_cells(path: str, route: str) -> dict:
     if route == "gudhi":  # numba and the kernels' machine code loaded first
         warm = np.random.default_rng(0).random((40, 3))
         facets.inout_facets(warm, warm[:, 0] < 0.5, compiled=True)
+    if route == "geogram":
+        from vorobound.sampling import geogram_delaunay
+
+        if not geogram_delaunay.available():
+            return {"skipped": "the package's compiled module was not built"}
     if route == "swig":
         try:
             import CGAL.CGAL_Triangulation_3  # noqa: F401
@@ -471,6 +477,9 @@ def child_cells(path: str, route: str) -> dict:
         tets = across = np.empty((0, 4), dtype=np.int64)
     elif route == "gudhi":
         tets, across, _ = facets._cgal_tetrahedra(points, kernel)
+    elif route == "geogram":
+        tets = geogram_delaunay.delaunay_tetrahedra(points)
+        across = np.empty((0, 4), dtype=np.int64)
     elif route == "qhull":
         tets, across, _ = facets._qhull_tetrahedra(points)
     else:
@@ -579,6 +588,7 @@ CELL_ROUTES = {
     "cgal": "CGAL Delaunay (GUDHI DelaunayComplex, built)",
     "gudhi": "M̂'s route: + simplex tree, read, neighbours",
     "swig": "cgal package (SWIG): tetrahedra + neighbours",
+    "geogram": "geogram (compiled module): tetrahedra",
     "qhull": "qhull (scipy Delaunay): + neighbours",
 }
 """The routes of ``cells``, in the order run."""
@@ -605,11 +615,12 @@ def bench_cells(eps: str, cube: bool, repeat: int = 1) -> None:
         found = min(runs[route], key=lambda r: r["cpu_wall"][0])
         for name, spent in found["steps"].items():
             print(f"    {name:44s} {spent:7.2f} CPU-s  {spent / base[0]:5.2f}× CGAL built")
-    tets = {r: runs[r][0]["tetrahedra"] for r in ("gudhi", "qhull")}
+    tets = {r: runs[r][0].get("tetrahedra", 0) for r in ("gudhi", "qhull", "geogram")}
     swig = runs["swig"][0]
     same = "skipped" if "skipped" in swig else swig["digest"] == runs["gudhi"][0]["digest"]
     print(
-        f"  tetrahedra: {tets['gudhi']:,} (CGAL), {tets['qhull']:,} (qhull); SWIG's arrays equal "
+        f"  tetrahedra: {tets['gudhi']:,} (CGAL), {tets['qhull']:,} (qhull), {tets['geogram']:,} "
+        "(geogram); SWIG's arrays equal "
         f"to M̂'s route's: {same}"
     )
 

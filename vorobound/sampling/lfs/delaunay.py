@@ -1,4 +1,4 @@
-"""The Delaunay tetrahedra of a point set, with their neighbours, by CGAL (through GUDHI).
+"""The Delaunay tetrahedra of a point set and their neighbours (geogram, or CGAL via GUDHI).
 
 The Voronoi poles (:mod:`.medial`) need every Delaunay tetrahedron of a surface sample and the
 four tetrahedra across its faces. scipy's qhull gives both, but on samples with many
@@ -6,9 +6,11 @@ cospherical points, as every regularly meshed curved surface is, it slows down f
 linearly even after the jitter of :mod:`.medial`: 80 s for the 262 144 vertices of a torus grid,
 against 5 s for a quarter of them. CGAL's incremental triangulation with exact predicates
 (GUDHI's Delaunay complex) takes a few seconds for the same points; the tetrahedra are read out
-of its simplex tree in bulk (:func:`vorobound.sampling.simplices.delaunay_simplices`, no Python
-loop per simplex: issue 35 measured that loop at as much CPU as qhull's whole triangulation of a
-65 536-vertex torus) and the neighbours come from matching the faces of the tetrahedra.
+of its simplex tree in bulk (no Python loop per simplex: issue 35 measured that loop at as much
+CPU as qhull's whole triangulation of a 65 536-vertex torus). Where the package's compiled module
+was built, geogram's exact triangulation hands over the tetrahedra as an array instead, without
+any simplex tree (:func:`vorobound.sampling.simplices.delaunay_tetrahedra`); the neighbours come
+from matching the faces of the tetrahedra.
 
 The triangulation is the same as before (GUDHI's ``AlphaComplex``, read simplex by simplex):
 both are CGAL's Delaunay triangulation with exact predicates, unique for the jittered points
@@ -23,7 +25,8 @@ import numpy as np
 
 from ...errors import VoroboundError
 from ...geometry.kernels import load_kernel
-from ..simplices import delaunay_simplices, face_neighbours, kernel_available
+from ..simplices import delaunay_tetrahedra as engine_tetrahedra
+from ..simplices import face_neighbours, kernel_available
 
 
 def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -31,7 +34,7 @@ def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     the tetrahedron across the face opposite each corner (t, 4), −1 on the convex hull (the
     layout of scipy's ``Delaunay.simplices`` and ``neighbors``). No tetrahedron at all for
     coplanar points."""
-    _, tets, _ = delaunay_simplices(np.asarray(points, dtype=float), triangles=False)
+    tets = engine_tetrahedra(np.asarray(points, dtype=float))
     if not len(tets):
         return tets, np.zeros((0, 4), dtype=np.int64)
     kernel = _facets_kernel()

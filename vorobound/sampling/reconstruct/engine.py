@@ -1,11 +1,12 @@
 """The Delaunay tetrahedra of M̂'s seeds: the one call of the triangulation engine.
 
 Both the whole set (:func:`.facets.inout_facets`) and each slab (:mod:`.slabs`) take their
-tetrahedra from :func:`delaunay_tetrahedra`, so another engine plugs in here. What the callers
-rely on: exact predicates with CGAL's symbolic perturbation (the triangulation of a subset
-agrees with the whole set's wherever a tetrahedron's circumscribed ball holds no other seed);
-each row ascending and the rows in lexicographic order (a slab's walks then start at the whole
-set's tetrahedra, :mod:`.slabs`); a seed at the very coordinates of an earlier one left out.
+tetrahedra from :func:`delaunay_tetrahedra`, so another engine plugs in here. What the callers rely
+on: exact predicates with a symbolic perturbation that depends on the coordinates only (geogram's
+lexicographic one, or CGAL's: the triangulation of a subset agrees with the whole set's wherever a
+tetrahedron's circumscribed ball holds no other seed); each row ascending and the rows in
+lexicographic order (a slab's walks then start at the whole set's tetrahedra, :mod:`.slabs`); a seed
+at the very coordinates of an earlier one left out.
 """
 
 from __future__ import annotations
@@ -17,14 +18,13 @@ def delaunay_tetrahedra(points: np.ndarray) -> np.ndarray:
     """Tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as seed indices
     (int64; module docstring for the order); no rows when the points span no volume.
 
-    CGAL through GUDHI's ``DelaunayComplex``, read in bulk from its simplex tree
-    (:func:`vorobound.sampling.simplices.delaunay_simplices`; with the compiled reader at any
-    size where numba is there: M̂'s compiled steps load it anyway, and the slabs' probe and
-    boxes are small trees, which GUDHI's iterator read in 0.5 CPU-s each at the cube's
-    ε = 0.0094977).
+    CGAL through GUDHI's simplex tree (:func:`vorobound.sampling.simplices.delaunay_tetrahedra`
+    with ``engine="cgal"``), not geogram's module, which ``lfs`` uses: VoroCrust's seeds are
+    cospherical up to rounding, and geogram decides nearly every such in-sphere test with its
+    exact expansions (40.0 CPU-s for the 1.08·10⁶ seeds of the cube at ε = 0.0094977, three
+    quarters of it in expansion arithmetic, against 16.6 for CGAL's build and 8.6 for its
+    simplex tree; ``python benchmarks/bench_engines.py cells --eps 0.0094977 --cube``).
     """
-    from ..simplices import delaunay_simplices, kernel_available
+    from ..simplices import delaunay_tetrahedra as engine_tetrahedra
 
-    compiled = True if kernel_available() else None
-    _, tetrahedra, _ = delaunay_simplices(points, compiled=compiled, triangles=False)
-    return tetrahedra
+    return engine_tetrahedra(points, engine="cgal")

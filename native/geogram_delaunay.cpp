@@ -1,0 +1,91 @@
+// The Delaunay tetrahedra of a point set from geogram's triangulation (native/geogram, its
+// Delaunay module), handed to Python as one int32 array; vorobound/sampling/geogram_delaunay.py
+// calls it through ctypes. A Python module only in name: setuptools builds it as an extension
+// module, and nothing is called through the Python C API.
+//
+// What the caller relies on (the Python side documents and tests it):
+// - exact predicates with the lexicographic symbolic perturbation (PCK::SOS_LEXICO): the outcome
+//   of every test depends on the coordinates of the points it reads, not on their indices, so a
+//   subset's triangulation agrees with the whole set's wherever a tetrahedron's ball is empty;
+// - a point at the coordinates of an earlier one has no tetrahedron;
+// - geogram's assertions throw (ASSERT_THROW) instead of aborting the process: a failure is a
+//   nonzero return code, and the caller falls back to CGAL.
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <new>
+
+#include "Delaunay_psm.h"
+
+namespace {
+
+std::once_flag started;
+
+void start_geogram() {
+    GEO::initialize(GEO::GEOGRAM_INSTALL_NONE);
+    GEO::CmdLine::import_arg_group("standard");
+    GEO::CmdLine::import_arg_group("algo");
+    GEO::Logger::instance()->set_quiet(true);
+    GEO::set_assert_mode(GEO::ASSERT_THROW);
+    GEO::PCK::set_SOS_mode(GEO::PCK::SOS_LEXICO);
+}
+
+}  // namespace
+
+extern "C" {
+
+// Triangulates the n points (x, y, z rows of `points`). On success returns 0 and sets *cells to
+// a new array of 4 * *count vertex indices (the finite tetrahedra), to be freed with
+// vb_free_cells. Returns 1 when geogram failed (an assertion or an allocation), 2 for n out of
+// range.
+int vb_delaunay_cells(const double* points, int64_t n, int32_t** cells, int64_t* count) {
+    *cells = nullptr;
+    *count = 0;
+    if (n < 0 || n >= INT32_MAX) {
+        return 2;
+    }
+    try {
+        std::call_once(started, start_geogram);
+        GEO::Delaunay_var triangulation = GEO::Delaunay::create(3, "BDEL");
+        triangulation->set_keeps_infinite(false);
+        triangulation->set_vertices(GEO::index_t(n), points);
+        const GEO::index_t total = triangulation->nb_cells();
+        int64_t finite = 0;
+        for (GEO::index_t c = 0; c < total; ++c) {
+            finite += triangulation->cell_is_infinite(c) ? 0 : 1;
+        }
+        int32_t* out = new int32_t[size_t(finite) * 4 + 1];
+        const GEO::index_t* corners = triangulation->cell_to_v();
+        int64_t k = 0;
+        for (GEO::index_t c = 0; c < total; ++c) {
+            if (triangulation->cell_is_infinite(c)) {
+                continue;
+            }
+            for (int j = 0; j < 4; ++j) {
+                out[4 * k + j] = int32_t(corners[4 * c + j]);
+            }
+            ++k;
+        }
+        *cells = out;
+        *count = finite;
+        return 0;
+    } catch (...) {
+        return 1;
+    }
+}
+
+void vb_free_cells(int32_t* cells) { delete[] cells; }
+
+}  // extern "C"
+
+static struct PyModuleDef geogram_module = {
+    PyModuleDef_HEAD_INIT, "_geogram",
+    "geogram's Delaunay triangulation, called through ctypes (vorobound.sampling.geogram_delaunay)",
+    -1, nullptr, nullptr, nullptr, nullptr, nullptr,
+};
+
+PyMODINIT_FUNC PyInit__geogram(void) { return PyModule_Create(&geogram_module); }

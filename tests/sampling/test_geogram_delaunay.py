@@ -1,0 +1,132 @@
+"""geogram's compiled Delaunay module against CGAL (GUDHI), and the exact range it is given."""
+
+import numpy as np
+import pytest
+
+from vorobound.sampling import geogram_delaunay
+from vorobound.sampling.simplices import delaunay_tetrahedra
+
+pytestmark = pytest.mark.skipif(
+    not geogram_delaunay.available(), reason="the compiled module was not built"
+)
+
+
+def _cgal(points):
+    return delaunay_tetrahedra(points, engine="cgal")
+
+
+def _in_sphere_slack(points, tets):
+    """For each tetrahedron, min over the other points of (distance to its circumcentre −
+    circumradius) / circumradius: ≥ −1e-9 everywhere for a Delaunay triangulation."""
+    from scipy.spatial import cKDTree
+
+    a, b, c, d = (points[tets[:, i]] for i in range(4))
+    m = np.stack([b - a, c - a, d - a], axis=1)
+    rhs = 0.5 * np.stack([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((d - a) ** 2).sum(1)], 1)
+    centre = a + np.linalg.solve(m, rhs[..., None])[..., 0]
+    radius = np.linalg.norm(centre - a, axis=1)
+    nearest, _ = cKDTree(points).query(centre)
+    return (nearest - radius) / radius
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_random_points_give_cgals_tetrahedra_exactly(seed):
+    points = np.random.default_rng(seed).normal(size=(3000, 3))
+    found = geogram_delaunay.delaunay_tetrahedra(points)
+    assert found is not None and found.dtype == np.int64
+    np.testing.assert_array_equal(found, _cgal(points))  # same rows, same order
+
+
+def test_far_from_origin_and_tiny_scales_give_the_same_triangulation():
+    points = np.random.default_rng(3).random((2000, 3))
+    reference = geogram_delaunay.delaunay_tetrahedra(points)
+    for scale in (2.0**-600, 2.0**40, 2.0**600):  # powers of two: the same point set, scaled
+        np.testing.assert_array_equal(
+            geogram_delaunay.delaunay_tetrahedra(points * scale), reference
+        )
+    np.testing.assert_array_equal(
+        geogram_delaunay.delaunay_tetrahedra(points + 1e6), _cgal(points + 1e6)
+    )
+
+
+def test_a_lattice_is_a_delaunay_triangulation_of_the_same_count():
+    """Cospherical everywhere: geogram and CGAL perturb differently, each gives a Delaunay
+    triangulation: no point strictly inside a circumsphere, the volume of the box, as many
+    tetrahedra."""
+    g = np.arange(8.0)
+    points = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T.copy()
+    found = geogram_delaunay.delaunay_tetrahedra(points)
+    assert found is not None and len(found) == len(_cgal(points))
+    a, b, c, d = (points[found[:, i]] for i in range(4))
+    volume = np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))).sum() / 6
+    assert volume == pytest.approx(7.0**3)
+    assert _in_sphere_slack(points, found).min() > -1e-9
+    shuffled = np.random.default_rng(0).permutation(len(points))
+    again = geogram_delaunay.delaunay_tetrahedra(points[shuffled])
+    as_before = geogram_delaunay.lexicographic_rows(shuffled[again], len(points))
+    np.testing.assert_array_equal(as_before, found)  # the perturbation follows the coordinates
+
+
+def test_a_subset_keeps_the_tetrahedra_whose_ball_is_empty_of_the_rest():
+    """What M̂'s slabs rely on, in degenerate position: a window of a lattice is triangulated
+    as the whole lattice wherever a tetrahedron's ball (closed, widened) lies in the window."""
+    g = np.arange(10.0)
+    points = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T.copy()
+    whole = {tuple(t) for t in geogram_delaunay.delaunay_tetrahedra(points)}
+    window = np.flatnonzero(points[:, 0] <= 5)
+    part = window[geogram_delaunay.delaunay_tetrahedra(points[window])]
+    a, b, c, d = (points[part[:, i]] for i in range(4))
+    m = np.stack([b - a, c - a, d - a], axis=1)
+    rhs = 0.5 * np.stack([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((d - a) ** 2).sum(1)], 1)
+    centre = a + np.linalg.solve(m, rhs[..., None])[..., 0]
+    radius = np.linalg.norm(centre - a, axis=1)
+    inside = centre[:, 0] + radius * (1 + 1e-9) < 5.5  # the ball in the window's closed slab
+    kept = [tuple(np.sort(t)) for t in part[inside]]
+    assert len(kept) > 100
+    assert all(t in whole for t in kept)
+
+
+def test_copies_are_left_out_and_flat_sets_give_no_rows():
+    points = np.random.default_rng(4).random((200, 3))
+    with_copies = np.vstack([points, points[:30]])
+    np.testing.assert_array_equal(geogram_delaunay.delaunay_tetrahedra(with_copies), _cgal(points))
+    flat = points.copy()
+    flat[:, 2] = 0.0
+    found = geogram_delaunay.delaunay_tetrahedra(flat)
+    assert found is not None and found.shape == (0, 4)
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        "nan",
+        "inf",
+        "spread",  # 1e-300 next to 1: outside the exact range
+    ],
+)
+def test_inputs_outside_the_exact_range_go_to_cgal(bad):
+    points = np.random.default_rng(5).random((100, 3))
+    if bad == "spread":
+        points[0, 0] = 1e-300
+        assert geogram_delaunay.exact_frame(points) is None
+        assert geogram_delaunay.delaunay_tetrahedra(points) is None
+        np.testing.assert_array_equal(delaunay_tetrahedra(points), _cgal(points))
+        return
+    points[0, 0] = float(bad)
+    assert geogram_delaunay.delaunay_tetrahedra(points) is None
+
+
+def test_few_points_and_an_unknown_engine():
+    points = np.random.default_rng(6).random((4, 3))
+    assert geogram_delaunay.delaunay_tetrahedra(points) is None
+    assert delaunay_tetrahedra(points).shape == (1, 4)  # CGAL's
+    with pytest.raises(ValueError, match="engine"):
+        delaunay_tetrahedra(points, engine="qhull")
+
+
+def test_lexicographic_rows_sorts_each_row_and_the_rows():
+    rows = np.array([[5, 1, 3, 2], [0, 9, 4, 1], [3, 2, 1, 0], [1, 2, 3, 0]])
+    np.testing.assert_array_equal(
+        geogram_delaunay.lexicographic_rows(rows, 10),
+        [[0, 1, 2, 3], [0, 1, 2, 3], [0, 1, 4, 9], [1, 2, 3, 5]],
+    )

@@ -1,0 +1,141 @@
+"""Delaunay tetrahedra from geogram's triangulation, compiled with the package, as one array.
+
+The unweighted triangulations (M̂'s seeds, the Voronoi poles of ``lfs``) came from CGAL through
+GUDHI's simplex tree, whose building and reading cost about twice CGAL's own time and most of
+the memory (issue 35; docs/performance.md). geogram's Delaunay module (``native/geogram``,
+BSD-3-Clause, built by setuptools with the package) triangulates with exact predicates and hands
+its tetrahedra over as an array: on 10⁶ random points 4.4 CPU-s and 0.4 GB, against 10.7 CPU-s
+for CGAL's bare build and 29.8 for the simplex tree route (benchmarks/bench_engines.py).
+
+Exactness. geogram's predicates are floating-point filters backed by expansion arithmetic, exact
+as long as no product underflows or overflows. The points are first multiplied by a power of two
+so that the largest coordinate lies in [1/2, 1) (an exact step: it changes no predicate's sign).
+Every coordinate then is a multiple of 2⁻²⁰² (its unit in the last place) when the smallest
+nonzero one is at least 2⁻¹⁵⁰ (:data:`SMALLEST_SCALED`), so every term of the degree-5 in-sphere
+determinant and of its error-free expansions is a multiple of 2⁻¹⁰¹⁰ ≥ 2⁻¹⁰⁷⁴, representable
+(subnormals included), and no term exceeds 2¹⁰: no rounding is lost. (The floating-point filters
+in front of the expansions give up, and leave the sign to them, whenever their inputs leave the
+range where their error bound holds.) Other inputs (wider spreads of magnitude, non-finite
+values, fewer than five points) return None, and the caller uses CGAL. Degenerate position is
+resolved by the lexicographic symbolic perturbation, a function of the coordinates only, so a
+subset of the points is triangulated as the whole set is wherever a tetrahedron's ball holds no
+other point (what :mod:`.reconstruct.slabs` needs; CGAL's perturbation has the same property,
+but the two need not choose the same tetrahedra among cospherical points). A point at the
+coordinates of an earlier one gets no tetrahedron.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import importlib.util
+import math
+import threading
+
+import numpy as np
+
+SMALLEST_SCALED = 2.0**-150
+"""Smallest nonzero |coordinate| (after the power-of-two scaling) geogram is given."""
+MIN_POINTS = 5
+"""Fewer points go to CGAL (no gain, and geogram's start needs four in general position)."""
+_LOCK = threading.Lock()
+
+
+@functools.cache
+def _library() -> ctypes.CDLL | None:
+    spec = importlib.util.find_spec(f"{__package__}._geogram")
+    if spec is None or spec.origin is None:
+        return None
+    try:
+        library = ctypes.CDLL(spec.origin)
+    except OSError:
+        return None
+    library.vb_delaunay_cells.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_int64,
+        ctypes.POINTER(ctypes.POINTER(ctypes.c_int32)),
+        ctypes.POINTER(ctypes.c_int64),
+    ]
+    library.vb_delaunay_cells.restype = ctypes.c_int
+    library.vb_free_cells.argtypes = [ctypes.POINTER(ctypes.c_int32)]
+    library.vb_free_cells.restype = None
+    return library
+
+
+def available() -> bool:
+    """True when the compiled module was built with the package and loads."""
+    return _library() is not None
+
+
+def exact_frame(points: np.ndarray) -> np.ndarray | None:
+    """``points`` (n, 3) times the power of two that puts the largest |coordinate| in [1/2, 1),
+    as a new C-contiguous float64 array; None when geogram's predicates would not be exact on
+    it (module docstring): a non-finite coordinate, or a nonzero one below
+    :data:`SMALLEST_SCALED` after the scaling."""
+    scaled = np.array(points, dtype=np.float64, order="C", copy=True)
+    if not np.isfinite(scaled).all():
+        return None
+    magnitude = np.abs(scaled)
+    largest = float(magnitude.max()) if scaled.size else 0.0
+    if largest == 0.0:
+        return scaled
+    scaled *= 2.0 ** -(math.frexp(largest)[1])
+    nonzero = magnitude[magnitude > 0]
+    if float(nonzero.min()) * 2.0 ** -(math.frexp(largest)[1]) < SMALLEST_SCALED:
+        return None
+    return scaled
+
+
+def delaunay_tetrahedra(points: np.ndarray) -> np.ndarray | None:
+    """The finite tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as
+    point indices (int64, ascending within a row, rows in lexicographic order: the order of
+    GUDHI's simplex tree); no rows when the points span no volume. None when the compiled module
+    is missing, the input is outside the exact range (module docstring) or geogram failed: the
+    caller then uses CGAL."""
+    library = _library()
+    if library is None or len(points) < MIN_POINTS or len(points) >= 2**31 - 1:
+        return None
+    scaled = exact_frame(points)
+    if scaled is None:
+        return None
+    cells = ctypes.POINTER(ctypes.c_int32)()
+    count = ctypes.c_int64()
+    with _LOCK:  # geogram counts its predicate calls in shared counters
+        code = library.vb_delaunay_cells(
+            scaled.ctypes.data, len(scaled), ctypes.byref(cells), ctypes.byref(count)
+        )
+    if code != 0:
+        return None
+    try:
+        tetrahedra = (
+            np.ctypeslib.as_array(cells, shape=(count.value, 4)).astype(np.int64)
+            if count.value
+            else np.zeros((0, 4), dtype=np.int64)
+        )
+    finally:
+        library.vb_free_cells(cells)
+    return lexicographic_rows(_first_copies(scaled, tetrahedra), len(points))
+
+
+def _first_copies(points: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:
+    """``tetrahedra`` with every vertex replaced by the first point at its coordinates: geogram
+    keeps whichever copy it inserted first (its insertion order is spatial)."""
+    used = np.zeros(len(points), dtype=bool)
+    used[tetrahedra] = True
+    if used.all() or not len(tetrahedra):
+        return tetrahedra
+    _, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
+    return first[inverse.reshape(-1)][tetrahedra]
+
+
+def lexicographic_rows(tetrahedra: np.ndarray, n: int) -> np.ndarray:
+    """``tetrahedra`` (k, 4) of vertices below ``n``, each row sorted and the rows in
+    lexicographic order (two packed keys when n² fits an int64)."""
+    tetrahedra = np.sort(tetrahedra, axis=1)
+    if n < 2**31:
+        high = tetrahedra[:, 0] * n + tetrahedra[:, 1]
+        low = tetrahedra[:, 2] * n + tetrahedra[:, 3]
+        order = np.lexsort((low, high))
+    else:
+        order = np.lexsort(tetrahedra.T[::-1])
+    return tetrahedra[order]
