@@ -4,7 +4,8 @@ Run: ``python benchmarks/bench_engines.py check --sizes 1e5,1e6``,
 ``python benchmarks/bench_engines.py tile --sizes 1e6``,
 ``python benchmarks/bench_engines.py binding --sizes 1e5`` and
 ``python benchmarks/bench_engines.py reconstruct --eps 0.03 [--stages]`` and
-``python benchmarks/bench_engines.py cells --eps 0.03 [--cube]``. Every measurement runs
+``python benchmarks/bench_engines.py cells --eps 0.03 [--cube]`` and
+``python benchmarks/bench_engines.py delaunay --sizes 2.6e5,1e6``. Every measurement runs
 in its own fresh process; printed are CPU and wall seconds and the load average before and after
 (the machine is shared: CPU seconds are the steadier measure).
 
@@ -40,7 +41,14 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
   call, ``write_to_file`` at 17 digits (exact coordinates) read back with numpy, vertices
   matched to the seeds by sorting, the cells and their neighbour table brought to M̂'s layout
   (finite cells, rows ascending, rows in lexicographic order). Each in a fresh process, with
-  its peak memory; the SWIG route's arrays are compared with M̂'s route's (a digest).
+  its peak memory; the SWIG route's arrays are compared with M̂'s route's (a digest). A fifth
+  route, geogram's compiled module (the package's own, tetrahedra only), shows why M̂ stays on
+  CGAL: VoroCrust's seeds are cospherical up to rounding.
+* ``delaunay``: the unweighted triangulation three ways (CGAL's bare build; the CGAL route of
+  :func:`vorobound.sampling.simplices.delaunay_tetrahedra`, simplex tree read in bulk; geogram's
+  compiled module, ``lfs``'s route) on N uniform random points and on the jittered vertices of
+  the torus (3, 1) with about N vertices, as ``lfs`` triangulates them; the arrays of the two
+  routes compared (equal in general position).
 """
 
 from __future__ import annotations
@@ -490,6 +498,82 @@ def child_cells(path: str, route: str) -> dict:
             "steps": steps, "digest": digest, "seeds": len(points)}  # fmt: skip
 
 
+def _delaunay_points(kind: str, count: int):
+    """N uniform random points in the unit cube, or the jittered vertices ``lfs`` triangulates
+    for a torus (3, 1) of about N vertices (the sample handed to the Delaunay engine)."""
+    import numpy as np
+
+    if kind == "random":
+        return np.random.default_rng(0).random((count, 3))
+    import vorobound.sampling.lfs.delaunay as lfs_delaunay
+    from vorobound.sampling.lfs.estimate import estimate_lfs
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+
+    around = max(8, round((4 * count) ** 0.5))
+    mesh = torus_mesh(3.0, 1.0, around, max(4, count // around), jitter=0.2, seed=1)
+    caught = []
+
+    class Caught(Exception):
+        pass
+
+    def catch(points):
+        caught.append(points)
+        raise Caught
+
+    lfs_delaunay.engine_tetrahedra = catch
+    try:
+        estimate_lfs(mesh)
+    except Caught:
+        pass
+    return caught[0]
+
+
+def child_delaunay(kind: str, count: str, route: str) -> dict:
+    """One route of ``delaunay`` on one point set (module docstring)."""
+    import hashlib
+
+    import numpy as np
+
+    points = np.ascontiguousarray(_delaunay_points(kind, int(float(count))))
+    cpu, wall = _cpu(), time.perf_counter()
+    if route == "cgal":
+        import gudhi
+
+        gudhi.DelaunayComplex(points=points, precision="fast")
+        tets = np.empty((0, 4), dtype=np.int64)
+    else:
+        from vorobound.sampling.simplices import delaunay_tetrahedra
+
+        tets = delaunay_tetrahedra(points, engine="cgal" if route == "route" else "geogram")
+    spent = (_cpu() - cpu, time.perf_counter() - wall)
+    digest = hashlib.sha1(tets.tobytes()).hexdigest()[:12]
+    return {"cpu_wall": spent, "peak_gb": _peak_gb(), "points": len(points),
+            "tetrahedra": len(tets), "digest": digest}  # fmt: skip
+
+
+DELAUNAY_ROUTES = {
+    "cgal": "CGAL Delaunay (GUDHI DelaunayComplex, built)",
+    "route": "CGAL route: + simplex tree, read in bulk",
+    "geogram": "geogram (compiled module): tetrahedra",
+}
+
+
+def bench_delaunay(sizes: list[int]) -> None:
+    for kind in ("random", "torus"):
+        for count in sizes:
+            runs = {route: _child("delaunay", kind, str(count), route) for route in DELAUNAY_ROUTES}
+            base = runs["cgal"]["cpu_wall"]
+            print(f"{kind}: {runs['cgal']['points']:,} points")
+            for route, label in DELAUNAY_ROUTES.items():
+                found = runs[route]
+                text = _pair(label, found["cpu_wall"], base, found["load"])
+                print(f"{text}  peak {found['peak_gb']:.2f} GB")
+            same = runs["route"]["digest"] == runs["geogram"]["digest"]
+            print(
+                f"  tetrahedra: {runs['route']['tetrahedra']:,}; the routes' arrays equal: {same}"
+            )
+
+
 def _peak_gb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
 
@@ -631,7 +715,7 @@ def main() -> None:
         return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "what", choices=["check", "tile", "binding", "reconstruct", "cells", "tiny"]
+        "what", choices=["check", "tile", "binding", "reconstruct", "cells", "delaunay", "tiny"]
     )
     parser.add_argument("--sizes", default="1e5,1e6")
     parser.add_argument("--eps", default="0.03")
@@ -648,6 +732,9 @@ def main() -> None:
         bench_binding(args.data, 20_000)
         bench_reconstruct("0.3", True)
         bench_cells("0.3", False)
+        bench_delaunay([2000])
+    elif args.what == "delaunay":
+        bench_delaunay([int(float(s)) for s in args.sizes.split(",")])
     elif args.what == "check":
         bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
     elif args.what == "binding":
