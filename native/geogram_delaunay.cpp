@@ -14,6 +14,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <exception>
 #include <mutex>
@@ -39,10 +40,10 @@ void start_geogram() {
 extern "C" {
 
 // Triangulates the n points (x, y, z rows of `points`). On success returns 0 and sets *cells to
-// a new array of 4 * *count vertex indices (the finite tetrahedra), to be freed with
-// vb_free_cells. Returns 1 when geogram failed (an assertion or an allocation), 2 for n out of
-// range.
-int vb_delaunay_cells(const double* points, int64_t n, int32_t** cells, int64_t* count) {
+// a new array of 4 * *count vertex indices (the finite tetrahedra, each row ascending), to be
+// freed with vb_free_cells. Returns 1 when geogram failed (an assertion or an allocation), 2
+// for n out of range.
+int vb_delaunay_cells(const double* points, int64_t n, int64_t** cells, int64_t* count) {
     *cells = nullptr;
     *count = 0;
     if (n < 0 || n >= INT32_MAX) {
@@ -58,16 +59,18 @@ int vb_delaunay_cells(const double* points, int64_t n, int32_t** cells, int64_t*
         for (GEO::index_t c = 0; c < total; ++c) {
             finite += triangulation->cell_is_infinite(c) ? 0 : 1;
         }
-        int32_t* out = new int32_t[size_t(finite) * 4 + 1];
+        int64_t* out = new int64_t[size_t(finite) * 4 + 1];
         const GEO::index_t* corners = triangulation->cell_to_v();
         int64_t k = 0;
         for (GEO::index_t c = 0; c < total; ++c) {
             if (triangulation->cell_is_infinite(c)) {
                 continue;
             }
+            int64_t* row = out + 4 * k;
             for (int j = 0; j < 4; ++j) {
-                out[4 * k + j] = int32_t(corners[4 * c + j]);
+                row[j] = int64_t(corners[4 * c + j]);
             }
+            std::sort(row, row + 4);
             ++k;
         }
         *cells = out;
@@ -78,7 +81,7 @@ int vb_delaunay_cells(const double* points, int64_t n, int32_t** cells, int64_t*
     }
 }
 
-void vb_free_cells(int32_t* cells) { delete[] cells; }
+void vb_free_cells(int64_t* cells) { delete[] cells; }
 
 }  // extern "C"
 

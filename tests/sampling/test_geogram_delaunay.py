@@ -130,3 +130,22 @@ def test_lexicographic_rows_sorts_each_row_and_the_rows():
         geogram_delaunay.lexicographic_rows(rows, 10),
         [[0, 1, 2, 3], [0, 1, 2, 3], [0, 1, 4, 9], [1, 2, 3, 5]],
     )
+
+
+def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
+    """L of a jittered torus from geogram's tetrahedra in its own row order, and from CGAL's."""
+    import vorobound.sampling.lfs.delaunay as lfs_delaunay
+    from vorobound.sampling.lfs.estimate import estimate_lfs
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+
+    found = {}
+    for engine in ("geogram", "cgal"):
+        monkeypatch.setattr(
+            lfs_delaunay,
+            "engine_tetrahedra",
+            lambda points, ordered=True, engine=engine: delaunay_tetrahedra(
+                points, engine=engine, ordered=ordered
+            ),
+        )
+        found[engine] = estimate_lfs(torus_mesh(3.0, 1.0, 64, 16, jitter=0.2, seed=1)).lfs
+    np.testing.assert_array_equal(found["geogram"], found["cgal"])

@@ -134,11 +134,13 @@ TETRAHEDRA_ENGINES = ("geogram", "cgal")
 """Engines of :func:`delaunay_tetrahedra`: geogram's compiled module, CGAL through GUDHI."""
 
 
-def delaunay_tetrahedra(points: np.ndarray, engine: str | None = None) -> np.ndarray:
+def delaunay_tetrahedra(
+    points: np.ndarray, engine: str | None = None, ordered: bool = True
+) -> np.ndarray:
     """Tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as point indices
-    (int64, ascending within a row, rows in lexicographic order); no rows when the points span
-    no volume; a point equal to an earlier one is no vertex. The one call of the unweighted
-    triangulation (M̂'s seeds, the poles of ``lfs``).
+    (int64, ascending within a row; with ``ordered``, rows in lexicographic order, otherwise in
+    the engine's); no rows when the points span no volume; a point equal to an earlier one is
+    no vertex. The one call of the unweighted triangulation (M̂'s seeds, the poles of ``lfs``).
 
     ``engine``: "geogram" (:mod:`.geogram_delaunay`: exact, no simplex tree; 0.4 times CGAL's
     bare build and 0.15 times this route's CPU time at 10⁶ points), "cgal" (GUDHI's
@@ -151,7 +153,7 @@ def delaunay_tetrahedra(points: np.ndarray, engine: str | None = None) -> np.nda
     if engine != "cgal":
         from .geogram_delaunay import delaunay_tetrahedra as geogram_tetrahedra
 
-        found = geogram_tetrahedra(points)
+        found = geogram_tetrahedra(points, ordered)
         if found is not None:
             return found
     compiled = True if kernel_available() else None

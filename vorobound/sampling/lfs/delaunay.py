@@ -34,7 +34,7 @@ def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     the tetrahedron across the face opposite each corner (t, 4), −1 on the convex hull (the
     layout of scipy's ``Delaunay.simplices`` and ``neighbors``). No tetrahedron at all for
     coplanar points."""
-    tets = engine_tetrahedra(np.asarray(points, dtype=float))
+    tets = engine_tetrahedra(np.asarray(points, dtype=float), ordered=False)  # any row order
     if not len(tets):
         return tets, np.zeros((0, 4), dtype=np.int64)
     kernel = _facets_kernel()
