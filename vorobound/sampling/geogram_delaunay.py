@@ -4,8 +4,9 @@ The unweighted triangulations (M̂'s seeds, the Voronoi poles of ``lfs``) came f
 GUDHI's simplex tree, whose building and reading cost about twice CGAL's own time and most of
 the memory (issue 35; docs/performance.md). geogram's Delaunay module (``native/geogram``,
 BSD-3-Clause, built by setuptools with the package) triangulates with exact predicates and hands
-its tetrahedra over as an array: on 10⁶ random points 4.4 CPU-s and 0.4 GB, against 10.7 CPU-s
-for CGAL's bare build and 29.8 for the simplex tree route (benchmarks/bench_engines.py).
+its tetrahedra over as an array: on 10⁶ random points 5.3 CPU-s and 0.9 GB peak, against 9.3
+CPU-s for CGAL's bare build and 30.7 CPU-s and 2.6 GB for the simplex tree route (``python
+benchmarks/bench_engines.py delaunay``; docs/performance.md).
 
 Exactness. geogram's predicates are floating-point filters backed by expansion arithmetic, exact
 as long as no product underflows or overflows. The points are first multiplied by a power of two
