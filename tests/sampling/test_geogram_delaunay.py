@@ -15,16 +15,21 @@ def _cgal(points):
     return delaunay_tetrahedra(points, engine="cgal")
 
 
+def _circumballs(points, tets):
+    """Centre (t, 3) and radius (t,) of each tetrahedron's circumscribed sphere."""
+    a, b, c, d = (points[tets[:, i]] for i in range(4))
+    m = np.stack([b - a, c - a, d - a], axis=1)
+    rhs = 0.5 * np.stack([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((d - a) ** 2).sum(1)], 1)
+    centre = a + np.linalg.solve(m, rhs[..., None])[..., 0]
+    return centre, np.linalg.norm(centre - a, axis=1)
+
+
 def _in_sphere_slack(points, tets):
     """For each tetrahedron, min over the other points of (distance to its circumcentre −
     circumradius) / circumradius: ≥ −1e-9 everywhere for a Delaunay triangulation."""
     from scipy.spatial import cKDTree
 
-    a, b, c, d = (points[tets[:, i]] for i in range(4))
-    m = np.stack([b - a, c - a, d - a], axis=1)
-    rhs = 0.5 * np.stack([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((d - a) ** 2).sum(1)], 1)
-    centre = a + np.linalg.solve(m, rhs[..., None])[..., 0]
-    radius = np.linalg.norm(centre - a, axis=1)
+    centre, radius = _circumballs(points, tets)
     nearest, _ = cKDTree(points).query(centre)
     return (nearest - radius) / radius
 
@@ -75,11 +80,7 @@ def test_a_subset_keeps_the_tetrahedra_whose_ball_is_empty_of_the_rest():
     whole = {tuple(t) for t in geogram_delaunay.delaunay_tetrahedra(points)}
     window = np.flatnonzero(points[:, 0] <= 5)
     part = window[geogram_delaunay.delaunay_tetrahedra(points[window])]
-    a, b, c, d = (points[part[:, i]] for i in range(4))
-    m = np.stack([b - a, c - a, d - a], axis=1)
-    rhs = 0.5 * np.stack([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((d - a) ** 2).sum(1)], 1)
-    centre = a + np.linalg.solve(m, rhs[..., None])[..., 0]
-    radius = np.linalg.norm(centre - a, axis=1)
+    centre, radius = _circumballs(points, part)
     inside = centre[:, 0] + radius * (1 + 1e-9) < 5.5  # the ball in the window's closed slab
     kept = [tuple(np.sort(t)) for t in part[inside]]
     assert len(kept) > 100
