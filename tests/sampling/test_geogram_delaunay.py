@@ -133,6 +133,7 @@ def test_lexicographic_rows_sorts_each_row_and_the_rows():
     )
 
 
+@pytest.mark.filterwarnings("ignore::vorobound.errors.VoroboundWarning")  # a coarse torus
 def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
     """L of a jittered torus from geogram's tetrahedra in its own row order, and from CGAL's."""
     import vorobound.sampling.lfs.delaunay as lfs_delaunay
