@@ -102,7 +102,7 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
         return None
     cells = ctypes.POINTER(ctypes.c_int64)()
     count = ctypes.c_int64()
-    with _LOCK:  # geogram counts its predicate calls in shared counters
+    with _LOCK:  # one at a time: geogram's global state (its option table, its logger)
         code = library.vb_delaunay_cells(
             scaled.ctypes.data, len(scaled), ctypes.byref(cells), ctypes.byref(count)
         )
