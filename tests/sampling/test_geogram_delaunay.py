@@ -45,7 +45,7 @@ def test_random_points_give_cgals_tetrahedra_exactly(seed):
 def test_far_from_origin_and_tiny_scales_give_the_same_triangulation():
     points = np.random.default_rng(3).random((2000, 3))
     reference = geogram_delaunay.delaunay_tetrahedra(points)
-    for scale in (2.0**-600, 2.0**40, 2.0**600):  # powers of two: the same point set, scaled
+    for scale in (2.0**-600, 2.0**-1000, 2.0**40, 2.0**600):  # powers of two: the same points
         np.testing.assert_array_equal(
             geogram_delaunay.delaunay_tetrahedra(points * scale), reference
         )
@@ -115,6 +115,16 @@ def test_inputs_outside_the_exact_range_go_to_cgal(bad):
         return
     points[0, 0] = float(bad)
     assert geogram_delaunay.delaunay_tetrahedra(points) is None
+
+
+def test_subnormal_and_huge_coordinates():
+    """1e-320 and 1e308 are input too: subnormal points are scaled up exactly (as CGAL sees
+    them), points near the largest double scaled down."""
+    points = np.random.default_rng(7).random((300, 3))
+    for scale in (1e-320, 1e308):
+        given = points * scale
+        np.testing.assert_array_equal(delaunay_tetrahedra(given), _cgal(given))
+        assert geogram_delaunay.exact_frame(given) is not None
 
 
 def test_few_points_and_an_unknown_engine():

@@ -80,11 +80,10 @@ def exact_frame(points: np.ndarray) -> np.ndarray | None:
     largest = float(magnitude.max()) if scaled.size else 0.0
     if largest == 0.0:
         return scaled
-    scaled *= 2.0 ** -(math.frexp(largest)[1])
-    nonzero = magnitude[magnitude > 0]
-    if float(nonzero.min()) * 2.0 ** -(math.frexp(largest)[1]) < SMALLEST_SCALED:
+    exponent = math.frexp(largest)[1]  # ldexp: exact even where 2**-exponent overflows
+    if math.ldexp(float(magnitude[magnitude > 0].min()), -exponent) < SMALLEST_SCALED:
         return None
-    return scaled
+    return np.ldexp(scaled, -exponent)
 
 
 def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray | None:
