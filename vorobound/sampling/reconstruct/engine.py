@@ -21,9 +21,10 @@ def delaunay_tetrahedra(points: np.ndarray) -> np.ndarray:
     CGAL through GUDHI's simplex tree (:func:`vorobound.sampling.simplices.delaunay_tetrahedra`
     with ``engine="cgal"``), not geogram's module, which ``lfs`` uses: VoroCrust's seeds are
     cospherical up to rounding, and geogram decides nearly every such in-sphere test with its
-    exact expansions (40.0 CPU-s for the 1.08·10⁶ seeds of the cube at ε = 0.0094977, three
-    quarters of it in expansion arithmetic, against 16.6 for CGAL's build and 8.6 for its
-    simplex tree; ``python benchmarks/bench_engines.py cells --eps 0.0094977 --cube``).
+    exact expansions (42.9 CPU-s for the tetrahedra of the 1.08·10⁶ seeds of the cube at
+    ε = 0.0094977, against 16.4 for CGAL's build and 37.3 for this route with the simplex tree,
+    its reading and the face neighbours; ``python benchmarks/bench_engines.py cells --eps
+    0.0094977 --cube``, docs/performance.md).
     """
     from ..simplices import delaunay_tetrahedra as engine_tetrahedra
 
