@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from vorobound.errors import InputError
 from vorobound.sampling import geogram_delaunay
 from vorobound.sampling.simplices import delaunay_tetrahedra
 
@@ -131,7 +132,7 @@ def test_few_points_and_an_unknown_engine():
     points = np.random.default_rng(6).random((4, 3))
     assert geogram_delaunay.delaunay_tetrahedra(points) is None
     assert delaunay_tetrahedra(points).shape == (1, 4)  # CGAL's
-    with pytest.raises(ValueError, match="engine"):
+    with pytest.raises(InputError, match="engine"):
         delaunay_tetrahedra(points, engine="qhull")
 
 

@@ -19,6 +19,7 @@ import functools
 
 import numpy as np
 
+from ..errors import InputError
 from ..geometry.kernels import load_kernel, pure_numpy
 
 COMPILED_MIN_VERTICES = 30_000
@@ -144,12 +145,13 @@ def delaunay_tetrahedra(
 
     ``engine``: "geogram" (:mod:`.geogram_delaunay`: exact, no simplex tree; 0.57 times CGAL's
     bare build and 0.17 times the CGAL route's CPU time on 10⁶ random points), "cgal" (GUDHI's
-    ``DelaunayComplex`` read from its simplex tree), None (default): geogram where it was built
-    and the input is in its exact range, CGAL otherwise. Both are exact; among cospherical
+    ``DelaunayComplex`` read from its simplex tree), None (default): the same as "geogram", which
+    falls back to CGAL where the module was not built or the input leaves its exact range. Both
+    are exact; among cospherical
     points they may choose different tetrahedra (each a Delaunay triangulation).
     """
     if engine not in (None, *TETRAHEDRA_ENGINES):
-        raise ValueError(f"engine must be one of {TETRAHEDRA_ENGINES} or None, not {engine!r}")
+        raise InputError(f"engine must be one of {TETRAHEDRA_ENGINES} or None, not {engine!r}")
     if engine != "cgal":
         from .geogram_delaunay import delaunay_tetrahedra as geogram_tetrahedra
 

@@ -1,12 +1,12 @@
 """The Delaunay tetrahedra of M̂'s seeds: the one call of the triangulation engine.
 
 Both the whole set (:func:`.facets.inout_facets`) and each slab (:mod:`.slabs`) take their
-tetrahedra from :func:`delaunay_tetrahedra`, so another engine plugs in here. What the callers rely
-on: exact predicates with a symbolic perturbation that depends on the coordinates only (geogram's
-lexicographic one, or CGAL's: the triangulation of a subset agrees with the whole set's wherever a
-tetrahedron's circumscribed ball holds no other seed); each row ascending and the rows in
-lexicographic order (a slab's walks then start at the whole set's tetrahedra, :mod:`.slabs`); a seed
-at the very coordinates of an earlier one left out.
+tetrahedra from :func:`delaunay_tetrahedra`, so another engine plugs in here. What the callers
+rely on: exact predicates with a symbolic perturbation that depends on the coordinates only
+(CGAL's; geogram's lexicographic one would do too): the triangulation of a subset agrees with
+the whole set's wherever a tetrahedron's circumscribed ball holds no other seed; each row
+ascending and the rows in lexicographic order (a slab's walks then start at the whole set's
+tetrahedra, :mod:`.slabs`); a seed at the very coordinates of an earlier one left out.
 """
 
 from __future__ import annotations
