@@ -7,7 +7,7 @@
 // - exact predicates with the lexicographic symbolic perturbation (PCK::SOS_LEXICO): the outcome
 //   of every test depends on the coordinates of the points it reads, not on their indices, so a
 //   subset's triangulation agrees with the whole set's wherever a tetrahedron's ball is empty;
-// - a point at the coordinates of an earlier one has no tetrahedron;
+// - the same input gives the same rows in the same order (the random engine is restarted);
 // - geogram's assertions throw (ASSERT_THROW) instead of aborting the process: a failure is a
 //   nonzero return code, and the caller falls back to CGAL.
 
@@ -51,6 +51,9 @@ int vb_delaunay_cells(const double* points, int64_t n, int64_t** cells, int64_t*
     }
     try {
         std::call_once(started, start_geogram);
+        // The insertion order (a randomized spatial sort) draws from geogram's global random
+        // engine; restarting it makes the row order a function of the input alone.
+        GEO::Numeric::random_reset(-1);
         GEO::Delaunay_var triangulation = GEO::Delaunay::create(3, "BDEL");
         triangulation->set_keeps_infinite(false);
         triangulation->set_vertices(GEO::index_t(n), points);

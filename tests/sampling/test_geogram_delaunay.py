@@ -136,6 +136,18 @@ def test_few_points_and_an_unknown_engine():
         delaunay_tetrahedra(points, engine="qhull")
 
 
+def test_geograms_own_row_order_is_the_same_on_every_call():
+    """lfs takes the rows in geogram's order; a tie between equal circumcentres is broken by
+    that order, so it must not change between calls (geogram's spatial sort is randomized)."""
+    g = np.arange(7.0)
+    lattice = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T.copy()
+    for points in (lattice, np.random.default_rng(8).random((3000, 3))):
+        first = geogram_delaunay.delaunay_tetrahedra(points, ordered=False)
+        for _ in range(3):
+            again = geogram_delaunay.delaunay_tetrahedra(points, ordered=False)
+            np.testing.assert_array_equal(again, first)
+
+
 def test_lexicographic_rows_sorts_each_row_and_the_rows():
     rows = np.array([[5, 1, 3, 2], [0, 9, 4, 1], [3, 2, 1, 0], [1, 2, 3, 0]])
     np.testing.assert_array_equal(

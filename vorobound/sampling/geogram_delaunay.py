@@ -90,9 +90,9 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     """The finite tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as
     point indices (int64, ascending within a row; with ``ordered`` the rows in lexicographic
     order, the order of GUDHI's simplex tree: a sort that costs about 0.7 times the
-    triangulation, otherwise geogram's order); no rows when the points span no volume. None
-    when the compiled module is missing, the input is outside the exact range (module
-    docstring) or geogram failed: the caller then uses CGAL."""
+    triangulation, otherwise geogram's order, the same on every call); no rows when the points
+    span no volume. None when the compiled module is missing, the input is outside the exact
+    range (module docstring) or geogram failed: the caller then uses CGAL."""
     library = _library()
     if library is None or len(points) < MIN_POINTS or len(points) >= 2**31 - 1:
         return None
@@ -101,7 +101,7 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
         return None
     cells = ctypes.POINTER(ctypes.c_int64)()
     count = ctypes.c_int64()
-    with _LOCK:  # one at a time: geogram's global state (its option table, its logger)
+    with _LOCK:  # one at a time: geogram's random engine (restarted per call) is global
         code = library.vb_delaunay_cells(
             scaled.ctypes.data, len(scaled), ctypes.byref(cells), ctypes.byref(count)
         )
