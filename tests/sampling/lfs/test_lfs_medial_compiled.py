@@ -7,9 +7,11 @@ cospherical)."""
 import numpy as np
 import pytest
 
+from vorobound.geometry.kernels import pure_numpy
 from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 
 pytest.importorskip("numba")
+pytestmark = pytest.mark.skipif(pure_numpy(), reason="VOROBOUND_PURE_NUMPY: no compiled pass")
 
 
 def _both(monkeypatch, points, normals, **options):
