@@ -36,7 +36,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry.kernels import load_kernel, pure_numpy
-from ...geometry.threads import thread_count
+from ...geometry.threads import chunk_bounds, run_in_threads, thread_count
 from ...progress import Counter, Progress
 from .delaunay import delaunay_tetrahedra
 
@@ -77,6 +77,10 @@ NEAREST_PAIRS = 1 << 22
 """(query, site) distances :func:`nearest_site` measures together (bounds its memory)."""
 LARGEST_CLUSTER = 2048
 """Above this many coinciding sites :func:`nearest_site` leaves the search to the k-d tree."""
+TET_CHUNK = 1 << 15
+"""Tetrahedra a thread of the compiled pass takes at a time (bounds the chunk arrays)."""
+POINT_CHUNK = 1 << 14
+"""Points a thread of the compiled pass takes at a time."""
 MERGE_RTOL = 1e-10
 """Poles closer than MERGE_RTOL diameters are one point (symmetric shapes repeat them)."""
 
@@ -152,33 +156,43 @@ def vertex_poles(
         )
     counter.step()
     counter = Counter(progress, "poles", 2)
-    centres, radii = _circumcentres(points[tets])
-    moved_by = jitter[tets].max(axis=1)
-    bound = (1 - EMPTY_RTOL) * radii - EMPTY_ATOL * moved_by
-    if noise > NOISE_FLOOR * float(np.median(jitter)):
-        # The centres of the jittered corners show how much each centre moves per unit of
-        # perturbation of its corners.
-        shift = np.linalg.norm(_circumcentres(moved[tets])[0] - centres, axis=1)
-        with np.errstate(invalid="ignore"):
-            bound[shift * (noise / moved_by) > UNRELIABLE_RTOL * radii] = np.nan
-    usable = np.isfinite(bound) & _locally_empty(points, tets, neighbours, centres, bound)
+    # The centres of the jittered corners show how much each centre moves per unit of
+    # perturbation of its corners.
+    check_noise = noise > NOISE_FLOOR * float(np.median(jitter))
+    kernel = compiled_medial()
+    if kernel is not None:
+        centres, bound, usable = _compiled_tet_pass(
+            kernel, points, moved, tets, neighbours, jitter, noise if check_noise else 0.0
+        )
+    else:
+        centres, radii = _circumcentres(points[tets])
+        moved_by = jitter[tets].max(axis=1)
+        bound = (1 - EMPTY_RTOL) * radii - EMPTY_ATOL * moved_by
+        if check_noise:
+            shift = np.linalg.norm(_circumcentres(moved[tets])[0] - centres, axis=1)
+            with np.errstate(invalid="ignore"):
+                bound[shift * (noise / moved_by) > UNRELIABLE_RTOL * radii] = np.nan
+        usable = np.isfinite(bound) & _locally_empty(points, tets, neighbours, centres, bound)
     counter.step()
     unbounded = _unbounded_side(points, normals, tets, neighbours)
-    candidates, starts, owner = _pole_candidates(
-        points, normals, tets, centres, usable, unbounded, labels, adjacent
-    )
-    chosen = _consistent_poles(points, centres, bound, candidates, starts, usable)
+    if kernel is not None:
+        candidates = _IncidentCandidates(
+            kernel, points, normals, tets, centres, usable, unbounded, labels, adjacent
+        )
+    else:
+        candidates = _SortedCandidates(
+            *_pole_candidates(points, normals, tets, centres, usable, unbounded, labels, adjacent)
+        )
+    chosen = _consistent_poles(points, centres, bound, candidates, usable)
     poles = centres[chosen]
     key = np.round(poles / MERGE_RTOL).astype(np.int64)
     _, first = np.unique(key, axis=0, return_index=True)
     labelled = labelled_points = labelled_reach = None
-    if labels is not None and len(candidates):
+    if labels is not None and candidates.any:
         # The final pole of every (point, side) group, tagged with the point's label.
-        position = _farthest(candidates, starts, usable)
-        group = np.flatnonzero(position >= 0)
-        tet = candidates[position[group]]
+        group, tet = candidates.farthest(usable)
         keep = np.linalg.norm(centres[tet], axis=1) < FAR
-        pairs = np.unique(np.c_[tet[keep], labels[owner[starts[group[keep]]]]], axis=0)
+        pairs = np.unique(np.c_[tet[keep], labels[candidates.owner(group[keep])]], axis=0)
         # Poles closer than MERGE_RTOL are one point per label, as above (on a sampled
         # torus, every tetrahedron of a ring of cospherical samples has its own copy).
         merged = np.round(centres[pairs[:, 0]] / MERGE_RTOL).astype(np.int64)
@@ -206,6 +220,16 @@ def _load_compiled_poles():
 def compiled_poles():
     """:mod:`.compiled_poles`, or None without numba or with ``VOROBOUND_PURE_NUMPY`` set."""
     return None if pure_numpy() else _load_compiled_poles()
+
+
+@functools.cache
+def _load_compiled_medial():
+    return load_kernel(f"{__package__}.compiled_medial")
+
+
+def compiled_medial():
+    """:mod:`.compiled_medial`, or None without numba or with ``VOROBOUND_PURE_NUMPY`` set."""
+    return None if pure_numpy() else _load_compiled_medial()
 
 
 def nearest_spacing(points: np.ndarray) -> np.ndarray:
@@ -290,22 +314,20 @@ def _members_nearest(sites, order, start, queries, clusters, use):
     return nearest, np.minimum.reduceat(best, starts)
 
 
-def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.ndarray:
+def _consistent_poles(points, centres, bound, candidates, usable) -> np.ndarray:
     """The pole tetrahedra after the consistency test: no sample inside the ball of its nearest
-    pole (closer to its centre than ``bound``). ``usable`` is updated in place.
+    pole (closer to its centre than ``bound``). ``usable`` is updated in place; ``candidates``:
+    a :class:`_SortedCandidates` or :class:`_IncidentCandidates`.
 
     Each round drops the failing poles and, in the groups (point, side) they served, every
     circumcentre whose ball holds the same sample; the nearest poles are then updated only
     for the samples that lost theirs or that a new pole is closer to.
     """
-    ends = np.r_[starts[1:], len(candidates)].astype(np.int64)
     chosen = np.zeros(0, dtype=np.int64)
     nearest = np.full(len(points), -1)
     gap = np.full(len(points), np.inf)
     for _ in range(EMPTY_ROUNDS):
-        position = _farthest(candidates, starts, usable)
-        group = np.flatnonzero(position >= 0)
-        pole_tet = candidates[position[group]]
+        group, pole_tet = candidates.farthest(usable)
         near = np.linalg.norm(centres[pole_tet], axis=1) < FAR
         group, pole_tet = group[near], pole_tet[near]
         current = np.unique(pole_tet)
@@ -331,17 +353,139 @@ def _consistent_poles(points, centres, bound, candidates, starts, usable) -> np.
         witness[nearest[deepest_last]] = deepest_last
         usable[nearest[inside]] = False
         hit = witness[pole_tet] >= 0
-        _drop_containing(
+        candidates.drop(points, centres, bound, group[hit], witness[pole_tet[hit]], usable)
+    return chosen[usable[chosen]]
+
+
+class _SortedCandidates:
+    """The (point, side) groups of pole candidates as sorted arrays (:func:`_pole_candidates`):
+    the numpy path."""
+
+    def __init__(self, candidates, starts, owner):
+        self.candidates, self.starts, self.owners = candidates, starts, owner
+        self.ends = np.r_[starts[1:], len(candidates)].astype(np.int64)
+        self.any = len(candidates) > 0
+
+    def farthest(self, usable):
+        """(groups with a usable candidate, the farthest usable candidate of each)."""
+        position = _farthest(self.candidates, self.starts, usable)
+        group = np.flatnonzero(position >= 0)
+        return group, self.candidates[position[group]]
+
+    def owner(self, group):
+        """The point of each group."""
+        return self.owners[self.starts[group]]
+
+    def drop(self, points, centres, bound, group, witness, usable):
+        """:func:`_drop_containing` in the groups ``group``."""
+        first, last = self.starts[group], self.ends[group]
+        _drop_containing(points, centres, bound, self.candidates, first, last, witness, usable)
+
+
+class _IncidentCandidates:
+    """The same groups read from each point's list of usable tetrahedra by the compiled
+    kernels (:mod:`.compiled_medial`), never stored: a group is 2·point + side, and its
+    farthest usable candidate is looked for again only once the last one found is dropped."""
+
+    def __init__(self, kernel, points, normals, tets, centres, usable, unbounded, labels, adjacent):
+        self.kernel = kernel
+        use_labels = labels is not None and adjacent is not None and bool(adjacent.any())
+        if not use_labels:
+            labels, adjacent = np.zeros(len(points), np.int64), np.zeros((1, 1), bool)
+        self.entry = (
+            np.ascontiguousarray(points, dtype=float),
+            np.ascontiguousarray(normals, dtype=float),
+            centres,
+            tets,
+            np.ascontiguousarray(unbounded, dtype=np.int64),
+            np.ascontiguousarray(labels, dtype=np.int64),
+            np.ascontiguousarray(adjacent, dtype=np.bool_),
+            use_labels,
+        )
+        self.start, self.members = kernel.incidence(tets, usable, len(points))
+        self.best = np.full(2 * len(points), -1, dtype=np.int64)
+        self._update(np.arange(len(points)), usable)
+        self.any = bool((self.best >= 0).any())
+
+    def _update(self, vertices, usable):
+        def task(bounds):
+            self.kernel.group_farthest(
+                *self.entry, self.start, self.members, usable, vertices, *bounds, self.best
+            )
+
+        run_in_threads(task, chunk_bounds(len(vertices), POINT_CHUNK))
+
+    def farthest(self, usable):
+        """(groups with a usable candidate, the farthest usable candidate of each)."""
+        dropped = (self.best >= 0) & ~usable[np.maximum(self.best, 0)]
+        if dropped.any():
+            self._update(np.unique(np.flatnonzero(dropped) // 2), usable)
+        group = np.flatnonzero(self.best >= 0)
+        return group, self.best[group]
+
+    def owner(self, group):
+        """The point of each group."""
+        return group // 2
+
+    def drop(self, points, centres, bound, group, witness, usable):
+        """:func:`_drop_containing` in the groups ``group``."""
+        points, normals, _, *rest = self.entry
+        self.kernel.drop_containing(
             points,
+            normals,
             centres,
             bound,
-            candidates,
-            starts[group[hit]],
-            ends[group[hit]],
-            witness[pole_tet[hit]],
+            *rest,
+            self.start,
+            self.members,
+            np.ascontiguousarray(group, dtype=np.int64),
+            np.ascontiguousarray(witness, dtype=np.int64),
             usable,
         )
-    return chosen[usable[chosen]]
+
+
+def _compiled_tet_pass(kernel, points, moved, tets, neighbours, jitter, noise):
+    """(centres, bound, usable) of every tetrahedron, as the numpy path of
+    :func:`vertex_poles` computes them, in chunks of TET_CHUNK on the library's threads;
+    ``noise`` 0 leaves out the reliability test."""
+    count = len(tets)
+    points = np.ascontiguousarray(points, dtype=float)
+    centres = np.empty((count, 3))
+    bound = np.empty(count)
+    usable = np.empty(count, dtype=bool)
+
+    def chunk_centres(corners_of, lo, hi):
+        origin, edges = np.empty((hi - lo, 3)), np.empty((hi - lo, 3, 3))
+        squared, longest = np.empty((hi - lo, 3)), np.empty(hi - lo)
+        kernel.tet_edges(corners_of, tets, lo, hi, origin, edges, squared, longest)
+        return _centres_from_edges(origin, edges, squared, longest)
+
+    def task(bounds):
+        lo, hi = bounds
+        centres[lo:hi] = chunk_centres(points, lo, hi)
+        shift = np.zeros(0)
+        if noise > 0:
+            shifted = chunk_centres(np.ascontiguousarray(moved, dtype=float), lo, hi)
+            shift = np.linalg.norm(shifted - centres[lo:hi], axis=1)
+        kernel.tet_bounds(
+            points,
+            tets,
+            neighbours,
+            centres,
+            jitter,
+            lo,
+            hi,
+            shift,
+            float(noise),
+            1 - EMPTY_RTOL,
+            float(EMPTY_ATOL),
+            UNRELIABLE_RTOL,
+            bound,
+            usable,
+        )
+
+    run_in_threads(task, chunk_bounds(count, TET_CHUNK))
+    return centres, bound, usable
 
 
 def _pole_candidates(points, normals, tets, centres, usable, unbounded, labels=None, adjacent=None):
@@ -393,24 +537,32 @@ def _drop_containing(points, centres, bound, candidates, first, last, witness, u
 
 def _circumcentres(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Circumcentres of tetrahedra (t, 4, 3) and the largest distance from each to its corners;
-    NaN for tetrahedra too flat to have a reliable circumcentre.
-
-    Four points spread over a length l on a sphere of radius r span a tetrahedron of thickness
-    about l²/r. One far flatter than that has four nearly cocircular corners, and its
-    circumcentre moves along the axis of their circle under any rounding of the corners.
+    NaN for tetrahedra too flat to have a reliable circumcentre (:func:`_centres_from_edges`).
     """
     origin = corners[:, 0]
     edges = corners[:, 1:] - origin[:, None]
     squared = (edges * edges).sum(axis=2)
     longest = np.sqrt(squared.max(axis=1))
+    centres = _centres_from_edges(origin, edges, squared, longest)
+    radii = np.linalg.norm(centres[:, None] - corners, axis=2).max(axis=1)
+    return centres, radii
+
+
+def _centres_from_edges(origin, edges, squared, longest) -> np.ndarray:
+    """Circumcentres of tetrahedra given by a corner (t, 3), the edges from it (t, 3, 3), their
+    squared lengths (t, 3) and the longest (t); NaN for flat ones.
+
+    Four points spread over a length l on a sphere of radius r span a tetrahedron of thickness
+    about l²/r. One far flatter than that has four nearly cocircular corners, and its
+    circumcentre moves along the axis of their circle under any rounding of the corners.
+    """
     det = np.linalg.det(edges)
     solid = np.abs(det) > FLAT_RTOL * longest**3
     centres = np.full(origin.shape, np.nan)
     centres[solid] = (
         origin[solid] + np.linalg.solve(edges[solid], 0.5 * squared[solid][..., None])[..., 0]
     )
-    radii = np.linalg.norm(centres[:, None] - corners, axis=2).max(axis=1)
-    return centres, radii
+    return centres
 
 
 def _locally_empty(points, tets, neighbours, centres, bound) -> np.ndarray:
