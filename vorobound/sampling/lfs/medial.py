@@ -175,6 +175,7 @@ def vertex_poles(
         usable = np.isfinite(bound) & _locally_empty(points, tets, neighbours, centres, bound)
     counter.step()
     unbounded = _unbounded_side(points, normals, tets, neighbours)
+    candidates: _IncidentCandidates | _SortedCandidates
     if kernel is not None:
         candidates = _IncidentCandidates(
             kernel, points, normals, tets, centres, usable, unbounded, labels, adjacent
