@@ -129,19 +129,20 @@ def morton_order(centroid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return order, codes[order]
 
 
-def build_tree(codes: np.ndarray, low: np.ndarray, high: np.ndarray):
+def build_tree(codes: np.ndarray, low: np.ndarray, high: np.ndarray, leaf_size: int = LEAF_SIZE):
     """(node count, (node_low, node_high, node_range, node_child)) of the boxes (low, high)
     ordered by their Morton ``codes``: each range is split where its codes first differ in
     the highest bit (the cells of an octree: a node's box stays inside its cell, instead of
     spanning the jumps of the curve that halving the range by count cuts through; issue 35,
     the pole check on a torus: 3 160 against 1 630 nodes a query at 262 144 vertices), halved
-    where all codes are equal, down to LEAF_SIZE. Arrays trimmed to the node count."""
+    where all codes are equal, down to ``leaf_size`` boxes a leaf. Arrays trimmed to the node
+    count."""
     n = len(low)
     nodes = max(1, 2 * n + 1)  # every split leaves both sides non-empty
     node_low, node_high = np.zeros((nodes, 3)), np.zeros((nodes, 3))
     node_range = np.zeros((nodes, 2), dtype=np.int64)
     node_child = np.full((nodes, 2), -1, dtype=np.int64)
-    count = _build(codes, low, high, node_low, node_high, node_range, node_child)
+    count = _build(codes, low, high, leaf_size, node_low, node_high, node_range, node_child)
     arrays = tuple(a[:count].copy() for a in (node_low, node_high, node_range, node_child))
     return count, arrays
 
@@ -160,9 +161,9 @@ def _interleave(cells):
 
 
 @njit(cache=True, error_model="numpy")
-def _build(codes, low, high, node_low, node_high, node_range, node_child):
+def _build(codes, low, high, leaf_size, node_low, node_high, node_range, node_child):
     """Split ranges of the ordered pieces at the highest bit where their Morton codes differ
-    (halve them where the codes are equal) down to LEAF_SIZE; boxes bottom-up. Returns the
+    (halve them where the codes are equal) down to ``leaf_size``; boxes bottom-up. Returns the
     number of nodes (node 0 is the root)."""
     n = len(low)
     stack = np.zeros(256, dtype=np.int64)
@@ -174,7 +175,7 @@ def _build(codes, low, high, node_low, node_high, node_range, node_child):
         node = stack[top]
         top -= 1
         start, end = node_range[node, 0], node_range[node, 1]
-        if end - start > LEAF_SIZE:
+        if end - start > leaf_size:
             differ = codes[start] ^ codes[end - 1]
             if differ == 0:
                 middle = (start + end) // 2
