@@ -14,6 +14,8 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <signal.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <exception>
@@ -27,7 +29,15 @@ namespace {
 std::once_flag started;
 
 void start_geogram() {
+    // GEO::initialize resets SIGINT to its default action (Process::enable_cancel(false), run
+    // whatever the flags), which would turn Python's KeyboardInterrupt into a kill: the
+    // process's handler is put back.
+    struct sigaction interrupt;
+    const bool saved = sigaction(SIGINT, nullptr, &interrupt) == 0;
     GEO::initialize(GEO::GEOGRAM_INSTALL_NONE);
+    if (saved) {
+        sigaction(SIGINT, &interrupt, nullptr);
+    }
     GEO::CmdLine::import_arg_group("standard");
     GEO::CmdLine::import_arg_group("algo");
     GEO::Logger::instance()->set_quiet(true);

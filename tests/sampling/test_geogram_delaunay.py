@@ -174,3 +174,62 @@ def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
         )
         found[engine] = estimate_lfs(torus_mesh(3.0, 1.0, 64, 16, jitter=0.2, seed=1)).lfs
     np.testing.assert_array_equal(found["geogram"], found["cgal"])
+
+
+# Review (branch georeview): the three tests below failed before the fixes committed after them.
+
+
+def test_keyboard_interrupt_survives_the_first_call():
+    """Bug: GEO::initialize reset SIGINT to its default action (Process::enable_cancel), so after
+    the first geogram call Ctrl-C killed the process (exit 130) instead of raising
+    KeyboardInterrupt."""
+    import subprocess
+    import sys
+
+    script = (
+        "import os, signal, time\n"
+        "import numpy as np\n"
+        "from vorobound.sampling import geogram_delaunay\n"
+        "assert geogram_delaunay.delaunay_tetrahedra(np.random.default_rng(0).random((20, 3)))"
+        " is not None\n"
+        "try:\n"
+        "    os.kill(os.getpid(), signal.SIGINT)\n"
+        "    time.sleep(5)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+    )
+    assert (done.returncode, done.stdout, done.stderr) == (0, "interrupted\n", "")
+
+
+@pytest.mark.parametrize("shape", [(50, 2), (50, 4), (60,)])
+def test_points_not_in_three_columns_are_refused(shape):
+    """Bug: (n, 2) points were read as n rows of three doubles (past the end of the array) and
+    gave tetrahedra; (n, 4) points were triangulated in 4-D by CGAL; a 1-D array hung."""
+    points = np.random.default_rng(8).random(shape)
+    assert geogram_delaunay.delaunay_tetrahedra(points) is None
+    for engine in (None, "geogram", "cgal"):
+        with pytest.raises(InputError, match="points"):
+            delaunay_tetrahedra(points, engine=engine)
+
+
+def test_a_copy_is_replaced_by_the_first_point_on_either_engine():
+    """Bug: CGAL kept whichever copy its spatial sort met first (the docstring's "a point equal
+    to an earlier one is no vertex" held for geogram only), so the engines differed."""
+    points = np.random.default_rng(9).random((100, 3))
+    with_copies = np.vstack([points[:3], points, points[::7]])
+    for ordered in (True, False):
+        cgal = delaunay_tetrahedra(with_copies, engine="cgal", ordered=ordered)
+        # rows 3..5 and 103.. copy earlier rows
+        assert not np.isin(cgal, [3, 4, 5]).any() and cgal.max() < 103
+        geogram = delaunay_tetrahedra(with_copies, engine="geogram", ordered=ordered)
+        same = np.array_equal if ordered else _same_rows
+        assert same(cgal, geogram)
+
+
+def _same_rows(a, b):
+    return a.shape == b.shape and np.array_equal(
+        geogram_delaunay.lexicographic_rows(a, 10**6), geogram_delaunay.lexicographic_rows(b, 10**6)
+    )

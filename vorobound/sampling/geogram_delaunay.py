@@ -94,6 +94,8 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     span no volume. None when the compiled module is missing, the input is outside the exact
     range (module docstring) or geogram failed: the caller then uses CGAL."""
     library = _library()
+    if np.ndim(points) != 2 or np.shape(points)[1] != 3:
+        return None  # the compiled module reads three doubles a point
     if library is None or len(points) < MIN_POINTS or len(points) >= 2**31 - 1:
         return None
     scaled = exact_frame(points)

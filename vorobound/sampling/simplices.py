@@ -152,15 +152,22 @@ def delaunay_tetrahedra(
     """
     if engine not in (None, *TETRAHEDRA_ENGINES):
         raise InputError(f"engine must be one of {TETRAHEDRA_ENGINES} or None, not {engine!r}")
-    if engine != "cgal":
-        from .geogram_delaunay import delaunay_tetrahedra as geogram_tetrahedra
+    if np.ndim(points) != 2 or np.shape(points)[1] != 3:
+        raise InputError(f"points must be an (n, 3) array, not of shape {np.shape(points)}")
+    from .geogram_delaunay import _first_copies, lexicographic_rows
+    from .geogram_delaunay import delaunay_tetrahedra as geogram_tetrahedra
 
+    if engine != "cgal":
         found = geogram_tetrahedra(points, ordered)
         if found is not None:
             return found
     compiled = True if kernel_available() else None
     _, tetrahedra, _ = delaunay_simplices(points, compiled=compiled, triangles=False)
-    return tetrahedra
+    # CGAL keeps whichever copy of a point its spatial sort meets first: the first one instead.
+    first = _first_copies(np.asarray(points, dtype=float), tetrahedra)
+    if first is tetrahedra or not ordered:
+        return first
+    return lexicographic_rows(first, len(points))
 
 
 def face_neighbours(tets: np.ndarray) -> np.ndarray | None:
