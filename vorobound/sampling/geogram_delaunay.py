@@ -37,6 +37,9 @@ import numpy as np
 
 SMALLEST_SCALED = 2.0**-150
 """Smallest nonzero |coordinate| (after the power-of-two scaling) geogram is given."""
+MAX_POINTS = 10**8
+"""More points go to CGAL: geogram's indices are 32-bit, and its arrays of four entries per
+tetrahedron (about 6.5 tetrahedra a point, many more in bad cases) would wrap past 2³²."""
 MIN_POINTS = 5
 """Fewer points go to CGAL (no gain, and geogram's start needs four in general position)."""
 _LOCK = threading.Lock()
@@ -96,7 +99,7 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     library = _library()
     if np.ndim(points) != 2 or np.shape(points)[1] != 3:
         return None  # the compiled module reads three doubles a point
-    if library is None or len(points) < MIN_POINTS or len(points) >= 2**31 - 1:
+    if library is None or len(points) < MIN_POINTS or len(points) > MAX_POINTS:
         return None
     scaled = exact_frame(points)
     if scaled is None:
@@ -117,11 +120,11 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
         )
     finally:
         library.vb_free_cells(cells)
-    tetrahedra = _first_copies(scaled, tetrahedra)
+    tetrahedra = first_copies(scaled, tetrahedra)
     return lexicographic_rows(tetrahedra, len(points)) if ordered else tetrahedra
 
 
-def _first_copies(points: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:
+def first_copies(points: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:
     """``tetrahedra`` with every vertex replaced by the first point at its coordinates (rows
     sorted again): geogram keeps whichever copy it inserted first (its insertion order is
     spatial)."""

@@ -154,8 +154,8 @@ def delaunay_tetrahedra(
         raise InputError(f"engine must be one of {TETRAHEDRA_ENGINES} or None, not {engine!r}")
     if np.ndim(points) != 2 or np.shape(points)[1] != 3:
         raise InputError(f"points must be an (n, 3) array, not of shape {np.shape(points)}")
-    from .geogram_delaunay import _first_copies, lexicographic_rows
     from .geogram_delaunay import delaunay_tetrahedra as geogram_tetrahedra
+    from .geogram_delaunay import first_copies, lexicographic_rows
 
     if engine != "cgal":
         found = geogram_tetrahedra(points, ordered)
@@ -164,7 +164,7 @@ def delaunay_tetrahedra(
     compiled = True if kernel_available() else None
     _, tetrahedra, _ = delaunay_simplices(points, compiled=compiled, triangles=False)
     # CGAL keeps whichever copy of a point its spatial sort meets first: the first one instead.
-    first = _first_copies(np.asarray(points, dtype=float), tetrahedra)
+    first = first_copies(np.asarray(points, dtype=float), tetrahedra)
     if first is tetrahedra or not ordered:
         return first
     return lexicographic_rows(first, len(points))
