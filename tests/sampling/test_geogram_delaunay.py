@@ -179,7 +179,7 @@ def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
 # Review (branch georeview): the three tests below failed before the fixes committed after them.
 
 
-def test_keyboard_interrupt_survives_the_first_call():
+def test_keyboard_interrupt_survives_the_first_call(tmp_path):
     """Bug: GEO::initialize reset SIGINT to its default action (Process::enable_cancel), so after
     the first geogram call Ctrl-C killed the process (exit 130) instead of raising
     KeyboardInterrupt."""
@@ -198,8 +198,10 @@ def test_keyboard_interrupt_survives_the_first_call():
         "except KeyboardInterrupt:\n"
         "    print('interrupted')\n"
     )
+    # Run outside the checkout: `python -c` puts the working folder first on the path, and the
+    # source tree holds no built module where the package was installed without -e.
     done = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=60, cwd=tmp_path
     )
     assert (done.returncode, done.stdout, done.stderr) == (0, "interrupted\n", "")
 
