@@ -187,7 +187,6 @@ def test_a_folder_that_refuses_files_fails_before_sampling(
     after the whole sample was made. The folder is tried first; the previous file stays."""
     import vorobound.files
 
-    mesh_file = _stl(cylinder, tmp_path)
     target = tmp_path / "s.npz"
     target.write_bytes(b"previous")
     ran = []
@@ -197,20 +196,19 @@ def test_a_folder_that_refuses_files_fails_before_sampling(
         raise PermissionError(13, "Permission denied")
 
     monkeypatch.setattr(vorobound.files.tempfile, "mkstemp", refused)
-    code, out, err = run_cli(
-        "sample", "--mesh", str(mesh_file), "--eps", "0.2", "-o", str(target), "--workers", "2"
-    )
+    code, out, err = run_cli(*_sample_args(cylinder, tmp_path, "--workers", "2"))
     assert code == 2 and not out and not ran
     assert err.strip().splitlines() == [f"error: cannot write {target}: Permission denied"]
     assert target.read_bytes() == b"previous"
 
 
-def _stl(mesh, folder):
+def _sample_args(mesh, folder, *options):
+    """``sample --mesh FOLDER/mesh.stl --eps 0.2 -o FOLDER/s.npz OPTIONS``, the mesh written."""
     import meshio
 
     path = folder / "mesh.stl"
     meshio.write(path, meshio.Mesh(mesh.points, [("triangle", mesh.triangles)]))
-    return path
+    return ("sample", "--mesh", str(path), "--eps", "0.2", "-o", str(folder / "s.npz"), *options)
 
 
 def test_workers_with_a_scheduler_are_one_line(run_cli, cylinder, tmp_path, monkeypatch):
@@ -219,17 +217,7 @@ def test_workers_with_a_scheduler_are_one_line(run_cli, cylinder, tmp_path, monk
     ran = []
     monkeypatch.setattr(slabs, "slab_sample", lambda *a, **k: ran.append(1))
     code, out, err = run_cli(
-        "sample",
-        "--mesh",
-        str(_stl(cylinder, tmp_path)),
-        "--eps",
-        "0.2",
-        "-o",
-        str(tmp_path / "s.npz"),
-        "--workers",
-        "4",
-        "--scheduler",
-        "tcp://127.0.0.1:1",
+        *_sample_args(cylinder, tmp_path, "--workers", "4", "--scheduler", "tcp://127.0.0.1:1")
     )
     assert code == 2 and not out and err.count("\n") == 1
     assert "workers" in err and "scheduler" in err and "not both" in err
@@ -270,17 +258,7 @@ def test_a_dead_scheduler_is_told_before_the_l_estimate(run_cli, cylinder, tmp_p
 
     estimated = []
     monkeypatch.setattr(surfaces.Surface, "shape", lambda *a, **k: estimated.append(1))
-    code, out, err = run_cli(
-        "sample",
-        "--mesh",
-        str(_stl(cylinder, tmp_path)),
-        "--eps",
-        "0.2",
-        "-o",
-        str(tmp_path / "s.npz"),
-        "--scheduler",
-        "tcp://127.0.0.1:9",
-    )
+    code, out, err = run_cli(*_sample_args(cylinder, tmp_path, "--scheduler", "tcp://127.0.0.1:9"))
     assert code == 2 and not out and err.count("\n") == 1
     assert "cannot reach the dask scheduler" in err
     assert not estimated and not (tmp_path / "s.npz").exists()
