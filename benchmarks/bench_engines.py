@@ -34,16 +34,16 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
 * ``cells``: the tetrahedra of the seeds and their face-neighbour table (what M̂ starts from),
   four ways on the same seeds (the torus (3, 1) at ε, or with ``--cube`` the CAD cube [−1, 1]³
   of issue 32 at ε): CGAL's bare triangulation (GUDHI ``DelaunayComplex`` built, the issue's
-  baseline); M̂'s route (that, GUDHI's simplex tree read in bulk, the compiled face
+  baseline); CGAL's route (that, GUDHI's simplex tree read in bulk, the compiled face
+  neighbours); M̂'s route (geogram's compiled module with its double-double stage, the same
   neighbours); qhull (``scipy.spatial.Delaunay``, the cross-check); and the ``cgal`` package's
   SWIG bindings (not a dependency: a skip line when not installed): the seeds handed over as
   one array (``Point_set_3.insert_range``), ``Delaunay_triangulation_3`` built from them in one
   call, ``write_to_file`` at 17 digits (exact coordinates) read back with numpy, vertices
   matched to the seeds by sorting, the cells and their neighbour table brought to M̂'s layout
   (finite cells, rows ascending, rows in lexicographic order). Each in a fresh process, with
-  its peak memory; the SWIG route's arrays are compared with M̂'s route's (a digest). A fifth
-  route, geogram's compiled module (the package's own, tetrahedra only), shows why M̂ stays on
-  CGAL: VoroCrust's seeds are cospherical up to rounding.
+  its peak memory; the SWIG route's arrays are compared with CGAL's route's (a digest). A
+  sixth route, geogram's tetrahedra alone, shows the share of the neighbours.
 * ``delaunay``: the unweighted triangulation three ways (CGAL's bare build; the CGAL route of
   :func:`vorobound.sampling.simplices.delaunay_tetrahedra`, simplex tree read in bulk; geogram's
   compiled module, ``lfs``'s route) on N uniform random points and on the jittered vertices of
@@ -445,7 +445,8 @@ def swig_cells(points, lap):
 
 def child_cells(path: str, route: str) -> dict:
     """The tetrahedra and face neighbours of the seeds at ``path`` by one route: "cgal" (GUDHI
-    ``DelaunayComplex`` built, no more), "gudhi" (M̂'s route), "geogram" (the package's compiled
+    ``DelaunayComplex`` built, no more), "gudhi" (CGAL's route), "exact" (M̂'s route),
+    "geogram" (the package's compiled
     module, tetrahedra only: lfs's route), "qhull" or "swig"."""
     import hashlib
 
@@ -457,10 +458,10 @@ def child_cells(path: str, route: str) -> dict:
     shift, unit = facets.seed_frame(data[:, :3])
     points = np.ascontiguousarray((data[:, :3] - shift) / unit)
     kernel = facets._facets_kernel()
-    if route == "gudhi":  # numba and the kernels' machine code loaded first
+    if route in ("gudhi", "exact"):  # numba and the kernels' machine code loaded first
         warm = np.random.default_rng(0).random((40, 3))
         facets.inout_facets(warm, warm[:, 0] < 0.5, compiled=True)
-    if route == "geogram":
+    if route in ("geogram", "exact"):
         from vorobound.sampling import geogram_delaunay
 
         if not geogram_delaunay.available():
@@ -484,7 +485,9 @@ def child_cells(path: str, route: str) -> dict:
         gudhi.DelaunayComplex(points=points, precision="fast")
         tets = across = np.empty((0, 4), dtype=np.int64)
     elif route == "gudhi":
-        tets, across, _ = facets._cgal_tetrahedra(points, kernel)
+        tets, across, _ = facets._exact_tetrahedra(points, kernel, "cgal")
+    elif route == "exact":
+        tets, across, _ = facets._exact_tetrahedra(points, kernel)
     elif route == "geogram":
         tets = geogram_delaunay.delaunay_tetrahedra(points)
         across = np.empty((0, 4), dtype=np.int64)
@@ -651,16 +654,19 @@ def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
         seeds = os.path.join(folder, "seeds.npy")
         whole = _child("seeds", eps, seeds)
         cgal = _child("cgal_seeds", seeds)
-        mhat = _child("mhat", seeds, "cgal", "yes")
-        plain = _child("mhat", seeds, "cgal", "no")
+        mhat = _child("mhat", seeds, "exact", "yes")
+        on_cgal = _child("mhat", seeds, "cgal", "yes")
+        plain = _child("mhat", seeds, "exact", "no")
         qhull = _child("mhat", seeds, "qhull", "yes")
         stages = _child("stages", seeds) if with_stages else None
     base = cgal["built"]
     print(f"torus (3, 1), ε = {eps}: {whole['seeds']:,} seeds, {cgal['tetrahedra']:,} tetrahedra")
     print(_pair("CGAL Delaunay (built)", base, base, cgal["load"]))
     print(_pair("CGAL + simplex tree", cgal["tree"], base))
-    print(_pair(f"M̂ on CGAL ({mhat['facets']:,} facets)", mhat["mhat"], base, mhat["load"]))
-    print(_pair(f"M̂ on CGAL, numpy steps ({plain['facets']:,})", plain["mhat"], base,
+    print(_pair(f"M̂ on geogram ({mhat['facets']:,} facets)", mhat["mhat"], base, mhat["load"]))
+    print(_pair(f"M̂ on CGAL ({on_cgal['facets']:,} facets)", on_cgal["mhat"], base,
+                on_cgal["load"]))  # fmt: skip
+    print(_pair(f"M̂ on geogram, numpy steps ({plain['facets']:,})", plain["mhat"], base,
                 plain["load"]))  # fmt: skip
     print(_pair(f"M̂ on qhull ({qhull['facets']:,} facets)", qhull["mhat"], base, qhull["load"]))
     print(_pair("reconstruct --torus 3,1 (whole, no files)", whole["total"], base, whole["load"]))
@@ -677,9 +683,10 @@ def bench_reconstruct(eps: str, with_stages: bool = False) -> None:
 
 CELL_ROUTES = {
     "cgal": "CGAL Delaunay (GUDHI DelaunayComplex, built)",
-    "gudhi": "M̂'s route: + simplex tree, read, neighbours",
+    "gudhi": "CGAL + simplex tree, read, neighbours",
     "swig": "cgal package (SWIG): tetrahedra + neighbours",
     "geogram": "geogram (compiled module): tetrahedra",
+    "exact": "M̂'s route: geogram + neighbours",
     "qhull": "qhull (scipy Delaunay): + neighbours",
 }
 """The routes of ``cells``, in the order run."""
@@ -712,7 +719,7 @@ def bench_cells(eps: str, cube: bool, repeat: int = 1) -> None:
     print(
         f"  tetrahedra: {tets['gudhi']:,} (CGAL), {tets['qhull']:,} (qhull), {tets['geogram']:,} "
         "(geogram); SWIG's arrays equal "
-        f"to M̂'s route's: {same}"
+        f"to CGAL's route's: {same}"
     )
 
 

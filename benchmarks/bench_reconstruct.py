@@ -60,7 +60,7 @@ STAGE_OF = {
     "sampling (slabs)": "sample (lattice, sampling)",
     "regular triangulation": "guide triangles, seeds, labels",
     "seeds": "guide triangles, seeds, labels",
-    "Delaunay (CGAL)": "M̂: CGAL, simplex tree, neighbours",
+    "Delaunay": "M̂: Delaunay (geogram), neighbours",
     "in/out facets": "M̂: facets; topology, quality",
     "distances to the surface": "distances to the surface",
 }

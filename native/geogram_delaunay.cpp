@@ -24,6 +24,12 @@
 
 #include "Delaunay_psm.h"
 
+namespace vb_insphere {
+extern bool enabled;
+int side4_3d(const double* p0, const double* p1, const double* p2, const double* p3,
+             const double* p4);
+}  // namespace vb_insphere
+
 namespace {
 
 std::once_flag started;
@@ -95,6 +101,24 @@ int vb_delaunay_cells(const double* points, int64_t n, int64_t** cells, int64_t*
 }
 
 void vb_free_cells(int64_t* cells) { delete[] cells; }
+
+// Tests: the in-sphere predicate on five points (15 doubles, the first four positively
+// oriented): *staged is the double-double stage's side4 sign (0: not sure), *full geogram's
+// whole side4_3d (filter, that stage, exact with symbolic perturbation), 0 when geogram failed
+// (an assertion, as on non-finite input).
+void vb_side4_stages(const double* p, int* staged, int* full) {
+    *staged = vb_insphere::side4_3d(p, p + 3, p + 6, p + 9, p + 12);
+    *full = 0;
+    try {
+        std::call_once(started, start_geogram);
+        *full = -int(GEO::PCK::in_sphere_3d_SOS(p, p + 3, p + 6, p + 9, p + 12));
+    } catch (...) {
+    }
+}
+
+// Benchmarks and tests: 0 turns the double-double stage off (every test the double filter
+// leaves goes to the exact stage), 1 back on.
+void vb_set_double_double(int on) { vb_insphere::enabled = on != 0; }
 
 }  // extern "C"
 

@@ -20866,6 +20866,12 @@ namespace {
 
 
 
+// vorobound: the double-double stage of in_sphere_3d_SOS (../insphere_dd.cpp).
+namespace vb_insphere {
+    int side4_3d(const double* p0, const double* p1, const double* p2, const double* p3,
+                 const double* p4);
+}
+
 namespace GEO {
 
     namespace PCK {
@@ -21047,6 +21053,10 @@ namespace GEO {
 
             Sign result = Sign(in_sphere_3d_filter_optim(p0, p1, p2, p3, p4));
 
+            // vorobound: a double-double stage before the exact one (../insphere_dd.cpp).
+            if(result == 0) {
+                result = Sign(vb_insphere::side4_3d(p0, p1, p2, p3, p4));
+            }
             if(result == 0) {
                 result = side4_3d_exact_SOS(p0, p1, p2, p3, p4);
             }

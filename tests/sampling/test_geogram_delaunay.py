@@ -235,3 +235,122 @@ def _same_rows(a, b):
     return a.shape == b.shape and np.array_equal(
         geogram_delaunay.lexicographic_rows(a, 10**6), geogram_delaunay.lexicographic_rows(b, 10**6)
     )
+
+
+def _side4_exact(points) -> int:
+    """geogram's side4 sign of five points in rationals: sign(Δ4) · sign(r), with a_i = p_i − p0,
+    Δ_k the 3×3 determinant of the a_i without a_k, q_i = |a_i|² and
+    r = −Δ1 q1 + Δ2 q2 − Δ3 q3 + Δ4 q4 (geogram's side4_3d_exact_SOS)."""
+    from fractions import Fraction
+
+    p = [[Fraction(float(c)) for c in row] for row in points]
+    a = [[p[i][j] - p[0][j] for j in range(3)] for i in range(1, 5)]
+
+    def det3(r0, r1, r2):
+        return (
+            r0[0] * (r1[1] * r2[2] - r1[2] * r2[1])
+            - r1[0] * (r0[1] * r2[2] - r0[2] * r2[1])
+            + r2[0] * (r0[1] * r1[2] - r0[2] * r1[1])
+        )
+
+    deltas = [det3(*[a[i] for i in range(4) if i != k]) for k in range(4)]
+    q = [sum(c * c for c in row) for row in a]
+    r = -deltas[0] * q[0] + deltas[1] * q[1] - deltas[2] * q[2] + deltas[3] * q[3]
+    sign = lambda v: (v > 0) - (v < 0)  # noqa: E731
+    return sign(deltas[3]) * sign(r)
+
+
+def _orientation(points) -> int:
+    """Sign of the orientation of the first four points, in rationals."""
+    from fractions import Fraction
+
+    a = [[Fraction(float(points[i][j])) - Fraction(float(points[0][j])) for j in range(3)]
+         for i in range(1, 4)]  # fmt: skip
+    det = (
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[1][0] * (a[0][1] * a[2][2] - a[0][2] * a[2][1])
+        + a[2][0] * (a[0][1] * a[1][2] - a[0][2] * a[1][1])
+    )
+    return (det > 0) - (det < 0)
+
+
+def _positive(points):
+    """The five points with the first four positively oriented (the first two swapped when
+    they are not): geogram asks the in-sphere test only so."""
+    return points[[1, 0, 2, 3, 4]] if _orientation(points) < 0 else points
+
+
+def _on_sphere(rng, n, centre, radius):
+    direction = rng.normal(size=(n, 3))
+    return centre + radius * direction / np.linalg.norm(direction, axis=1)[:, None]
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_the_double_double_stage_never_contradicts_rational_arithmetic():
+    """Five points on a sphere, rounded (cospherical before rounding: the double filter gives
+    up on them), at several scales and distances from the origin: the stage's sign is the
+    rational one or 0, and it decides most of them; the whole predicate is always right."""
+    rng = np.random.default_rng(7)
+    decided = tried = 0
+    for scale in (1.0, 2.0**-40, 2.0**30):
+        for offset in (0.0, 1.0, 1e6):
+            for _ in range(60):
+                centre = rng.uniform(-1, 1, 3) * offset * scale
+                points = _positive(_on_sphere(rng, 5, centre, scale * rng.uniform(0.01, 1)))
+                exact = _side4_exact(points)
+                staged, full = geogram_delaunay.side4_stages(points)
+                if exact:
+                    assert full == exact
+                assert staged in (0, exact)
+                tried += exact != 0
+                decided += staged != 0
+    assert decided >= 0.9 * tried
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_exactly_cospherical_points_are_left_to_the_exact_stage():
+    """Lattice points on the sphere x² + y² + z² = 50, scaled by powers of two: r is exactly 0,
+    so the stage cannot decide (it answers 0) and the symbolic perturbation gives ±1."""
+    lattice = np.array(
+        [[x, y, z] for x in range(-8, 9) for y in range(-8, 9) for z in range(-8, 9)]
+    )
+    sphere = lattice[(lattice**2).sum(axis=1) == 50].astype(float)
+    rng = np.random.default_rng(3)
+    for exponent in (-300, -20, 0, 40, 300):
+        for _ in range(40):
+            points = np.ldexp(sphere[rng.choice(len(sphere), 5, replace=False)], exponent)
+            if _orientation(points) == 0:
+                continue  # a flat first four: geogram's callers never ask
+            points = _positive(points)
+            staged, full = geogram_delaunay.side4_stages(points)
+            assert staged == 0
+            assert full in (-1, 1)
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+@pytest.mark.parametrize("bad", [np.nan, np.inf, 1e308])
+def test_the_stage_gives_up_on_non_finite_or_overflowing_differences(bad):
+    points = _positive(_on_sphere(np.random.default_rng(1), 5, np.zeros(3), 1.0))
+    points[2, 1] = bad
+    points[0, 1] = -1e308 if bad == 1e308 else points[0, 1]
+    assert geogram_delaunay.side4_stages(points)[0] == 0
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_the_stage_changes_no_tetrahedron_on_cospherical_families():
+    """Points on the circles where spheres of a lattice meet (VoroCrust's seeds are such
+    families), rounded, plus lattice points (exactly cospherical): the triangulation is the
+    same array with the double-double stage on and off."""
+    rng = np.random.default_rng(11)
+    centres = np.array([[x, y, 0.0] for x in range(6) for y in range(6)])
+    points = [np.array([[x, y, z] for x in range(5) for y in range(5) for z in range(3)], float)]
+    for c in centres:
+        angle = rng.uniform(0, 2 * np.pi, 40)
+        points.append(c + [0.5, 0, 0] + 0.7 * np.c_[np.zeros(40), np.cos(angle), np.sin(angle)])
+    points = np.concatenate(points)
+    try:
+        geogram_delaunay.set_double_double(False)
+        exact_only = delaunay_tetrahedra(points, engine="geogram")
+    finally:
+        geogram_delaunay.set_double_double(True)
+    assert np.array_equal(delaunay_tetrahedra(points, engine="geogram"), exact_only)

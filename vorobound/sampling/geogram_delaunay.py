@@ -8,21 +8,24 @@ its tetrahedra over as an array: on 10⁶ random points 5.3 CPU-s and 0.9 GB pea
 CPU-s for CGAL's bare build and 30.7 CPU-s and 2.6 GB for the simplex tree route (``python
 benchmarks/bench_engines.py delaunay``; docs/performance.md).
 
-Exactness. geogram's predicates are floating-point filters backed by expansion arithmetic, exact
-as long as no product underflows or overflows. The points are first multiplied by a power of two
-so that the largest coordinate lies in [1/2, 1) (an exact step: it changes no predicate's sign).
-Every coordinate then is a multiple of 2⁻²⁰² (its unit in the last place) when the smallest
-nonzero one is at least 2⁻¹⁵⁰ (:data:`SMALLEST_SCALED`), so every term of the degree-5 in-sphere
-determinant and of its error-free expansions is a multiple of 2⁻¹⁰¹⁰ ≥ 2⁻¹⁰⁷⁴, representable
-(subnormals included), and no term exceeds 2¹⁰: no rounding is lost. (The floating-point filters
-in front of the expansions give up, and leave the sign to them, whenever their inputs leave the
-range where their error bound holds.) Other inputs (wider spreads of magnitude, non-finite
-values, fewer than five points) return None, and the caller uses CGAL. Degenerate position is
-resolved by the lexicographic symbolic perturbation, a function of the coordinates only, so a
-subset of the points is triangulated as the whole set is wherever a tetrahedron's ball holds no
-other point (what :mod:`.reconstruct.slabs` needs; CGAL's perturbation has the same property,
-but the two need not choose the same tetrahedra among cospherical points). A point at the
-coordinates of an earlier one gets no tetrahedron.
+Exactness. geogram's predicates are floating-point filters backed by expansion arithmetic, exact as
+long as no product underflows or overflows. The points are first multiplied by a power of two so
+that the largest coordinate lies in [1/2, 1) (an exact step: it changes no predicate's sign). Every
+coordinate then is a multiple of 2⁻²⁰² (its unit in the last place) when the smallest nonzero one is
+at least 2⁻¹⁵⁰ (:data:`SMALLEST_SCALED`), so every term of the degree-5 in-sphere determinant and of
+its error-free expansions is a multiple of 2⁻¹⁰¹⁰ ≥ 2⁻¹⁰⁷⁴, representable (subnormals included), and
+no term exceeds 2¹⁰: no rounding is lost. (The floating-point filters in front of the expansions
+give up, and leave the sign to them, whenever their inputs leave the range where their error bound
+holds.) Between geogram's double filter and its expansions, the in-sphere test has a double-double
+stage with a proven error bound (``native/insphere_dd.cpp`` states the argument): VoroCrust's seeds,
+cospherical before rounding, sent a fifth of the tests to the expansions, and the stage halves the
+triangulation's time on them (:func:`set_double_double`, ``python benchmarks/bench_engines.py cells
+--cube``). Other inputs (wider spreads of magnitude, non-finite values, fewer than five points)
+return None, and the caller uses CGAL. Degenerate position is resolved by the lexicographic symbolic
+perturbation, a function of the coordinates only, so a subset of the points is triangulated as the
+whole set is wherever a tetrahedron's ball holds no other point (what :mod:`.reconstruct.slabs`
+needs; CGAL's perturbation has the same property, but the two need not choose the same tetrahedra
+among cospherical points). A point at the coordinates of an earlier one gets no tetrahedron.
 """
 
 from __future__ import annotations
@@ -63,7 +66,35 @@ def _library() -> ctypes.CDLL | None:
     library.vb_delaunay_cells.restype = ctypes.c_int
     library.vb_free_cells.argtypes = [ctypes.POINTER(ctypes.c_int64)]
     library.vb_free_cells.restype = None
+    library.vb_side4_stages.argtypes = [ctypes.c_void_p] + [ctypes.POINTER(ctypes.c_int)] * 2
+    library.vb_side4_stages.restype = None
+    library.vb_set_double_double.argtypes = [ctypes.c_int]
+    library.vb_set_double_double.restype = None
     return library
+
+
+def side4_stages(points: np.ndarray) -> tuple[int, int]:
+    """geogram's side4 sign of five points (5, 3) (+1 when the last lies outside the sphere
+    through the first four, which must be positively oriented), as (the double-double stage's
+    sign, 0 when it is not sure; the whole predicate's, exact with the symbolic perturbation, 0
+    when geogram failed). For tests: the points are not moved into the exact frame."""
+    library = _library()
+    if library is None:
+        raise RuntimeError("the compiled module is not built")
+    five = np.ascontiguousarray(points, dtype=np.float64).reshape(15)
+    staged, full = ctypes.c_int(), ctypes.c_int()
+    with _LOCK:
+        library.vb_side4_stages(five.ctypes.data, ctypes.byref(staged), ctypes.byref(full))
+    return staged.value, full.value
+
+
+def set_double_double(on: bool) -> None:
+    """Turn the double-double stage of the in-sphere test on (the default) or off (benchmarks
+    and tests: every test the double filter leaves then goes to the exact expansions)."""
+    library = _library()
+    if library is not None:
+        with _LOCK:
+            library.vb_set_double_double(int(on))
 
 
 def available() -> bool:

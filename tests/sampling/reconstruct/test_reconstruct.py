@@ -469,12 +469,14 @@ FIXTURES = [
 """The larger tori take 10–15 s each under load: in the slow set."""
 
 
+@pytest.mark.parametrize("engine", ["exact", "cgal"])
 @pytest.mark.parametrize("name", FIXTURES)
-def test_cgal_and_qhull_give_the_same_facets(name):
-    """qhull stays the cross-check of CGAL's tetrahedralization: the same in/out facets with
-    area, on the same welded vertices, and no seed left out by either."""
+def test_exact_engines_and_qhull_give_the_same_facets(name, engine):
+    """qhull stays the cross-check of the exact tetrahedralizations (geogram's, the default,
+    and CGAL's): the same in/out facets with area, on the same welded vertices, and no seed
+    left out by either."""
     points, inside, _ = _fixture_seeds(name)
-    cgal = inout_facets(points, inside, triangulation="cgal")
+    cgal = inout_facets(points, inside, triangulation=engine)
     qhull = inout_facets(points, inside, triangulation="qhull")
     assert cgal.skipped_seeds == qhull.skipped_seeds == 0
     mine = {tuple(p): f for f, p in enumerate(cgal.surface.seed_pairs)}

@@ -322,6 +322,6 @@ def test_slabs_without_the_compiled_steps_say_so(monkeypatch):
     inside = np.linalg.norm(points, axis=1) < 1.0
     whole = inout_facets(points, inside, slabs=1)
     monkeypatch.setattr(facets, "_facets_kernel", lambda: None)
-    with pytest.warns(VoroboundWarning, match="7 slabs need CGAL and numba"):
+    with pytest.warns(VoroboundWarning, match="7 slabs need exact predicates and numba"):
         split = inout_facets(points, inside, slabs=7)
     assert _pairs(split) == _pairs(whole)

@@ -1,22 +1,21 @@
 """M̂: the Voronoi facets between an inside and an outside seed, as a polygon surface.
 
-The Voronoi facet of two seeds is dual to their Delaunay edge: its vertices are the
-circumcentres of the Delaunay tetrahedra around that edge, in the order the tetrahedra turn
-around it. Only edges whose two seeds carry different labels are kept, so only those facets are
-built. The Delaunay tetrahedralization comes from CGAL (GUDHI's ``DelaunayComplex``, exact
-predicates; its tetrahedra read in bulk by :mod:`vorobound.sampling.simplices`), and the face
-neighbours of the tetrahedra from matching their faces; they give the turn around each edge
-without any geometry. Where numba is installed, the neighbours, the circumcentres and the walks
-around the in/out edges are compiled (:mod:`.facets_kernel`: faces bucketed by their smallest
-vertex instead of one global sort, each edge walked once from its first tetrahedron); the
-numpy steps below give the same facets everywhere else, and the tests compare the two. qhull
-(:class:`scipy.spatial.Delaunay`, ``triangulation="qhull"``) gives the same facets and stays as
-the tests' cross-check: on 5·10⁵ seeds it took 3.3 times CGAL's
-time (issue 35), and it drops seeds it finds nearly coincident, which CGAL's exact predicates
-never need to. docs/reconstruct.md says why the Delaunay route is preferred to
-:class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists).
-Above ``slabs.WHOLE_SEEDS`` seeds (or on request, ``slabs=``) the tetrahedralization is built
-in overlapping slabs, one at a time, and only the tetrahedra around the in/out edges are kept
+The Voronoi facet of two seeds is dual to their Delaunay edge: its vertices are the circumcentres of
+the Delaunay tetrahedra around that edge, in the order the tetrahedra turn around it. Only edges
+whose two seeds carry different labels are kept, so only those facets are built. The Delaunay
+tetrahedralization comes from geogram's compiled module (exact predicates with a double-double
+stage, :mod:`.engine`; CGAL through GUDHI where the module is missing), and the face neighbours of
+the tetrahedra from matching their faces; they give the turn around each edge without any geometry.
+Where numba is installed, the neighbours, the circumcentres and the walks around the in/out edges
+are compiled (:mod:`.facets_kernel`: faces bucketed by their smallest vertex instead of one global
+sort, each edge walked once from its first tetrahedron); the numpy steps below give the same facets
+everywhere else, and the tests compare the two. qhull (:class:`scipy.spatial.Delaunay`,
+``triangulation="qhull"``) gives the same facets and stays as the tests' cross-check: on 5·10⁵ seeds
+it took 3.3 times CGAL's time (issue 35), and it drops seeds it finds nearly coincident, which exact
+predicates never need to. docs/reconstruct.md says why the Delaunay route is preferred to
+:class:`scipy.spatial.Voronoi` (which builds every facet of the diagram as Python lists). Above
+``slabs.WHOLE_SEEDS`` seeds (or on request, ``slabs=``) the tetrahedralization is built in
+overlapping slabs, one at a time, and only the tetrahedra around the in/out edges are kept
 (:mod:`.slabs`: the same facets, certified by the empty-ball property and a completeness
 certificate; memory bounded by a slab).
 
@@ -90,8 +89,9 @@ FLAT_ROUNDS = 8
 """Rounds of borrowing through chains of flat tetrahedra."""
 CHUNK = 1 << 20
 """Tetrahedra, or corners of the cycles, handled at a time (bounds the memory)."""
-TRIANGULATIONS = ("cgal", "qhull")
-"""The Delaunay engines :func:`inout_facets` takes."""
+TRIANGULATIONS = ("exact", "cgal", "qhull")
+"""The Delaunay engines :func:`inout_facets` takes ("exact": geogram's module, CGAL where it is
+missing)."""
 EDGE_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 """The six edges of a tetrahedron as pairs of local vertex indices."""
 
@@ -191,10 +191,10 @@ class InOutFacets:
     non_simple: int
     """Facets whose welded polygon visits a vertex twice (kept; counted for the record)."""
     skipped_seeds: int
-    """Seeds left out of the triangulation other than the duplicates below: with CGAL (exact
-    predicates) only a seed at the very coordinates of a seed of the other label; with qhull
-    also seeds it finds nearly coincident with another. M̂ misses their facets, so a result
-    with skipped seeds is not correct (``ReconstructReport.topology_correct``)."""
+    """Seeds left out of the triangulation other than the duplicates below: with exact predicates
+    (geogram, CGAL) only a seed at the very coordinates of a seed of the other label; with qhull
+    also seeds it finds nearly coincident with another. M̂ misses their facets, so a result with
+    skipped seeds is not correct (``ReconstructReport.topology_correct``)."""
     delaunay_edges: int
     """Delaunay edges between an inside and an outside seed."""
     tetrahedra: int
@@ -211,7 +211,7 @@ def inout_facets(
     points: np.ndarray,
     inside: np.ndarray,
     progress: Progress | None = None,
-    triangulation: str = "cgal",
+    triangulation: str = "exact",
     compiled: bool | None = None,
     slabs: int | None = None,
 ) -> InOutFacets:
@@ -225,19 +225,21 @@ def inout_facets(
         True for a seed inside the surface.
     progress : Progress, optional
         Reports the stages.
-    triangulation : {"cgal", "qhull"}
-        The Delaunay tetrahedralization: CGAL's (through GUDHI, exact predicates; the
-        default) or qhull's (scipy; kept as the cross-check of the tests).
+    triangulation : {"exact", "cgal", "qhull"}
+        The Delaunay tetrahedralization: "exact" (the default) geogram's compiled module,
+        exact predicates, CGAL's where the module is missing or the seeds leave its exact
+        range (:mod:`.engine`); "cgal" CGAL's through GUDHI; "qhull" scipy's, kept as the
+        cross-check of the tests.
     compiled : bool, optional
         True builds the neighbours, circumcentres and cycles with the compiled kernels of
         :mod:`.facets_kernel` (numba), False with numpy; None (default) compiled where numba
         is installed. Both give the same facets (the tests compare them).
     slabs : int, optional
-        Triangulate the seeds in this many overlapping slabs, one at a time (CGAL and the
-        compiled kernels only; :mod:`.slabs`: the same facets, certified complete, memory
-        bounded by a slab; where a check fails, the whole set at once). 1: the whole set at
-        once. None (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS``
-        (750,000) seeds, where the whole set is faster, then one per ``SLAB_SEEDS``.
+        Triangulate the seeds in this many overlapping slabs, one at a time (exact engines and the
+        compiled kernels only; :mod:`.slabs`: the same facets, certified complete, memory bounded by
+        a slab; where a check fails, the whole set at once). 1: the whole set at once. None
+        (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS`` (750,000) seeds, where
+        the whole set is faster, then one per ``SLAB_SEEDS``.
 
     Returns
     -------
@@ -251,7 +253,10 @@ def inout_facets(
     points = np.ascontiguousarray(points, dtype=float)
     inside = np.asarray(inside, dtype=bool)
     if triangulation not in TRIANGULATIONS:
-        raise InputError(f"triangulation must be cgal or qhull, got {triangulation!r}")
+        raise InputError(
+            f"triangulation must be one of {', '.join(TRIANGULATIONS)}, got {triangulation!r}"
+        )
+    engine = "cgal" if triangulation == "cgal" else None
     # Every product below (circumcentres, signed volumes) is of degree up to 6 in the
     # coordinates: the seeds are first moved to a frame near the origin and near unit size,
     # exactly (module docstring), and the results moved back.
@@ -267,13 +272,13 @@ def inout_facets(
     elif isinstance(slabs, bool) or not isinstance(slabs, int | np.integer) or slabs < 1:
         raise InputError(f"slabs must be a whole number ≥ 1, got {slabs!r}")
     fans = None
-    if slabs > 1 and (triangulation != "cgal" or kernel is None):
+    if slabs > 1 and (triangulation == "qhull" or kernel is None):
         warn_once(
-            f"{slabs} slabs need CGAL and numba's compiled steps (pip install vorobound[fast]): "
-            "the whole set is triangulated at once (more memory)"
+            f"{slabs} slabs need exact predicates and numba's compiled steps (pip install "
+            "vorobound[fast]): the whole set is triangulated at once (more memory)"
         )
-    if triangulation == "cgal" and kernel is not None and slabs > 1:
-        fans = slab_fans(points, inside, kernel, flat_circumcentres, slabs, progress)
+    if triangulation != "qhull" and kernel is not None and slabs > 1:
+        fans = slab_fans(points, inside, kernel, flat_circumcentres, slabs, progress, engine)
     if fans is not None:
         duplicates, skipped = _absent_seeds(points, inside, fans.present)
         counter = Counter(progress, "in/out facets", 3)
@@ -283,9 +288,9 @@ def inout_facets(
         tetrahedra = fans.tetrahedra
         counter.step(2)
     else:
-        if triangulation == "cgal":
-            Counter(progress, "Delaunay (CGAL)", None)
-            simplices, neighbors, present = _cgal_tetrahedra(points, kernel)
+        if triangulation != "qhull":
+            Counter(progress, "Delaunay", None)
+            simplices, neighbors, present = _exact_tetrahedra(points, kernel, engine)
         else:
             Counter(progress, "Delaunay (qhull)", None)
             simplices, neighbors, present = _qhull_tetrahedra(points)
@@ -422,15 +427,15 @@ def _circumcentres(corner: np.ndarray):
     return centres, error, flat
 
 
-def _cgal_tetrahedra(points: np.ndarray, kernel=None):
-    """Tetrahedra, their face neighbours and which seeds are vertices, from CGAL (the
-    neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
+def _exact_tetrahedra(points: np.ndarray, kernel=None, engine: str | None = None):
+    """Tetrahedra, their face neighbours and which seeds are vertices, from the exact engine
+    of :mod:`.engine` (the neighbours from ``kernel``, :mod:`.facets_kernel`, where given)."""
     from ..simplices import face_neighbours
 
-    simplices = delaunay_tetrahedra(points)
+    simplices = delaunay_tetrahedra(points, engine)
     if not len(simplices):
         raise InputError(
-            "seeds: CGAL cannot tetrahedralize them (fewer than five distinct seeds, or all "
+            "seeds: they cannot be tetrahedralized (fewer than five distinct seeds, or all "
             "in a plane)"
         )
     if kernel is not None:
@@ -439,7 +444,7 @@ def _cgal_tetrahedra(points: np.ndarray, kernel=None):
     else:
         neighbors = face_neighbours(simplices)
     if neighbors is None:
-        raise InputError("seeds: CGAL's triangulation has a face of more than two tetrahedra")
+        raise InputError("seeds: the triangulation has a face of more than two tetrahedra")
     present = np.zeros(len(points), dtype=bool)
     present[simplices.reshape(-1)] = True
     return simplices, neighbors, present

@@ -8,20 +8,20 @@ sides (its *window* W); one window is triangulated at a time, and only what M̂ 
 kept: the tetrahedra around the in/out edges the slab *owns* (the midpoint of the edge in its
 core), with their circumcentres, in the order they turn.
 
-Why a window gives the whole set's fans (the empty-ball property). Let P be all the seeds and
-Q = P ∩ W. A tetrahedron of the Delaunay triangulation DT(Q) whose circumscribed ball lies in
-W (closed slab) is a tetrahedron of DT(P): the seeds of P left out of Q lie outside W, so
-outside the ball, which stays empty (with CGAL's symbolic perturbation the same holds of the
-perturbed balls: seeds strictly outside a ball are not affected by it). Such a tetrahedron is
-*certified* (its ball, widened by its rounding error, inside W). The tetrahedra around an
-owned edge ab in DT(Q) form a closed cycle; when every one is certified they are tetrahedra
-of DT(P) that close around ab, hence all the tetrahedra around ab in DT(P) (the link of an
-interior edge is one cycle). The simplex tree gives tetrahedra in the lexicographic order of
-their vertices, and a slab's vertices keep the order of the seeds, so the walk around ab
-starts at the same tetrahedron and the circumcentres are computed from the same coordinates
-in the same order: the cycle, its orientation and its circumcentres are the whole set's, bit
-for bit, and so is M̂ after welding (the tetrahedra are numbered in the same lexicographic
-order). A flat tetrahedron borrows its circumcentre from a face neighbour
+Why a window gives the whole set's fans (the empty-ball property). Let P be all the seeds and Q = P
+∩ W. A tetrahedron of the Delaunay triangulation DT(Q) whose circumscribed ball lies in W (closed
+slab) is a tetrahedron of DT(P): the seeds of P left out of Q lie outside W, so outside the ball,
+which stays empty (with the engine's symbolic perturbation, geogram's lexicographic one or CGAL's,
+the same holds of the perturbed balls: seeds strictly outside a ball are not affected by it). Such a
+tetrahedron is *certified* (its ball, widened by its rounding error, inside W). The tetrahedra
+around an owned edge ab in DT(Q) form a closed cycle; when every one is certified they are
+tetrahedra of DT(P) that close around ab, hence all the tetrahedra around ab in DT(P) (the link of
+an interior edge is one cycle). The simplex tree gives tetrahedra in the lexicographic order of
+their vertices, and a slab's vertices keep the order of the seeds, so the walk around ab starts at
+the same tetrahedron and the circumcentres are computed from the same coordinates in the same order:
+the cycle, its orientation and its circumcentres are the whole set's, bit for bit, and so is M̂
+after welding (the tetrahedra are numbered in the same lexicographic order). A flat tetrahedron
+borrows its circumcentre from a face neighbour
 (:func:`.facets.flat_circumcentres`: faces 0 … 3 tried in turn, each reading the centres
 borrowed before it, for up to ``FLAT_ROUNDS`` rounds); its value depends only on the
 neighbours across the faces it tried (up to the one it borrowed from in the first round; all
@@ -70,7 +70,7 @@ cells of s and t, and crosses only that facet, which is not in C (it separates t
 one label, or it was built): w_C(s) = w_C(t), and by 4 w_C is the same at every seed. For a
 missed edge ab the same path crosses its facet, which is in C, once and nothing else of C:
 w_C(a) − w_C(b) = ±1. So no edge is missed. (In degenerate position the argument is made for
-the seeds under CGAL's symbolic perturbation, whose triangulation CGAL computes; the checks are
+the seeds under the engine's symbolic perturbation, whose triangulation it computes; the checks are
 combinatorial and hold for it.) The old rule (before issue 32's follow-up) had only check 2,
 which leaves out whole components of M̂ whose seed pairs lie more than twice the margin apart
 along the axis: no slab's window holds both seeds of any of them (the tests build such a
@@ -210,6 +210,7 @@ def slab_fans(
     centres,
     slabs: int,
     progress: Progress | None = None,
+    engine: str | None = None,
 ) -> SlabFans | None:
     """The fans of every in/out Delaunay edge of ``points`` (in the frame of
     :func:`.facets.seed_frame`), triangulated in ``slabs`` overlapping slabs; None when a slab
@@ -217,9 +218,9 @@ def slab_fans(
 
     ``kernel`` is :mod:`.facets_kernel` (the slabs need the compiled steps), ``centres`` the
     circumcentres of :func:`.facets.flat_circumcentres` (passed in: :mod:`.facets` calls this
-    module).
+    module), ``engine`` that of :func:`.engine.delaunay_tetrahedra`.
     """
-    steps = (kernel, centres)
+    steps = (kernel, centres, engine)
     axis = int(np.argmax(np.ptp(points, axis=0)))
     x = np.ascontiguousarray(points[:, axis])
     bounds = np.concatenate([[-np.inf], _cuts(x, slabs), [np.inf]])
@@ -227,7 +228,7 @@ def slab_fans(
     seen = _Evidence.empty(seeds_n)
     margin = MARGIN_GROWTH * _probe_reach(points, inside, steps, x, slabs)
     parts, left, reach = [], [], margin
-    counter = Counter(progress, "Delaunay (CGAL)", slabs)
+    counter = Counter(progress, "Delaunay", slabs)
     for k in range(slabs):
         low, high = np.full(3, -np.inf), np.full(3, np.inf)
         low[axis], high[axis] = bounds[k], bounds[k + 1]
@@ -389,12 +390,12 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     gathers the evidence of :func:`_complete`: the seeds triangulated, the seeds of the core
     on the window's hull, and (a union–find over the seeds) the vertices of one label of each
     certified tetrahedron joined."""
-    kernel, circumcentres = steps
+    kernel, circumcentres, engine = steps
     low, high = core[0] - margin, core[1] + margin
     window = np.flatnonzero(((points >= low) & (points <= high)).all(axis=1))
     if len(window) < 5:
         return None, None, None
-    local = delaunay_tetrahedra(points[window])
+    local = delaunay_tetrahedra(points[window], engine)
     if not len(local):
         return None, None, None
     neighbours, ok = kernel.face_neighbours(local, len(window))
@@ -449,7 +450,7 @@ def _slab(points, inside, steps, core, margin, seen, built=None):
     owned = ((midpoint >= core[0]) & (midpoint < core[1])).all(axis=1)
     key = np.minimum(inner, outer) * len(points) + np.maximum(inner, outer)
     if built is not None:
-        owned &= ~np.isin(key, built)
+        owned &= ~_isin_sorted(key, built)
     # An owned edge open in the window (on its hull) is left out like one whose balls leave
     # it: a wider window closes it, unless it is on the hull of all the seeds.
     closed = length >= 0
@@ -551,9 +552,9 @@ def _merged(parts, present, seeds_n, slabs) -> SlabFans | None:
     inner, outer, lengths = (_taken(parts, name) for name in ("inner", "outer", "lengths"))
     key = np.minimum(inner, outer) * seeds_n + np.maximum(inner, outer)
     required = np.unique(np.concatenate([p.required for p in parts]))
-    if not np.isin(required, key).all():
-        return None
     order = np.argsort(key, kind="stable")
+    if not _isin_sorted(required, key[order]).all():
+        return None
     del key
     offsets = np.concatenate([[0], np.cumsum(lengths)])
     new_offsets = np.concatenate([[0], np.cumsum(lengths[order])])
