@@ -43,7 +43,8 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
   matched to the seeds by sorting, the cells and their neighbour table brought to M̂'s layout
   (finite cells, rows ascending, rows in lexicographic order). Each in a fresh process, with
   its peak memory; the SWIG route's arrays are compared with CGAL's route's (a digest). A
-  sixth route, geogram's tetrahedra alone, shows the share of the neighbours.
+  sixth route, geogram's tetrahedra alone, shows the share of the neighbours, and a seventh
+  the same with its double-double stage off (the same tetrahedra, compared by digest).
 * ``delaunay``: the unweighted triangulation three ways (CGAL's bare build; the CGAL route of
   :func:`vorobound.sampling.simplices.delaunay_tetrahedra`, simplex tree read in bulk; geogram's
   compiled module, ``lfs``'s route) on N uniform random points and on the jittered vertices of
@@ -461,7 +462,7 @@ def child_cells(path: str, route: str) -> dict:
     if route in ("gudhi", "exact"):  # numba and the kernels' machine code loaded first
         warm = np.random.default_rng(0).random((40, 3))
         facets.inout_facets(warm, warm[:, 0] < 0.5, compiled=True)
-    if route in ("geogram", "exact"):
+    if route in ("geogram", "geogram_no_dd", "exact"):
         from vorobound.sampling import geogram_delaunay
 
         if not geogram_delaunay.available():
@@ -488,7 +489,8 @@ def child_cells(path: str, route: str) -> dict:
         tets, across, _ = facets._exact_tetrahedra(points, kernel, "cgal")
     elif route == "exact":
         tets, across, _ = facets._exact_tetrahedra(points, kernel)
-    elif route == "geogram":
+    elif route in ("geogram", "geogram_no_dd"):
+        geogram_delaunay.set_double_double(route == "geogram")
         tets = geogram_delaunay.delaunay_tetrahedra(points)
         across = np.empty((0, 4), dtype=np.int64)
     elif route == "qhull":
@@ -686,6 +688,7 @@ CELL_ROUTES = {
     "gudhi": "CGAL + simplex tree, read, neighbours",
     "swig": "cgal package (SWIG): tetrahedra + neighbours",
     "geogram": "geogram (compiled module): tetrahedra",
+    "geogram_no_dd": "geogram without its double-double stage",
     "exact": "M̂'s route: geogram + neighbours",
     "qhull": "qhull (scipy Delaunay): + neighbours",
 }
@@ -714,12 +717,14 @@ def bench_cells(eps: str, cube: bool, repeat: int = 1) -> None:
         for name, spent in found["steps"].items():
             print(f"    {name:44s} {spent:7.2f} CPU-s  {spent / base[0]:5.2f}× CGAL built")
     tets = {r: runs[r][0].get("tetrahedra", 0) for r in ("gudhi", "qhull", "geogram")}
+    stage = runs["geogram"][0].get("digest") == runs["geogram_no_dd"][0].get("digest")
     swig = runs["swig"][0]
     same = "skipped" if "skipped" in swig else swig["digest"] == runs["gudhi"][0]["digest"]
     print(
         f"  tetrahedra: {tets['gudhi']:,} (CGAL), {tets['qhull']:,} (qhull), {tets['geogram']:,} "
         "(geogram); SWIG's arrays equal "
-        f"to CGAL's route's: {same}"
+        f"to CGAL's route's: {same}; geogram's the same with and without its double-double "
+        f"stage: {stage}"
     )
 
 
