@@ -47,10 +47,15 @@ class RayTree:
         order, codes = morton_order(triangles.mean(axis=1))
         self.order = order
         self.triangles = np.ascontiguousarray(triangles[order])
-        self.low = self.triangles.min(axis=1)
-        self.high = self.triangles.max(axis=1)
-        _, nodes = build_tree(codes, self.low, self.high)
-        self.arrays = (self.triangles, self.low, self.high, *nodes)
+        low, high = self.triangles.min(axis=1), self.triangles.max(axis=1)
+        _, (node_low, node_high, node_range, node_child) = build_tree(codes, low, high)
+        self.arrays = (
+            self.triangles,
+            np.stack([low, high], axis=1),
+            np.stack([node_low, node_high], axis=1),
+            node_range,
+            node_child,
+        )
         """The tree as the kernel takes it (one tuple)."""
 
     def crossings(
@@ -134,27 +139,50 @@ def _cross(u0, u1, u2, v0, v1, v2):
 
 
 @njit(inline="always", error_model="numpy")
-def _meets_box(low, high, k, o, inverse, padded):
-    """libigl's ``ray_box_intersect`` of the ray (o, 1/d, padded 1/d) with box k over
-    t in (0, inf)."""
-    s = inverse[0] < 0
-    tmin = ((high[k, 0] if s else low[k, 0]) - o[0]) * inverse[0]
-    tmax = ((low[k, 0] if s else high[k, 0]) - o[0]) * padded[0]
-    s = inverse[1] < 0
-    tymin = ((high[k, 1] if s else low[k, 1]) - o[1]) * inverse[1]
-    tymax = ((low[k, 1] if s else high[k, 1]) - o[1]) * padded[1]
-    if tmin > tymax or tymin > tmax:
-        return False
-    tmin = tmin if tmin > tymin else tymin
-    tmax = tmax if tmax < tymax else tymax
-    s = inverse[2] < 0
-    tzmin = ((high[k, 2] if s else low[k, 2]) - o[2]) * inverse[2]
-    tzmax = ((low[k, 2] if s else high[k, 2]) - o[2]) * padded[2]
-    if tmin > tzmax or tzmin > tmax:
-        return False
-    tmin = tmin if tmin > tzmin else tzmin
-    tmax = tmax if tmax < tzmax else tzmax
-    return tmin < np.inf and tmax > 0.0
+def _meets_box(box, k, ray):
+    """libigl's ``ray_box_intersect`` of a ray (``_ray`` of its origin, 1/d and padded 1/d)
+    with box k (low, high) over t in (0, inf)."""
+    o0, o1, o2, i0, i1, i2, p0, p1, p2, s0, s1, s2 = ray
+    x0, x1 = (box[k, s0, 0] - o0) * i0, (box[k, 1 - s0, 0] - o0) * p0
+    y0, y1 = (box[k, s1, 1] - o1) * i1, (box[k, 1 - s1, 1] - o1) * p1
+    z0, z1 = (box[k, s2, 2] - o2) * i2, (box[k, 1 - s2, 2] - o2) * p2
+    # libigl's early exits and NaN-safe max and min come to these comparisons for values
+    # that are never NaN (1/d finite): each slab's entry before every other slab's exit, the
+    # latest entry below inf, the earliest exit above 0 (one branch instead of six).
+    return (
+        (x0 <= y1)
+        & (y0 <= x1)
+        & (x0 <= z1)
+        & (y0 <= z1)
+        & (z0 <= x1)
+        & (z0 <= y1)
+        & (x0 < np.inf)
+        & (y0 < np.inf)
+        & (z0 < np.inf)
+        & (x1 > 0.0)
+        & (y1 > 0.0)
+        & (z1 > 0.0)
+    )
+
+
+@njit(inline="always", error_model="numpy")
+def _ray(o, inverse, padded):
+    """The ray as :func:`_meets_box` takes it: origin, 1/d, padded 1/d, and per axis the
+    side (0 low, 1 high) where the ray enters the slab (libigl: ``inv_dir < 0``)."""
+    return (
+        o[0],
+        o[1],
+        o[2],
+        inverse[0],
+        inverse[1],
+        inverse[2],
+        padded[0],
+        padded[1],
+        padded[2],
+        1 if inverse[0] < 0 else 0,
+        1 if inverse[1] < 0 else 0,
+        1 if inverse[2] < 0 else 0,
+    )
 
 
 @njit(inline="always", error_model="numpy")
@@ -194,21 +222,22 @@ def _triangle(o, d, tri):
 def _ray_hits(o, d, inv, pad, tree, stack, face, values):
     """All hits of one ray, sorted by t, into (face, values) from row 0 (grown when full):
     (count, face, values, whether two hits have equal t)."""
-    triangles, low, high, node_low, node_high, node_range, node_child = tree
+    triangles, box, node_box, node_range, node_child = tree
+    ray = _ray(o, inv, pad)
     used = 0
     top = 0
     stack[0] = 0
     while top >= 0:
         node = stack[top]
         top -= 1
-        if not _meets_box(node_low, node_high, node, o, inv, pad):
+        if not _meets_box(node_box, node, ray):
             continue
         if node_child[node, 0] >= 0:
             stack[top + 1], stack[top + 2] = node_child[node, 1], node_child[node, 0]
             top += 2
             continue
         for p in range(node_range[node, 0], node_range[node, 1]):
-            if not _meets_box(low, high, p, o, inv, pad):
+            if not _meets_box(box, p, ray):
                 continue
             hit, t, u, v = _triangle(o, d, triangles[p])
             if not (hit and t > 0):
