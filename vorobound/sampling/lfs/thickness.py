@@ -1,4 +1,5 @@
-"""The local thickness of a part along the normal, by ray casting (libigl's AABB tree).
+"""The local thickness of a part along the normal, by ray casting (libigl's AABB tree, or its
+compiled port :mod:`.compiled_rays`: the same hits bit for bit).
 
 From a point on the surface, the ray along the inward normal leaves the solid where it first
 meets the surface again: that distance T_in is the thickness there, the "distance across the
@@ -9,6 +10,12 @@ bounds the medial-ball radius, hence the local feature size, from above (docs/lf
 
 Which side is inward is decided by parity: a ray from a surface point into the solid crosses
 the surface an odd number of times, one leaving it an even number (a closed mesh).
+
+With numba the rays are cast and reduced in compiled code to the few hits :func:`thickness`
+reads (the number kept, the first, the first on an allowed face): a ray across a gear's teeth
+meets dozens of faces, and libigl returns every hit as a Python list. Rays whose side the
+parity leaves unknown, and rays with two hits at the same t (libigl's order of them decides
+which is kept), go through all their hits as without numba.
 
 References
 ----------
