@@ -1,4 +1,5 @@
-"""The local thickness of a part along the normal, by ray casting (libigl's AABB tree).
+"""The local thickness of a part along the normal, by ray casting (libigl's AABB tree, or its
+compiled port :mod:`.compiled_rays`: the same hits bit for bit).
 
 From a point on the surface, the ray along the inward normal leaves the solid where it first
 meets the surface again: that distance T_in is the thickness there, the "distance across the
@@ -10,6 +11,12 @@ bounds the medial-ball radius, hence the local feature size, from above (docs/lf
 Which side is inward is decided by parity: a ray from a surface point into the solid crosses
 the surface an odd number of times, one leaving it an even number (a closed mesh).
 
+With numba the rays are cast and reduced in compiled code to the few hits :func:`thickness`
+reads (the number kept, the first, the first on an allowed face): a ray across a gear's teeth
+meets dozens of faces, and libigl returns every hit as a Python list. Rays whose side the
+parity leaves unknown, and rays with two hits at the same t (libigl's order of them decides
+which is kept), go through all their hits as without numba.
+
 References
 ----------
 libigl's ``AABB.intersect_ray`` (Jacobson, Panozzo et al., https://libigl.github.io).
@@ -17,12 +24,14 @@ libigl's ``AABB.intersect_ray`` (Jacobson, Panozzo et al., https://libigl.github
 
 from __future__ import annotations
 
+import functools
 import itertools
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from ...geometry.kernels import load_kernel, pure_numpy
 from ...geometry.threads import thread_count
 
 RAY_START_RTOL = 1e-9
@@ -85,11 +94,39 @@ class RayCaster:
         self.start = RAY_START_RTOL * diagonal
         self._bins: list[tuple[Any, np.ndarray, np.ndarray, float]] | None = None
         self._tree: Any = None
+        self._rays: Any = None
 
     def hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
-        """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t."""
-        directions = directions + RAY_TILT * _tilt(origins)
-        directions = directions / np.linalg.norm(directions, axis=1)[:, None]
+        """All hits of each ray (rays tilted by RAY_TILT), sorted by ray and then by t (equal
+        t in libigl's order)."""
+        directions = _tilted(origins, directions)
+        tree = self._ray_tree()
+        if tree is None:
+            return self._libigl_hits(origins, directions)
+        ray, face, t, uv, again = tree.cast(origins, directions)
+        again = np.flatnonzero(again)
+        if len(again):
+            # Equal t (a ray across an edge): libigl's order of the two hits is its tree's.
+            redo = self._libigl_hits(origins[again], directions[again])
+            ray = np.concatenate([ray, again[redo.ray]])
+            order = np.argsort(ray, kind="stable")
+            ray = ray[order]
+            face = np.concatenate([face, redo.face])[order]
+            t = np.concatenate([t, redo.t])[order]
+            uv = np.concatenate([uv, redo.uv])[order]
+        return Hits(ray, face, t, uv)
+
+    def _ray_tree(self):
+        """The compiled ray tree of the faces (:mod:`.compiled_rays`), or None without numba."""
+        if self._rays is None:
+            self._rays = False
+            rays = compiled_rays()
+            if rays is not None and len(self.faces):
+                self._rays = rays.RayTree(self.points, self.faces)
+        return self._rays or None
+
+    def _libigl_hits(self, origins: np.ndarray, directions: np.ndarray) -> Hits:
+        """All hits of each ray by libigl (rays as given), sorted by ray and then by t."""
         count_blocks: list[np.ndarray] = []
         value_blocks: list[np.ndarray] = []
         for first in range(0, len(origins), RAY_CHUNK):
@@ -206,6 +243,17 @@ class RayCaster:
         return np.sqrt(squared), face, point
 
 
+@functools.cache
+def _load_compiled_rays():
+    return load_kernel(f"{__package__}.compiled_rays")
+
+
+def compiled_rays():
+    """:mod:`.compiled_rays`, or None without numba or with ``VOROBOUND_PURE_NUMPY`` set (then
+    libigl casts the rays; both give the same hits bit for bit)."""
+    return None if pure_numpy() else _load_compiled_rays()
+
+
 def point_triangle_distance(x, a, b, c) -> np.ndarray:
     """Distance from points x to triangles (a, b, c), all (p, 3): to the plane where the foot
     lies inside, else to the nearest edge."""
@@ -225,6 +273,12 @@ def point_triangle_distance(x, a, b, c) -> np.ndarray:
         t = np.where(np.isfinite(t), t, 0.0)
         best = np.minimum(best, np.linalg.norm(x - p - t[:, None] * e, axis=1))
     return best
+
+
+def _tilted(origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """The rays' directions tilted by RAY_TILT (a function of the origin) and normalised."""
+    directions = directions + RAY_TILT * _tilt(origins)
+    return directions / np.linalg.norm(directions, axis=1)[:, None]
 
 
 def _tilt(origins: np.ndarray) -> np.ndarray:
@@ -303,6 +357,61 @@ def thickness(
         return Thickness(
             *(np.concatenate([getattr(part, name) for part in parts]) for name in FIELDS)
         )
+    tree = caster._ray_tree()
+    if tree is None:
+        return _thickness_of_hits(
+            caster, origins, normals, origin_face, allowed, face_group, origin_group, lift, near
+        )
+    # Compiled: per ray only the hits the numpy path reads (the number of kept hits, the
+    # first, the first on an allowed face), the same values bit for bit.
+    found = [
+        tree.crossings(
+            origins,
+            _tilted(origins, directions),
+            origin_face,
+            near,
+            origin_group,
+            face_group,
+            allowed,
+            caster.start,
+        )
+        for directions in (normals, -normals)
+    ]
+    f_odd, b_odd = found[0].count % 2 == 1, found[1].count % 2 == 1
+    known = f_odd != b_odd
+    sign = np.where(known, np.where(f_odd, 1, -1), 0).astype(np.int8)
+    inward = np.full(n, np.inf)
+    outward = np.full(n, np.inf)
+    for side, inner in zip(found, (f_odd, b_odd), strict=True):
+        rows = np.flatnonzero(known & inner)
+        inward[rows] = _lifted(side.first_face[rows], side.first[rows], origins[rows], lift)
+        rows = np.flatnonzero(known & ~inner & (side.open_face >= 0))
+        outward[rows] = _lifted(side.open_face[rows], side.open[rows], origins[rows], lift)
+    # Rays of unknown side (the nearest allowed hit either way reads them all) and rays with
+    # equal t (libigl's order decides which hit counts) take the numpy path.
+    slow = np.flatnonzero(~known | found[0].flagged | found[1].flagged)
+    if len(slow):
+        part = _thickness_of_hits(
+            caster,
+            origins[slow],
+            normals[slow],
+            origin_face[slow],
+            allowed,
+            face_group,
+            origin_group[slow],
+            lift,
+            near[slow],
+        )
+        inward[slow], outward[slow] = part.inward, part.outward
+        known[slow], sign[slow] = part.inward_known, part.inward_sign
+    return Thickness(inward, outward, known, sign)
+
+
+def _thickness_of_hits(
+    caster, origins, normals, origin_face, allowed, face_group, origin_group, lift, near
+) -> Thickness:
+    """:func:`thickness` from all the hits of the rays (:meth:`RayCaster.hits`)."""
+    n = len(origins)
     same = (face_group, origin_group)
     forward = _first_hits(caster, origins, normals, origin_face, lift, near, same)
     backward = _first_hits(caster, origins, -normals, origin_face, lift, near, same)
@@ -330,6 +439,18 @@ def thickness(
     return Thickness(inward, outward, known, sign)
 
 
+def _lifted(face: np.ndarray, tuv: np.ndarray, origins: np.ndarray, lift) -> np.ndarray:
+    """t of hits (t, u, v) on faces, where ``lift`` moves the hit to the smooth surface the
+    distance from the ray's origin to the moved point."""
+    if lift is None or not len(face):
+        return tuv[:, 0]
+    uv = tuv[:, 1:]
+    bary = np.c_[1 - uv.sum(axis=1), uv]
+    points, moved = lift(face, bary)
+    distance = np.linalg.norm(points - origins, axis=1)
+    return np.where(moved, distance, tuv[:, 0])
+
+
 def _first_per_ray(ray: np.ndarray, keep: np.ndarray | None = None) -> np.ndarray:
     """Index of the first entry of each ray (among ``keep``) in arrays sorted by ray."""
     index = np.arange(len(ray)) if keep is None else np.flatnonzero(keep)
@@ -353,10 +474,8 @@ def _first_hits(caster: RayCaster, origins, directions, origin_face, lift, near,
     hits = hits.take(~own)
     hits = hits.take(_distinct_crossings(hits.ray, hits.t, caster.start))
     if lift is not None and len(hits.t):
-        bary = np.c_[1 - hits.uv.sum(axis=1), hits.uv]
-        points, moved = lift(hits.face, bary)
-        distance = np.linalg.norm(points - origins[hits.ray], axis=1)
-        hits = Hits(hits.ray, hits.face, np.where(moved, distance, hits.t), hits.uv)
+        t = _lifted(hits.face, np.c_[hits.t, hits.uv], origins[hits.ray], lift)
+        hits = Hits(hits.ray, hits.face, t, hits.uv)
     return hits
 
 
