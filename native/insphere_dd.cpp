@@ -14,10 +14,12 @@
 // argument, step by step:
 //
 // 1. Inputs. a_ij = p_i[j] - p0[j] as double-doubles (Two-Sum: exact). All are multiplied by
-//    one power of two that puts the largest |hi| in [1, 2); the stage gives up (0) when a
-//    nonzero part would fall below 2^-900 (scaling by a power of two is then exact, and every
-//    |a_ij| <= 2), or when an input is not finite. The signs of both determinants are unchanged
-//    (homogeneous polynomials times a positive factor).
+//    one power of two that puts the largest |hi| in [1, 2); the stage gives up (0) when a part
+//    nonzero before the scaling is below 2^-900 after it (ldexp may round a part to zero:
+//    tested before it), or when a hi or lo part is not finite (an overflow inside Two-Sum
+//    would show in lo). Scaling by a power of two is then exact, and every |a_ij| < 2. The
+//    signs of both determinants are unchanged (homogeneous polynomials times a positive
+//    factor).
 // 2. The determinants. Delta4 = det[a_1..a_3] (the orientation of p0..p3) and
 //    r = sum_k (-1)^(k+1) Delta_k * q_k with q_i = |a_i|^2 (geogram's expansion of side4), as
 //    trees of double-double operations of depth 5 and 10: products of a_ij (depth 1), the 2x2
@@ -31,13 +33,16 @@
 //    value is the sum of the exact monomials, each times a product of at most D such factors,
 //    so |computed - exact| <= gamma_D * P with gamma_D = D*7u^2/(1 - D*7u^2) and P the same
 //    tree evaluated on |a_ij| with every sign +. For D = 10: gamma_10 < 71u^2 < 2^-99.8.
-// 4. P is evaluated in double on |hi| (1 + 2^-52) (at least |a_ij| (1 - 2^-105): Two-Sum's lo
-//    is at most u |hi|), all terms positive: fewer than 20 roundings, so P <= P_double
-//    (1 + 2^-47).
-// 5. Underflow. After step 1 every quantity in the trees is at most 2^12 in size; a product
-//    that underflows adds at most 2^-1074 beyond the relative bound, an addition none (a
-//    subnormal sum is exact). Fewer than 2^10 operations, each error carried through at most
-//    two later products by factors below 2^12: the sum stays below 2^-1040.
+// 4. P is evaluated in double on RN(|hi| (1 + 2^-52)) >= |hi| + ulp(hi) >= |a_ij| (Two-Sum's
+//    |lo| is at most ulp(hi)/2), all terms positive: at most 10 roundings on a path, so
+//    P <= P_double (1 + 2^-47) where no product of sizes underflows; where some do, P_double
+//    misses at most 2^-1040, which 2^-96 turns into nothing step 6 could not absorb.
+// 5. Underflow. After step 1 every quantity in the trees is below 2^12 in size. A DWTimesDW1
+//    whose floating-point products round in the subnormal range adds at most six half-units
+//    2^-1075 beyond the relative bound (four in Dekker's product, whose additions stay exact,
+//    two in the cross terms); an addition none (a subnormal sum is exact, and Two-Sum and
+//    Fast-Two-Sum stay exact). 52 products, each error carried through at most two later
+//    products by factors below 2^12: the sum stays below 52 * 3 * 2^-1074 * 2^24 < 2^-1040.
 // 6. So |computed - exact| <= B = 2^-96 P_double + 2^-1000 (more than 12 times the bound of
 //    3-5), and the exact value has the sign of the computed hi part when |hi| > 2 B (the lo
 //    part is below u |hi|). Delta4 is treated the same way with its own P.
@@ -45,7 +50,18 @@
 // A test compares the stage with an exact rational evaluation on rounded cospherical and
 // exactly cospherical points (tests/sampling/test_geogram_delaunay.py).
 
+#include <cfloat>
 #include <cmath>
+
+// The error-free transformations need each operation rounded once to double, in round to
+// nearest; the build also passes -ffp-contract=off (a fused multiply-add in Dekker's splitting
+// would break it), which no macro reveals.
+#if defined(__FAST_MATH__)
+#error "insphere_dd.cpp needs IEEE arithmetic: build without -ffast-math"
+#endif
+#if FLT_EVAL_METHOD != 0
+#error "insphere_dd.cpp needs double operations evaluated in double (FLT_EVAL_METHOD 0)"
+#endif
 
 namespace vb_insphere {
 
@@ -128,7 +144,7 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
     for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 3; ++j) {
             a[i][j] = two_sum(rows[i][j], -p0[j]);
-            if (!std::isfinite(a[i][j].hi)) {
+            if (!std::isfinite(a[i][j].hi) || !std::isfinite(a[i][j].lo)) {
                 return 0;
             }
             largest = std::fmax(largest, std::fabs(a[i][j].hi));
@@ -143,11 +159,15 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
     double size[4][3];
     for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 3; ++j) {
+            // A nonzero part is tested before scaling: ldexp may round it to zero (a shift
+            // below -1 and a part below 2^(-1074-shift)), and 0 would pass as exact.
+            const bool hi_nonzero = a[i][j].hi != 0.0;
+            const bool lo_nonzero = a[i][j].lo != 0.0;
             a[i][j].hi = std::ldexp(a[i][j].hi, shift);
             a[i][j].lo = std::ldexp(a[i][j].lo, shift);
             const double hi = std::fabs(a[i][j].hi);
             const double lo = std::fabs(a[i][j].lo);
-            if ((hi != 0.0 && hi < SMALLEST_PART) || (lo != 0.0 && lo < SMALLEST_PART)) {
+            if ((hi_nonzero && hi < SMALLEST_PART) || (lo_nonzero && lo < SMALLEST_PART)) {
                 return 0;
             }
             size[i][j] = hi * UP;

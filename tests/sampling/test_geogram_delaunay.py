@@ -347,10 +347,141 @@ def test_the_stage_changes_no_tetrahedron_on_cospherical_families():
     for c in centres:
         angle = rng.uniform(0, 2 * np.pi, 40)
         points.append(c + [0.5, 0, 0] + 0.7 * np.c_[np.zeros(40), np.cos(angle), np.sin(angle)])
-    points = np.concatenate(points)
+    assert _the_stage_changes_nothing(np.concatenate(points))
+
+
+def _the_stage_changes_nothing(points) -> bool:
+    """True when geogram's triangulation of ``points`` is the same array with the double-double
+    stage on and off."""
     try:
         geogram_delaunay.set_double_double(False)
         exact_only = delaunay_tetrahedra(points, engine="geogram")
     finally:
         geogram_delaunay.set_double_double(True)
-    assert np.array_equal(delaunay_tetrahedra(points, engine="geogram"), exact_only)
+    return np.array_equal(delaunay_tetrahedra(points, engine="geogram"), exact_only)
+
+
+def _sphere_lattice(radius2, bound):
+    """Integer points (k, 3) with x² + y² + z² = radius2 and |coordinates| ≤ bound."""
+    axis = np.arange(-bound, bound + 1)
+    x, y, z = np.meshgrid(axis, axis, axis, indexing="ij")
+    on = x**2 + y**2 + z**2 == radius2
+    return np.c_[x[on], y[on], z[on]].astype(float)
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_the_stage_at_its_threshold_never_contradicts_rational_arithmetic():
+    """Exactly cospherical lattice points (x² + y² + z² = 1105) at scales 2^±600, with one or
+    two zero coordinates moved by 2^-36..2^-56 of the size: |r| over the sum of its monomials'
+    sizes falls around 2^-95, where the stage's bound puts its threshold, so it both decides and
+    gives up; whatever it decides is the rational sign (and geogram's whole predicate agrees in
+    the exact frame)."""
+    sphere = _sphere_lattice(1105, 34)
+    sphere = sphere[(sphere == 0).any(axis=1)]
+    rng = np.random.default_rng(0)
+    answers = {0: 0, 1: 0}
+    for _ in range(200):
+        points = sphere[rng.choice(len(sphere), 5, replace=False)]
+        if _orientation(points) == 0:
+            continue  # a flat first four: geogram's callers never ask
+        exponent = int(rng.integers(-600, 600))
+        points = np.ldexp(points, exponent)
+        zeros = np.argwhere(points == 0)
+        for i, j in zeros[rng.choice(len(zeros), min(2, len(zeros)), replace=False)]:
+            shift = exponent - int(rng.integers(36, 56))
+            points[i, j] = np.ldexp(rng.uniform(0.5, 1) * rng.choice([-1, 1]), shift)
+        points = _positive(points)
+        exact = _side4_exact(points)
+        staged = geogram_delaunay.side4_stages(points)[0]
+        assert staged in (0, exact)
+        if exact:
+            answers[abs(staged)] += 1
+            assert geogram_delaunay.side4_stages(geogram_delaunay.exact_frame(points))[1] == exact
+    assert answers[1] >= 10 and answers[0] >= 10
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_the_stage_is_right_where_its_products_underflow():
+    """A sphere through p0 = 0 and four points at distances 2^0..2^-500 from it (heights about
+    the squares of those): products of the small differences fall below 2^-1022, which the
+    bound's absolute term covers; most tests are still decided, all rightly."""
+    rng = np.random.default_rng(0)
+    decided = tried = 0
+    for _ in range(300):
+        points = np.zeros((5, 3))
+        x, y = np.ldexp(rng.uniform(-0.7, 0.7, (2, 4)), -rng.integers(0, 500, 4))
+        points[1:] = np.c_[x, y, (x * x + y * y) / (1 + np.sqrt(1 - x * x - y * y))]
+        points = _positive(points)
+        exact = _side4_exact(points)
+        staged = geogram_delaunay.side4_stages(points)[0]
+        assert staged in (0, exact)
+        tried += exact != 0
+        decided += staged != 0
+    assert decided >= 0.3 * tried
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+@pytest.mark.parametrize("family", ["subnormal", "huge", "mixed"])
+def test_the_stage_is_right_on_extreme_exponents(family):
+    """Coordinates that are multiples of 2^-1074, near 2^1000, or a mix of 2^-1074..2^1023 with
+    values near 1 and zeros: the stage's sign is the rational one or 0."""
+    rng = np.random.default_rng(5)
+    for _ in range(150):
+        if family == "subnormal":
+            points = rng.integers(-(2**20), 2**20, (5, 3)) * 2.0**-1074
+        elif family == "huge":
+            points = np.ldexp(_on_sphere(rng, 5, rng.uniform(-0.3, 0.3, 3), 0.5), 1000)
+        else:
+            exponents = np.where(rng.random((5, 3)) < 0.5, rng.integers(-1074, 1000, (5, 3)), 0)
+            points = np.ldexp(rng.uniform(-2, 2, (5, 3)), exponents)
+            points[rng.random((5, 3)) < 0.15] = 0.0
+        if _orientation(points) == 0:
+            continue
+        points = _positive(points)
+        assert geogram_delaunay.side4_stages(points)[0] in (0, _side4_exact(points))
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+@pytest.mark.parametrize("copy", [0, 1, 2, 3])
+def test_a_repeated_point_is_left_to_the_exact_stage(copy):
+    """p4 at the coordinates of p0..p3: r is exactly 0 (a zero row, or two equal rows), so the
+    stage answers 0 and the symbolic perturbation decides."""
+    points = _positive(_on_sphere(np.random.default_rng(2), 5, np.array([0.3, -0.2, 0.1]), 0.7))
+    points[4] = points[copy]
+    staged, full = geogram_delaunay.side4_stages(points)
+    assert staged == 0
+    assert full in (-1, 1)
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+@pytest.mark.parametrize("where", ["hi", "lo"])
+def test_a_part_the_scaling_would_round_to_zero_makes_the_stage_give_up(where):
+    """Differences up to 2^1000 next to one of 2^-1074 (a hi part), or a difference 2^1000 +
+    2^-1074 (its lo part): the power of two that brings 2^1000 to [1, 2) rounds 2^-1074 to 0,
+    so the scaling would not be exact; the stage gives up instead of deciding on other
+    numbers (before the fix it answered, rightly only thanks to its absolute slack)."""
+    big = 2.0**1000
+    points = np.array([[0, 0, 0], [big, 0, 0], [0, big, 0], [0, 0, big], [big / 2, big / 2, 0]])
+    if where == "hi":
+        points[4, 2] = 2.0**-1074
+    else:
+        points[0, 0] = -(2.0**-1074)
+    assert _orientation(points) == 1 and _side4_exact(points) == -1
+    assert geogram_delaunay.side4_stages(points)[0] == 0
+
+
+@pytest.mark.skipif(not geogram_delaunay.available(), reason="compiled module not built")
+def test_the_stage_changes_no_tetrahedron_on_rotated_lattices_and_concentric_spheres():
+    """A rotated (rounded) lattice, concentric spheres with a shared set of directions, and a
+    sphere with its centre: the same array with the double-double stage on and off."""
+    rng = np.random.default_rng(13)
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    lattice = np.array([[x, y, z] for x in range(12) for y in range(12) for z in range(12)], float)
+    directions = _on_sphere(rng, 1200, np.zeros(3), 1.0)
+    families = [
+        lattice @ rotation,
+        np.concatenate([r * directions for r in (1.0, 2.0, 3.0)]),
+        np.concatenate([directions, [[0.0, 0.0, 0.0]]]),
+    ]
+    for points in families:
+        assert _the_stage_changes_nothing(points)
