@@ -77,7 +77,9 @@ def side4_stages(points: np.ndarray) -> tuple[int, int]:
     """geogram's side4 sign of five points (5, 3) (+1 when the last lies outside the sphere
     through the first four, which must be positively oriented), as (the double-double stage's
     sign, 0 when it is not sure; the whole predicate's, exact with the symbolic perturbation, 0
-    when geogram failed). For tests: the points are not moved into the exact frame."""
+    when geogram failed). For tests: the points are not moved into the exact frame, and outside
+    it (:func:`exact_frame`) geogram's own expansions may overflow or underflow, so only the
+    stage's sign is meaningful there."""
     library = _library()
     if library is None:
         raise RuntimeError("the compiled module is not built")
