@@ -110,7 +110,7 @@ def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -
         return ~near
 
     tree = cKDTree(feature.points)
-    gap, found = nearest_allowed(tree, query_points, far, (16, 64, 256))
+    gap, found = nearest_allowed(tree, query_points, far, (16, 64, 256), FEATURE_PAIRS)
     # The rest: among the k nearest points, k one more than the points on the site's own and
     # related curves, one is on a curve that counts (exact, and bounded by the curves' sizes,
     # not by all feature points at once).
@@ -124,16 +124,13 @@ def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -
         width = 2 ** np.ceil(np.log2(need)).astype(np.int64)
         for k in np.unique(width):
             rows = todo[width == k]
-            step = max(1, FEATURE_PAIRS // int(k))
-            for lo in range(0, len(rows), step):
-                chunk = rows[lo : lo + step]
 
-                def far_chunk(sub, index, chunk=chunk):
-                    return far(chunk[sub], index)
+            def far_rows(sub, index, rows=rows):
+                return far(rows[sub], index)
 
-                gap[chunk], _ = nearest_allowed(
-                    tree, query_points[chunk], far_chunk, (int(min(k, len(feature.points))),)
-                )
+            gap[rows], _ = nearest_allowed(
+                tree, query_points[rows], far_rows, (int(k),), FEATURE_PAIRS
+            )
     return np.minimum(radius, gap / 2)
 
 
