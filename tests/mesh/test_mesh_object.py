@@ -97,6 +97,10 @@ def test_nearest_allowed_is_the_nearest_point_of_an_allowed_label():
         assert np.array_equal(full[found, index[found]], best[found])
         if neighbours[-1] == len(points):  # every allowed point was reachable
             assert np.array_equal(found, np.isfinite(best))
+        for pairs in (1, 7, 50):  # queries in chunks of pairs // k: the same answers
+            chunked = nearest_allowed(cKDTree(points), queries, ok, neighbours, pairs)
+            assert np.array_equal(chunked[0], distance)
+            assert np.array_equal(chunked[1], index)
         assert (distance[~found] == np.inf).all()
 
 

@@ -322,16 +322,20 @@ def test_compiled_and_numpy_searches_agree(monkeypatch):
     assert np.array_equal(distance, distance_np)
 
 
-def test_feature_gap_beyond_the_nearest_points_is_exact():
+@pytest.mark.parametrize("numpy_only", ["", "1"])
+def test_feature_gap_beyond_the_nearest_points_is_exact(numpy_only, monkeypatch):
     """Feature sites whose nearest few hundred feature points all lie on their own or related
     curves (a cylinder's rim, sampled finely) get the nearest point of another curve, as a
-    loop over all of them gives (the search is bounded by the related curves' points)."""
+    loop over all of them gives: with numba one walk of the box tree with the curves as labels,
+    without it k-d tree searches bounded by the related curves' points. Sites on two curves
+    (−1 padded rows beside them) avoid both curves' relatives."""
     from vorobound.sampling.lfs import features
     from vorobound.sampling.lfs.face_sites import edge_sites
     from vorobound.sampling.lfs.mesh_quality import prepare_mesh
     from vorobound.sampling.lfs.patches import find_patches
     from vorobound.sampling.surfaces.cad_meshes import capped_cylinder
 
+    monkeypatch.setenv("VOROBOUND_PURE_NUMPY", numpy_only)
     prepared = prepare_mesh(capped_cylinder(radius=10.0, length=10.0, segments=64))
     patches = find_patches(prepared, 30.0)
     spacing = 0.001
@@ -339,15 +343,20 @@ def test_feature_gap_beyond_the_nearest_points_is_exact():
         prepared.points, patches.feature_edges, lambda x, e: np.full(len(x), spacing)
     )
     assert len(feature.points) > 1000
-    curves = patches.edge_curve[feature.edge][:, None]
+    own = patches.edge_curve[feature.edge]
+    curves = np.c_[own, np.full(len(own), -1)]
+    curves[::7, 1] = (own[::7] + 1) % patches.curves
     radius = np.full(len(feature.points), np.inf)
     got = features.feature_lfs(feature.points, curves, radius, patches, feature)
     related = patches.curve_adjacent | np.eye(patches.curves, dtype=bool)
-    expected = np.empty(len(feature.points))
+    expected = np.full(len(feature.points), np.inf)
     for i, point in enumerate(feature.points):
-        far = ~related[curves[i, 0], patches.edge_curve[feature.edge]]
-        expected[i] = np.linalg.norm(feature.points[far] - point, axis=1).min() / 2
-    assert np.isfinite(expected).all()
+        far = np.ones(len(own), dtype=bool)
+        for curve in curves[i][curves[i] >= 0]:
+            far &= ~related[curve, own]
+        if far.any():
+            expected[i] = np.linalg.norm(feature.points[far] - point, axis=1).min() / 2
+    assert np.isfinite(expected[curves[:, 1] < 0]).all()
     np.testing.assert_array_equal(got, expected)
 
 

@@ -9,6 +9,7 @@ import numpy as np
 
 from ...mesh.nearest import nearest_allowed
 from .lipschitz import DistanceCap
+from .medial import compiled_poles
 from .patches import Patches
 
 
@@ -109,8 +110,21 @@ def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -
             near |= hit & valid[:, None]
         return ~near
 
+    compiled = compiled_poles()
+    if compiled is not None:
+        # One walk of the poles' box tree with the curves as labels, each site's label its
+        # set of curves (the same distances as the k-d tree's, without the k nearest points
+        # of its own curves, thousands where the curves are finely cut).
+        groups, group = np.unique(query_curves, axis=0, return_inverse=True)
+        allowed = np.ones((len(groups), patches.curves), dtype=bool)
+        for column in range(groups.shape[1]):
+            valid = groups[:, column] >= 0
+            allowed[valid] &= ~related[groups[valid, column]]
+        tree = compiled.PoleTree(feature.points, target_curve)
+        gap = tree.nearest_allowed(query_points, group.reshape(-1), allowed)[0]
+        return np.minimum(radius, gap / 2)
     tree = cKDTree(feature.points)
-    gap, found = nearest_allowed(tree, query_points, far, (16, 64, 256))
+    gap, found = nearest_allowed(tree, query_points, far, (16, 64, 256), FEATURE_PAIRS)
     # The rest: among the k nearest points, k one more than the points on the site's own and
     # related curves, one is on a curve that counts (exact, and bounded by the curves' sizes,
     # not by all feature points at once).
@@ -124,16 +138,13 @@ def feature_lfs(query_points, query_curves, radius, patches: Patches, feature) -
         width = 2 ** np.ceil(np.log2(need)).astype(np.int64)
         for k in np.unique(width):
             rows = todo[width == k]
-            step = max(1, FEATURE_PAIRS // int(k))
-            for lo in range(0, len(rows), step):
-                chunk = rows[lo : lo + step]
 
-                def far_chunk(sub, index, chunk=chunk):
-                    return far(chunk[sub], index)
+            def far_rows(sub, index, rows=rows):
+                return far(rows[sub], index)
 
-                gap[chunk], _ = nearest_allowed(
-                    tree, query_points[chunk], far_chunk, (int(min(k, len(feature.points))),)
-                )
+            gap[rows], _ = nearest_allowed(
+                tree, query_points[rows], far_rows, (int(k),), FEATURE_PAIRS
+            )
     return np.minimum(radius, gap / 2)
 
 
