@@ -17,6 +17,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <exception>
 #include <mutex>
@@ -56,10 +57,11 @@ void start_geogram() {
 extern "C" {
 
 // Triangulates the n points (x, y, z rows of `points`). On success returns 0 and sets *cells to
-// a new array of 4 * *count vertex indices (the finite tetrahedra, each row ascending), to be
-// freed with vb_free_cells. Returns 1 when geogram failed (an assertion or an allocation), 2
-// for n out of range.
-int vb_delaunay_cells(const double* points, int64_t n, int64_t** cells, int64_t* count) {
+// a new array of 4 * *count vertex indices (the finite tetrahedra, each row ascending; with
+// `ordered` nonzero the rows in lexicographic order), to be freed with vb_free_cells. Returns 1
+// when geogram failed (an assertion or an allocation), 2 for n out of range.
+int vb_delaunay_cells(const double* points, int64_t n, int ordered, int64_t** cells,
+                      int64_t* count) {
     *cells = nullptr;
     *count = 0;
     if (n < 0 || n >= INT32_MAX) {
@@ -91,6 +93,12 @@ int vb_delaunay_cells(const double* points, int64_t n, int64_t** cells, int64_t*
             }
             std::sort(row, row + 4);
             ++k;
+        }
+        if (ordered) {
+            using Row = std::array<int64_t, 4>;  // 32 bytes, no padding: the rows in place
+            static_assert(sizeof(Row) == 4 * sizeof(int64_t), "a row is four indices");
+            Row* rows = reinterpret_cast<Row*>(out);
+            std::sort(rows, rows + finite);
         }
         *cells = out;
         *count = finite;

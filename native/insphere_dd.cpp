@@ -156,6 +156,10 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
     int exponent = 0;
     std::frexp(largest, &exponent);  // largest in [2^(exponent-1), 2^exponent)
     const int shift = 1 - exponent;  // puts the largest |hi| in [1, 2)
+    // A product with 2^shift where that is a double (the same correctly rounded result as
+    // ldexp, without a call per part), ldexp beyond.
+    const bool by_product = shift >= -1022 && shift <= 1023;
+    const double factor = by_product ? std::ldexp(1.0, shift) : 1.0;
     double size[4][3];
     for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 3; ++j) {
@@ -163,8 +167,13 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
             // below -1 and a part below 2^(-1074-shift)), and 0 would pass as exact.
             const bool hi_nonzero = a[i][j].hi != 0.0;
             const bool lo_nonzero = a[i][j].lo != 0.0;
-            a[i][j].hi = std::ldexp(a[i][j].hi, shift);
-            a[i][j].lo = std::ldexp(a[i][j].lo, shift);
+            if (by_product) {
+                a[i][j].hi *= factor;
+                a[i][j].lo *= factor;
+            } else {
+                a[i][j].hi = std::ldexp(a[i][j].hi, shift);
+                a[i][j].lo = std::ldexp(a[i][j].lo, shift);
+            }
             const double hi = std::fabs(a[i][j].hi);
             const double lo = std::fabs(a[i][j].lo);
             if ((hi_nonzero && hi < SMALLEST_PART) || (lo_nonzero && lo < SMALLEST_PART)) {
@@ -173,21 +182,24 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
             size[i][j] = hi * UP;
         }
     }
-    // 2x2 minors of columns 1, 2 (rows i, k), then the 3x3 determinants Delta_k without row k.
-    auto minor = [&](int i, int k) {
-        return sub(mul(a[i][1], a[k][2]), mul(a[i][2], a[k][1]));
-    };
-    auto minor_size = [&](int i, int k) {
-        return size[i][1] * size[k][2] + size[i][2] * size[k][1];
-    };
-    auto det3 = [&](int i, int k, int l) {
-        DD d = mul(a[i][0], minor(k, l));
-        d = sub(d, mul(a[k][0], minor(i, l)));
-        return add(d, mul(a[l][0], minor(i, k)));
+    // The six 2x2 minors of columns 1, 2 (rows i < k), computed once as geogram does, then the
+    // 3x3 determinants Delta_k without row k.
+    DD minor[4][4];
+    double minor_size[4][4];
+    for (int i = 0; i < 4; ++i) {
+        for (int k = i + 1; k < 4; ++k) {
+            minor[i][k] = sub(mul(a[i][1], a[k][2]), mul(a[i][2], a[k][1]));
+            minor_size[i][k] = size[i][1] * size[k][2] + size[i][2] * size[k][1];
+        }
+    }
+    auto det3 = [&](int i, int k, int l) {  // i < k < l
+        DD d = mul(a[i][0], minor[k][l]);
+        d = sub(d, mul(a[k][0], minor[i][l]));
+        return add(d, mul(a[l][0], minor[i][k]));
     };
     auto det3_size = [&](int i, int k, int l) {
-        return size[i][0] * minor_size(k, l) + size[k][0] * minor_size(i, l) +
-               size[l][0] * minor_size(i, k);
+        return size[i][0] * minor_size[k][l] + size[k][0] * minor_size[i][l] +
+               size[l][0] * minor_size[i][k];
     };
     const DD delta4 = det3(0, 1, 2);
     const int orientation =

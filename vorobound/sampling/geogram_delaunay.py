@@ -60,6 +60,7 @@ def _library() -> ctypes.CDLL | None:
     library.vb_delaunay_cells.argtypes = [
         ctypes.c_void_p,
         ctypes.c_int64,
+        ctypes.c_int,
         ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
         ctypes.POINTER(ctypes.c_int64),
     ]
@@ -141,7 +142,7 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     count = ctypes.c_int64()
     with _LOCK:  # one at a time: geogram's random engine (restarted per call) is global
         code = library.vb_delaunay_cells(
-            scaled.ctypes.data, len(scaled), ctypes.byref(cells), ctypes.byref(count)
+            scaled.ctypes.data, len(scaled), int(ordered), ctypes.byref(cells), ctypes.byref(count)
         )
     if code != 0:
         return None
@@ -153,8 +154,10 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
         )
     finally:
         library.vb_free_cells(cells)
-    tetrahedra = first_copies(scaled, tetrahedra)
-    return lexicographic_rows(tetrahedra, len(points)) if ordered else tetrahedra
+    # The module orders the rows (a sort of 32-byte rows in C++, a third of numpy's two-key
+    # lexsort); copies mapped to their first point need the numpy sort again.
+    found = first_copies(scaled, tetrahedra)
+    return lexicographic_rows(found, len(points)) if ordered and found is not tetrahedra else found
 
 
 def first_copies(points: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:
