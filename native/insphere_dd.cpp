@@ -15,8 +15,8 @@
 //
 // 1. Inputs. a_ij = p_i[j] - p0[j] as double-doubles (Two-Sum: exact). All are multiplied by
 //    one power of two that puts the largest |hi| in [1, 2); the stage gives up (0) when a part
-//    nonzero before the scaling is below 2^-900 after it (ldexp may round a part to zero:
-//    tested before it), or when a hi or lo part is not finite (an overflow inside Two-Sum
+//    nonzero before the scaling is below 2^-900 after it (the scaling, a product with
+//    2^shift or ldexp, both correctly rounded, may round a part to zero: tested before it), or when a hi or lo part is not finite (an overflow inside Two-Sum
 //    would show in lo). Scaling by a power of two is then exact, and every |a_ij| < 2. The
 //    signs of both determinants are unchanged (homogeneous polynomials times a positive
 //    factor).
@@ -24,7 +24,9 @@
 //    r = sum_k (-1)^(k+1) Delta_k * q_k with q_i = |a_i|^2 (geogram's expansion of side4), as
 //    trees of double-double operations of depth 5 and 10: products of a_ij (depth 1), the 2x2
 //    minors (2), the minor times a_ij (3), the three-term sums Delta_k (5), q_i (3), the
-//    products Delta_k q_k (6) and the four-term sum started from zero (10).
+//    products Delta_k q_k (6) and the four-term sum started from zero (10). The six minors are
+//    computed once and shared by the Delta_k: each use reads the same computed value, so the
+//    bound below holds as for the tree the sharing unfolds to.
 // 3. Each operation returns op(x, y)(1 + d) with |d| <= 7u^2 (u = 2^-53) for the computed
 //    operands x, y: products by DWTimesDW1 (7u^2), sums by AccurateDWPlusDW (3u^2/(1-4u)), in
 //    the absence of underflow (Joldes, Muller, Popescu, "Tight and rigorous error bounds for
@@ -41,7 +43,7 @@
 //    whose floating-point products round in the subnormal range adds at most six half-units
 //    2^-1075 beyond the relative bound (four in Dekker's product, whose additions stay exact,
 //    two in the cross terms); an addition none (a subnormal sum is exact, and Two-Sum and
-//    Fast-Two-Sum stay exact). 52 products, each error carried through at most two later
+//    Fast-Two-Sum stay exact). At most 52 products, each error carried through at most two later
 //    products by factors below 2^12: the sum stays below 52 * 3 * 2^-1074 * 2^24 < 2^-1040.
 // 6. So |computed - exact| <= B = 2^-96 P_double + 2^-1000 (more than 12 times the bound of
 //    3-5), and the exact value has the sign of the computed hi part when |hi| > 2 B (the lo

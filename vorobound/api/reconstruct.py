@@ -257,7 +257,7 @@ def reconstruct(
 
     ``slabs`` (N ≥ 1): triangulate the seeds in N overlapping slabs, one at a time (memory
     bounded by a slab, the same M̂, certified complete; the whole set where a check fails);
-    1 the whole set at once; None (default) one slab per 400,000 seeds above 750,000 seeds.
+    1 the whole set at once; None (default) one slab per 400,000 seeds above 1,500,000 seeds.
 
     ``out``: mhat.vtu, mhat.ply, seeds.vtu, seeds.csv, summary.json and the quality figure (a
     sweep: sweep.csv, summary.json and its figure; repeated draws: draws.csv, summary.json and,

@@ -114,7 +114,7 @@ def reconstruct(
             help="Triangulate the seeds in N overlapping slabs, one at a time: memory bounded "
             "by a slab, the same M̂ (certified complete; the whole set at once where a check "
             "fails). 1: the whole set at once. Default: one slab per 400,000 seeds above "
-            "750,000 seeds. 1 ≤ N ≤ 10000.",
+            "1,500,000 seeds. 1 ≤ N ≤ 10000.",
         ),
     ] = None,
     out: Annotated[

@@ -238,7 +238,7 @@ def inout_facets(
         Triangulate the seeds in this many overlapping slabs, one at a time (exact engines and the
         compiled kernels only; :mod:`.slabs`: the same facets, certified complete, memory bounded by
         a slab; where a check fails, the whole set at once). 1: the whole set at once. None
-        (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS`` (750,000) seeds, where
+        (default): ``slabs.slab_count(n)``, one slab up to ``WHOLE_SEEDS`` (1,500,000) seeds, where
         the whole set is faster, then one per ``SLAB_SEEDS``.
 
     Returns

@@ -16,7 +16,7 @@ the same holds of the perturbed balls: seeds strictly outside a ball are not aff
 tetrahedron is *certified* (its ball, widened by its rounding error, inside W). The tetrahedra
 around an owned edge ab in DT(Q) form a closed cycle; when every one is certified they are
 tetrahedra of DT(P) that close around ab, hence all the tetrahedra around ab in DT(P) (the link of
-an interior edge is one cycle). The simplex tree gives tetrahedra in the lexicographic order of
+an interior edge is one cycle). The engine gives tetrahedra in the lexicographic order of
 their vertices, and a slab's vertices keep the order of the seeds, so the walk around ab starts at
 the same tetrahedron and the circumcentres are computed from the same coordinates in the same order:
 the cycle, its orientation and its circumcentres are the whole set's, bit for bit, and so is M̂
@@ -103,11 +103,12 @@ import numpy as np
 from ...progress import Counter, Progress
 from .engine import delaunay_tetrahedra
 
-WHOLE_SEEDS = 750_000
+WHOLE_SEEDS = 1_500_000
 """Up to this many seeds the whole set is triangulated at once (faster: the slabs trade CPU
-time for memory, docs/reconstruct.md; the whole set's peak grows about linearly, 3.16 GB for
-M̂ of the cube's 1.08·10⁶ seeds against 1.88 GB in 3 slabs, by ``bench_reconstruct.py --slabs
-cube-0.0095``)."""
+time for memory, docs/reconstruct.md; the whole set's peak grows about linearly). On geogram,
+M̂ of the cube's 1.08·10⁶ seeds takes 23.9 CPU-s and 1.37 GB at once against 30.1 CPU-s and
+1.29 GB in 3 slabs (``bench_reconstruct.py --slabs cube-0.0095``); on CGAL's route, with its
+simplex tree, it was 3.16 GB against 1.88, and the threshold 750,000."""
 SLAB_SEEDS = 400_000
 """Seeds per slab core above ``WHOLE_SEEDS``."""
 PROBE_SIZE = 0.005
