@@ -126,8 +126,9 @@ def exact_frame(points: np.ndarray) -> np.ndarray | None:
 def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray | None:
     """The finite tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as
     point indices (int64, ascending within a row; with ``ordered`` the rows in lexicographic
-    order, the order of GUDHI's simplex tree: a sort that costs about 0.7 times the
-    triangulation, otherwise geogram's order, the same on every call); no rows when the points
+    order, the order of GUDHI's simplex tree, sorted in C++: on 10⁶ random points 0.7–1.3 CPU-s
+    more than the 4.9–5.1 of the triangulation, where numpy's sort of the rows took 3.2;
+    otherwise geogram's order, the same on every call); no rows when the points
     span no volume. None when the compiled module is missing, the input is outside the exact
     range (module docstring) or geogram failed: the caller then uses CGAL."""
     library = _library()
@@ -154,8 +155,8 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
         )
     finally:
         library.vb_free_cells(cells)
-    # The module orders the rows (a sort of 32-byte rows in C++, a third of numpy's two-key
-    # lexsort); copies mapped to their first point need the numpy sort again.
+    # The module orders the rows (a sort of 32-byte rows in C++, docstring); copies mapped to
+    # their first point need the numpy sort again.
     found = first_copies(scaled, tetrahedra)
     return lexicographic_rows(found, len(points)) if ordered and found is not tetrahedra else found
 
