@@ -18,7 +18,7 @@ no term exceeds 2¹⁰: no rounding is lost. (The floating-point filters in fron
 give up, and leave the sign to them, whenever their inputs leave the range where their error bound
 holds.) Between geogram's double filter and its expansions, the in-sphere test has a double-double
 stage with a proven error bound (``native/insphere_dd.cpp`` states the argument): VoroCrust's seeds,
-cospherical before rounding, sent a fifth of the tests to the expansions, and the stage halves the
+cospherical before rounding, sent many of the tests to the expansions, and the stage halves the
 triangulation's time on them (:func:`set_double_double`, ``python benchmarks/bench_engines.py cells
 --cube``). Other inputs (wider spreads of magnitude, non-finite values, fewer than five points)
 return None, and the caller uses CGAL. Degenerate position is resolved by the lexicographic symbolic
