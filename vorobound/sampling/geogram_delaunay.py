@@ -83,7 +83,9 @@ def side4_stages(points: np.ndarray) -> tuple[int, int]:
     stage's sign is meaningful there."""
     library = _library()
     if library is None:
-        raise RuntimeError("the compiled module is not built")
+        from ..errors import MissingDependency
+
+        raise MissingDependency("geogram's module was not built with the package")
     five = np.ascontiguousarray(points, dtype=np.float64).reshape(15)
     staged, full = ctypes.c_int(), ctypes.c_int()
     with _LOCK:
