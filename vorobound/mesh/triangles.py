@@ -17,6 +17,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from .rows import unique_rows
+
 MIN_AREA_RTOL = 1e-14
 """Triangles with area below MIN_AREA_RTOL·(longest edge)² are slivers of no area."""
 
@@ -91,7 +93,7 @@ class TriangleMesh:
     def edges(self) -> np.ndarray:
         """Distinct edges (e, 2), smaller index first, in lexicographic order."""
         pairs = np.sort(self.triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-        return np.unique(pairs, axis=0)
+        return unique_rows(pairs)
 
     @cached_property
     def face_lengths(self) -> np.ndarray:
@@ -131,7 +133,7 @@ class TriangleMesh:
     def vertex_label_table(self, face_labels: np.ndarray) -> np.ndarray:
         """(n, k) the distinct labels of each vertex's triangles in increasing order, −1
         padded; ``face_labels`` (m,) one label per triangle."""
-        pairs = np.unique(np.c_[self.triangles.reshape(-1), np.repeat(face_labels, 3)], axis=0)
+        pairs = unique_rows(np.c_[self.triangles.reshape(-1), np.repeat(face_labels, 3)])
         counts = np.bincount(pairs[:, 0], minlength=len(self.points))
         width = max(1, int(counts.max()))
         table = np.full((len(self.points), width), -1)

@@ -128,3 +128,98 @@ def test_bulk_tetrahedra_are_the_delaunay_triangulation():
                 continue
             assert face <= set(tets[other].tolist())
     assert (neighbours >= 0).sum() == (qhull.neighbors >= 0).sum()
+
+
+def test_k_nearest_poles_are_the_brute_force_ones_in_order():
+    """The k nearest by distance, then by lowest index, with repeated sites (ties), and −1/inf
+    past the last pole."""
+    pytest.importorskip("numba")
+    from vorobound.sampling.lfs.compiled_poles import PoleTree
+
+    rng = np.random.default_rng(5)
+    base = rng.normal(size=(25, 3))
+    sites = np.vstack([base, base[::-1], rng.normal(size=(50, 3))])
+    queries = np.vstack([rng.normal(size=(400, 3)), base[:5]])
+    tree = PoleTree(sites, np.zeros(len(sites), dtype=np.int64))
+    distance, index = tree.k_nearest(queries, 6)
+    gaps = np.linalg.norm(queries[:, None] - sites[None], axis=2)
+    # The brute force in the same order: distance first, then the site's index.
+    order = np.lexsort((np.broadcast_to(np.arange(len(sites)), gaps.shape), gaps), axis=1)[:, :6]
+    assert np.array_equal(index, order)
+    np.testing.assert_allclose(distance, np.take_along_axis(gaps, order, 1), rtol=1e-15, atol=0)
+    few = PoleTree(sites[:3], np.zeros(3, dtype=np.int64)).k_nearest(queries[:4], 5)
+    assert (few[1][:, 3:] == -1).all() and np.isinf(few[0][:, 3:]).all()
+    assert (few[1][:, :3] >= 0).all()
+
+
+def test_the_consistency_test_with_backups_keeps_the_same_poles(monkeypatch):
+    """Samples that lose their nearest pole look among their next nearest first
+    (``_Backups``); without them (every search over all poles) the poles are the same, to the
+    last bit, on a torus where the test runs several rounds."""
+    pytest.importorskip("numba")
+    from vorobound.sampling.lfs import medial
+    from vorobound.sampling.surfaces.demo_meshes import torus_mesh
+
+    mesh = torus_mesh(3.0, 1.0, 200, 50, jitter=0.2, seed=1)
+    points = mesh.points / 8.0
+    ring = np.c_[mesh.points[:, :2], np.zeros(len(points))]
+    normals = mesh.points - ring * (3.0 / np.linalg.norm(ring, axis=1)[:, None])
+    triangulate, once = medial.delaunay_tetrahedra, []
+
+    def same_tetrahedra(moved):  # both runs on the same tetrahedra in the same row order
+        once.append(once[0] if once else triangulate(moved))
+        return once[-1]
+
+    backed = []
+    take = medial._Backups.take
+
+    def counting(self, *args):
+        found = take(self, *args)
+        backed.append(len(found[1]))
+        return found
+
+    with monkeypatch.context() as patch:
+        patch.setattr(medial, "delaunay_tetrahedra", same_tetrahedra)
+        patch.setattr(medial._Backups, "take", counting)
+        fast = medial.vertex_poles(points, normals, seed=2)
+        patch.setattr(medial, "compiled_poles", lambda: None)
+        plain = medial.vertex_poles(points, normals, seed=2)
+    assert sum(backed) > 0  # the backups were used: the test bites
+    assert np.array_equal(fast.points, plain.points)
+    assert fast.dropped == plain.dropped
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_nearest_poles_stay_the_brute_force_ones_round_after_round(monkeypatch, compiled):
+    """Rounds that drop chosen poles and choose new ones: after each, every sample's pole is
+    its nearest chosen one (brute force), whether it came from a backup, a new pole or a
+    search again."""
+    if compiled:
+        pytest.importorskip("numba")
+    from vorobound.sampling.lfs import medial
+
+    if not compiled:
+        monkeypatch.setattr(medial, "compiled_poles", lambda: None)
+    rng = np.random.default_rng(7)
+    centres = rng.normal(size=(1500, 3))
+    points = rng.normal(size=(2000, 3)) * 0.8
+    nearest, gap = np.full(len(points), -1), np.full(len(points), np.inf)
+    backups = medial._Backups(len(points))
+    chosen = np.zeros(0, dtype=np.int64)
+    pool = rng.permutation(len(centres))
+    current = np.sort(pool[:300])
+    for round_ in range(6):
+        new = np.setdiff1d(current, chosen, assume_unique=True)
+        chosen = current
+        medial._renew_nearest(points, centres, chosen, new, gap, nearest, backups, round_)
+        gaps = np.linalg.norm(points[:, None] - centres[chosen][None], axis=2)
+        assert np.array_equal(nearest, chosen[gaps.argmin(axis=1)]), round_
+        np.testing.assert_allclose(gap, gaps.min(axis=1), rtol=1e-15, atol=0)
+        # Drop the poles that are nearest to many samples (as the test drops failing ones),
+        # and choose a few new ones.
+        popular = np.unique(nearest[rng.random(len(points)) < 0.5])
+        current = np.union1d(
+            np.setdiff1d(chosen, popular), pool[300 + 200 * round_ : 500 + 200 * round_]
+        )
+    if compiled:
+        assert (backups.round >= 0).any()

@@ -154,3 +154,26 @@ def test_the_estimate_of_a_cad_part_is_the_same_by_both_paths(monkeypatch):
     got, expected = _both(make, points, monkeypatch)
     assert np.array_equal(got, expected)
     assert np.array_equal(got, estimate.at(points))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    count=st.integers(1, 3000),
+    grid=st.sampled_from([0, 1, 4, 64]),
+    flat=st.integers(0, 3),
+    seed=st.integers(0, 2**31),
+)
+def test_the_compiled_tree_order_is_the_numpy_order(count, grid, flat, seed):
+    # Ties along an axis (sites on a coarse grid, or flat in some coordinates) are where a
+    # sort that is not stable, or keys computed differently, would order the sites otherwise.
+    from vorobound.sampling.lfs.lipschitz import LEAF_SIZE, _ConeTree
+
+    sites = np.random.default_rng(seed).random((count, 3))
+    if grid:
+        sites = np.round(sites * grid) / grid
+    sites[:, :flat] = 0.5
+    tree = _ConeTree.__new__(_ConeTree)
+    tree.depth = max(0, int(np.ceil(np.log2(max(count / LEAF_SIZE, 1)))))
+    np.testing.assert_array_equal(
+        compiled_envelope().tree_order(sites, tree.depth), tree._numpy_order(sites)
+    )

@@ -233,3 +233,39 @@ def _envelope_kernel(
                 stack_node[top], stack_bound[top], stack_margin[top] = near, b_near, m_near
                 top += 1
         best[i] = value
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def tree_order(sites, depth):
+    """The order of the sites in :meth:`.lipschitz._ConeTree._shape`'s tree, computed node by
+    node: the same keys (segment + ½·offset/extent along the node's widest axis, the same
+    operations in the same order) sorted stably within each node. The keys of node s lie in
+    [s, s + ½], so this is the numpy path's one stable sort of all keys, level by level."""
+    count = len(sites)
+    order = np.arange(count)
+    for level in range(depth):
+        nodes = 2**level
+        placed = order.copy()
+        for s in range(nodes):
+            start, end = (s * count) // nodes, ((s + 1) * count) // nodes
+            low = np.full(3, np.inf)
+            high = np.full(3, -np.inf)
+            for j in range(start, end):
+                for axis in range(3):
+                    value = sites[placed[j], axis]
+                    low[axis] = min(low[axis], value)
+                    high[axis] = max(high[axis], value)
+            axis = 0
+            for a in (1, 2):  # the first widest axis, as np.argmax
+                if high[a] - low[a] > high[axis] - low[axis]:
+                    axis = a
+            extent = high[axis] - low[axis]
+            scale = extent if extent > 0 else 1.0
+            keys = np.empty(end - start)
+            for j in range(start, end):
+                offset = sites[placed[j], axis] - low[axis]
+                keys[j - start] = s + 0.5 * offset / scale
+            ranked = np.argsort(keys, kind="mergesort")
+            for j in range(end - start):
+                order[start + j] = placed[start + ranked[j]]
+    return order

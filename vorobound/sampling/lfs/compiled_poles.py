@@ -85,6 +85,64 @@ class PoleTree:
         found[hit] = self.order[found[hit]]
         return distance, found
 
+    def k_nearest(self, queries, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """(distance, pole index in the caller's order), each (n, k): the k nearest poles of
+        each query by distance, then by index (inf and −1 past the last pole), whatever the
+        labels."""
+        queries = np.ascontiguousarray(queries, dtype=float)
+        distance = np.full((len(queries), k), np.inf)
+        found = np.full((len(queries), k), -1, dtype=np.int64)
+        if not len(queries) or not len(self.points) or k < 1:
+            return distance, found
+
+        def task(bounds):
+            _k_nearest_kernel(*bounds, queries, self.order, distance, found, self.tree)
+
+        run_in_threads(task, chunk_bounds(len(queries), QUERY_CHUNK))
+        hit = found >= 0
+        found[hit] = self.order[found[hit]]
+        np.sqrt(distance, out=distance)
+        return distance, found
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _k_nearest_kernel(lo, hi, queries, order, squared, found, tree):
+    """Per query, the k nearest poles by (squared distance, caller's index), kept sorted in
+    its rows of ``squared`` and ``found`` (tree positions; inf and −1 where none)."""
+    points, node_low, node_high, node_range, node_child = tree
+    k = squared.shape[1]
+    stack = np.zeros(256, dtype=np.int64)
+    for i in range(lo, hi):
+        x0, x1, x2 = queries[i, 0], queries[i, 1], queries[i, 2]
+        top = 0
+        stack[0] = 0
+        while top >= 0:
+            node = stack[top]
+            top -= 1
+            # A box farther than the k-th best holds none of the k nearest.
+            if _box_gap(node_low, node_high, node, x0, x1, x2) > squared[i, k - 1]:
+                continue
+            if node_child[node, 0] >= 0:
+                top = _push_children(stack, top, node_low, node_high, node_child, node, x0, x1, x2)
+                continue
+            for p in range(node_range[node, 0], node_range[node, 1]):
+                d0, d1, d2 = points[p, 0] - x0, points[p, 1] - x1, points[p, 2] - x2
+                value = d0 * d0 + d1 * d1 + d2 * d2
+                slot = k
+                while slot > 0 and (
+                    value < squared[i, slot - 1]
+                    or (
+                        value == squared[i, slot - 1]
+                        and (found[i, slot - 1] < 0 or order[p] < order[found[i, slot - 1]])
+                    )
+                ):
+                    slot -= 1
+                if slot == k:
+                    continue
+                for j in range(k - 1, slot, -1):
+                    squared[i, j], found[i, j] = squared[i, j - 1], found[i, j - 1]
+                squared[i, slot], found[i, slot] = value, p
+
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _nearest_allowed_kernel(

@@ -111,22 +111,11 @@ class _ConeTree:
         the leaves."""
         count = len(sites)
         self.depth = max(0, math.ceil(math.log2(max(count / LEAF_SIZE, 1))))
-        order = np.arange(count)
-        for depth in range(self.depth):
-            bounds = self._bounds(depth, count)
-            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
-            placed = sites[order]
-            low = np.minimum.reduceat(placed, bounds[:-1])
-            high = np.maximum.reduceat(placed, bounds[:-1])
-            axis = np.argmax(high - low, axis=1)
-            # Sort every node by its widest coordinate, all nodes in one sort: the key is the
-            # node's index plus the coordinate mapped into [0, 1/2] (any split gives a valid
-            # tree; the branch and bound is exact for every tree).
-            rows = np.arange(len(axis))
-            lowest, extent = low[rows, axis], (high - low)[rows, axis]
-            offset = placed[np.arange(count), axis[segment]] - lowest[segment]
-            key = segment + 0.5 * offset / np.where(extent > 0, extent, 1.0)[segment]
-            order = order[np.argsort(key, kind="stable")]
+        compiled = compiled_envelope()
+        if compiled is not None:
+            order = compiled.tree_order(np.ascontiguousarray(sites, dtype=float), self.depth)
+        else:
+            order = self._numpy_order(sites)
         self.order = order
         bounds = self._bounds(self.depth, count)
         placed = sites[order]
@@ -145,6 +134,28 @@ class _ConeTree:
         self.leaf_sites = np.where(
             slots < bounds[1:, None], order[np.minimum(slots, count - 1)], -1
         )
+
+    def _numpy_order(self, sites: np.ndarray) -> np.ndarray:
+        """The order of the sites: each node's sites sorted along its widest axis, level by
+        level (:func:`.compiled_envelope.tree_order` computes the same with numba)."""
+        count = len(sites)
+        order = np.arange(count)
+        for depth in range(self.depth):
+            bounds = self._bounds(depth, count)
+            segment = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+            placed = sites[order]
+            low = np.minimum.reduceat(placed, bounds[:-1])
+            high = np.maximum.reduceat(placed, bounds[:-1])
+            axis = np.argmax(high - low, axis=1)
+            # Sort every node by its widest coordinate, all nodes in one sort: the key is the
+            # node's index plus the coordinate mapped into [0, 1/2] (any split gives a valid
+            # tree; the branch and bound is exact for every tree).
+            rows = np.arange(len(axis))
+            lowest, extent = low[rows, axis], (high - low)[rows, axis]
+            offset = placed[np.arange(count), axis[segment]] - lowest[segment]
+            key = segment + 0.5 * offset / np.where(extent > 0, extent, 1.0)[segment]
+            order = order[np.argsort(key, kind="stable")]
+        return order
 
     def cones(self, x: np.ndarray, site: np.ndarray, slope: float | None) -> np.ndarray:
         """The cones of sites ``site`` at points ``x`` (same leading shape; ``x`` (..., 3)):

@@ -37,6 +37,7 @@ import numpy as np
 from ...errors import InputError
 from ...geometry.kernels import load_kernel, pure_numpy
 from ...geometry.threads import chunk_bounds, run_in_threads, thread_count
+from ...mesh.rows import unique_rows
 from ...progress import Counter, Progress
 from .delaunay import delaunay_tetrahedra
 
@@ -81,6 +82,8 @@ TET_CHUNK = 1 << 15
 """Tetrahedra a thread of the compiled pass takes at a time (bounds the chunk arrays)."""
 POINT_CHUNK = 1 << 14
 """Points a thread of the compiled pass takes at a time."""
+BACKUP_POLES = 4
+"""Next nearest poles each sample keeps from its last search (:func:`_consistent_poles`)."""
 MERGE_RTOL = 1e-10
 """Poles closer than MERGE_RTOL diameters are one point (symmetric shapes repeat them)."""
 
@@ -187,17 +190,17 @@ def vertex_poles(
     chosen = _consistent_poles(points, centres, bound, candidates, usable)
     poles = centres[chosen]
     key = np.round(poles / MERGE_RTOL).astype(np.int64)
-    _, first = np.unique(key, axis=0, return_index=True)
+    _, first = unique_rows(key, return_index=True)
     labelled = labelled_points = labelled_reach = None
     if labels is not None and candidates.any:
         # The final pole of every (point, side) group, tagged with the point's label.
         group, tet = candidates.farthest(usable)
         keep = np.linalg.norm(centres[tet], axis=1) < FAR
-        pairs = np.unique(np.c_[tet[keep], labels[candidates.owner(group[keep])]], axis=0)
+        pairs = unique_rows(np.c_[tet[keep], labels[candidates.owner(group[keep])]])
         # Poles closer than MERGE_RTOL are one point per label, as above (on a sampled
         # torus, every tetrahedron of a ring of cospherical samples has its own copy).
         merged = np.round(centres[pairs[:, 0]] / MERGE_RTOL).astype(np.int64)
-        _, once = np.unique(np.c_[merged, pairs[:, 1]], axis=0, return_index=True)
+        _, once = unique_rows(np.c_[merged, pairs[:, 1]], return_index=True)
         pairs = pairs[np.sort(once)]
         labelled, labelled_points = pairs[:, 1], centres[pairs[:, 0]]
         corners = points[tets[pairs[:, 0]]]
@@ -322,12 +325,15 @@ def _consistent_poles(points, centres, bound, candidates, usable) -> np.ndarray:
 
     Each round drops the failing poles and, in the groups (point, side) they served, every
     circumcentre whose ball holds the same sample; the nearest poles are then updated only
-    for the samples that lost theirs or that a new pole is closer to.
+    for the samples that lost theirs or that a new pole is closer to. A sample that lost its
+    pole looks first among the BACKUP_POLES next nearest of its last search (:class:`_Backups`)
+    and the new poles, and searches all poles again only when none of those is left.
     """
     chosen = np.zeros(0, dtype=np.int64)
     nearest = np.full(len(points), -1)
     gap = np.full(len(points), np.inf)
-    for _ in range(EMPTY_ROUNDS):
+    backups = _Backups(len(points))
+    for round_ in range(EMPTY_ROUNDS):
         group, pole_tet = candidates.farthest(usable)
         near = np.linalg.norm(centres[pole_tet], axis=1) < FAR
         group, pole_tet = group[near], pole_tet[near]
@@ -335,16 +341,8 @@ def _consistent_poles(points, centres, bound, candidates, usable) -> np.ndarray:
         if len(current) == 0:
             return current
         new = np.setdiff1d(current, chosen, assume_unique=True)
-        lost = np.flatnonzero(~np.isin(nearest, current))
-        kept = np.flatnonzero(np.isin(nearest, current))
         chosen = current
-        if len(lost):
-            gap[lost], index = nearest_site(centres[chosen], points[lost])
-            nearest[lost] = chosen[index]
-        if len(new) and len(kept):
-            distance, index = nearest_site(centres[new], points[kept])
-            closer = distance < gap[kept]
-            gap[kept[closer]], nearest[kept[closer]] = distance[closer], new[index[closer]]
+        _renew_nearest(points, centres, chosen, new, gap, nearest, backups, round_)
         depth = bound[nearest] - gap
         inside = np.flatnonzero(depth > 0)
         if len(inside) == 0:
@@ -356,6 +354,68 @@ def _consistent_poles(points, centres, bound, candidates, usable) -> np.ndarray:
         hit = witness[pole_tet] >= 0
         candidates.drop(points, centres, bound, group[hit], witness[pole_tet[hit]], usable)
     return chosen[usable[chosen]]
+
+
+def _renew_nearest(points, centres, chosen, new, gap, nearest, backups, round_) -> None:
+    """Update ``gap`` and ``nearest`` (each sample's nearest pole, a tetrahedron, −1 for none
+    yet) in place for the poles ``chosen`` now, of which ``new`` were not chosen before: the
+    samples whose pole is gone take their first backup still chosen or search again, and
+    every sample compares its pole with the new ones."""
+    lost = np.flatnonzero(~np.isin(nearest, chosen))
+    kept = np.flatnonzero(np.isin(nearest, chosen))
+    # Samples whose last search was over last round's poles: their nearest pole now is the
+    # first of their backups still chosen, or a new pole.
+    lost, backed = backups.take(lost, chosen, round_, gap, nearest)
+    if len(lost):
+        gap[lost], nearest[lost] = backups.search(centres, chosen, points[lost], lost, round_)
+    if len(new) and len(backed):
+        distance, index = nearest_site(centres[new], points[backed])
+        tet = new[index]
+        closer = (distance < gap[backed]) | ((distance == gap[backed]) & (tet < nearest[backed]))
+        gap[backed[closer]], nearest[backed[closer]] = distance[closer], tet[closer]
+    if len(new) and len(kept):
+        distance, index = nearest_site(centres[new], points[kept])
+        closer = distance < gap[kept]
+        gap[kept[closer]], nearest[kept[closer]] = distance[closer], new[index[closer]]
+
+
+class _Backups:
+    """The BACKUP_POLES nearest poles (tetrahedra, by distance, then index) of each sample at
+    its last search over all chosen poles, and the round of that search (compiled path only:
+    without numba every search finds the nearest pole alone)."""
+
+    def __init__(self, count: int):
+        self.tets = np.full((count, BACKUP_POLES), -1, dtype=np.int64)
+        self.gaps = np.full((count, BACKUP_POLES), np.inf)
+        self.round = np.full(count, -2)
+
+    def search(self, centres, chosen, queries, samples, round_):
+        """(distance, tetrahedron) of the nearest chosen pole of each of ``samples``, whose
+        backups are renewed."""
+        compiled = compiled_poles()
+        if compiled is None:
+            distance, index = nearest_site(centres[chosen], queries)
+            return distance, chosen[index]
+        tree = compiled.PoleTree(centres[chosen], np.zeros(len(chosen), dtype=np.int64))
+        distance, index = tree.k_nearest(queries, BACKUP_POLES)
+        self.tets[samples] = np.where(index >= 0, chosen[np.maximum(index, 0)], -1)
+        self.gaps[samples], self.round[samples] = distance, round_
+        return distance[:, 0], self.tets[samples, 0]
+
+    def take(self, lost, current, round_, gap, nearest):
+        """Split ``lost`` into (samples that must search again, samples given their first
+        backup still in ``current``, with ``gap`` and ``nearest`` set). Only backups from the
+        last round qualify: every pole chosen since is then one of this round's new poles."""
+        recent = lost[self.round[lost] == round_ - 1]
+        if not len(recent):
+            return lost, recent
+        alive = np.isin(self.tets[recent], current)
+        found = alive.any(axis=1)
+        first = np.argmax(alive, axis=1)[found]
+        backed = recent[found]
+        gap[backed] = self.gaps[backed, first]
+        nearest[backed] = self.tets[backed, first]
+        return np.setdiff1d(lost, backed, assume_unique=True), backed
 
 
 class _SortedCandidates:

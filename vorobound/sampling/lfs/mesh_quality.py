@@ -16,6 +16,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...mesh import TriangleMesh, has_area
+from ...mesh.rows import row_keys, unique_rows
 
 
 @dataclass(frozen=True)
@@ -235,15 +236,21 @@ def pinched_vertices(faces: np.ndarray, count: int) -> np.ndarray:
         rows.append(np.c_[key, faces[:, a], corner[:, a]])
         rows.append(np.c_[key, faces[:, b], corner[:, b]])
     table = np.concatenate(rows)
-    table = table[np.lexsort(table[:, :3].T[::-1])]
-    same = (table[1:, :3] == table[:-1, :3]).all(axis=1)
+    keys = row_keys(table[:, :3])
+    if keys is None:
+        table = table[np.lexsort(table[:, :3].T[::-1])]
+        same = (table[1:, :3] == table[:-1, :3]).all(axis=1)
+    else:  # the same order: both sorts are stable
+        order = np.argsort(keys, kind="stable")
+        table, keys = table[order], keys[order]
+        same = keys[1:] == keys[:-1]
     graph = coo_matrix(
         (np.ones(int(same.sum())), (table[:-1][same, 3], table[1:][same, 3])),
         shape=(faces.size, faces.size),
     )
     _, fan = connected_components(graph, directed=False)
     vertex = faces.reshape(-1)
-    pairs = np.unique(np.c_[vertex, fan], axis=0)
+    pairs = unique_rows(np.c_[vertex, fan])
     fans = np.bincount(pairs[:, 0], minlength=count)
     return np.flatnonzero(fans > 1)
 
@@ -254,8 +261,7 @@ def _edge_topology(faces: np.ndarray):
     end = faces[:, [1, 2, 0]].reshape(-1)
     face = np.repeat(np.arange(len(faces)), 3)
     pairs = np.sort(np.c_[start, end], axis=1)
-    edges, inverse, counts = np.unique(pairs, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.reshape(-1)
+    edges, inverse, counts = unique_rows(pairs, return_inverse=True, return_counts=True)
     order = np.argsort(inverse, kind="stable")
     first_slot = np.r_[0, np.cumsum(counts)[:-1]]
     edge_faces = np.full((len(edges), 2), -1)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...mesh.rows import unique_rows
 from .mesh_quality import PreparedMesh, dihedral_angles, face_normals
 
 FLAT_TOLERANCE = 1e-9
@@ -108,7 +109,7 @@ def _patch_adjacency(faces, face_patch, count: int, vertices: int) -> np.ndarray
     """Patches sharing a vertex (a dense boolean matrix: CAD parts have few patches)."""
     vertex = faces.reshape(-1)
     patch = np.repeat(face_patch, 3)
-    pairs = np.unique(np.c_[vertex, patch], axis=0)
+    pairs = unique_rows(np.c_[vertex, patch])
     adjacent = np.zeros((count, count), dtype=bool)
     starts = np.flatnonzero(np.r_[True, pairs[1:, 0] != pairs[:-1, 0]])
     sizes = np.diff(np.r_[starts, len(pairs)])
@@ -139,7 +140,7 @@ def _patch_vertex_normals(points, faces, face_patch) -> np.ndarray:
     """
     unit, areas = face_normals(points, faces)
     key = np.c_[faces.reshape(-1), np.repeat(face_patch, 3)]
-    _, group = np.unique(key, axis=0, return_inverse=True)
+    _, group = unique_rows(key, return_inverse=True)
     group = group.reshape(-1, 3)
     corners = points[faces]
     # A reference line per (vertex, patch): the area-weighted principal direction.
