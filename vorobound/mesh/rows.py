@@ -11,6 +11,8 @@ the same order; tables whose ranges do not fit fall back to numpy's call.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 KEY_LIMIT = 1 << 62
@@ -31,15 +33,12 @@ def unique_rows(
     """
     rows = np.asarray(rows)
     flags = (return_index, return_inverse, return_counts)
+    options: dict[str, Any] = dict(
+        return_index=return_index, return_inverse=return_inverse, return_counts=return_counts
+    )
     packed = _packed(rows)
     if packed is None:
-        found = np.unique(
-            rows,
-            axis=0,
-            return_index=return_index,
-            return_inverse=return_inverse,
-            return_counts=return_counts,
-        )
+        found = np.unique(rows, axis=0, **options)
         if return_inverse:
             found = list(found)
             found[1 + return_index] = np.asarray(found[1 + return_index]).reshape(-1)
@@ -51,9 +50,7 @@ def unique_rows(
         # takes a hashing path that is several times slower on millions of distinct keys.
         keys = np.sort(keys)
         return _unpacked(keys[np.r_[True, keys[1:] != keys[:-1]]], low, spans, rows.dtype)
-    found = np.unique(
-        keys, return_index=return_index, return_inverse=return_inverse, return_counts=return_counts
-    )
+    found = np.unique(keys, **options)
     found = list(found)
     found[0] = _unpacked(found[0], low, spans, rows.dtype)
     if return_inverse:

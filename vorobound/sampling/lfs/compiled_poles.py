@@ -96,7 +96,8 @@ class PoleTree:
             return distance, found
 
         def task(bounds):
-            _k_nearest_kernel(*bounds, queries, self.order, distance, found, self.tree)
+            lo, hi = bounds
+            _k_nearest_kernel(lo, hi, queries, self.order, distance, found, self.tree)
 
         run_in_threads(task, chunk_bounds(len(queries), QUERY_CHUNK))
         hit = found >= 0
