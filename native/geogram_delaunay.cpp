@@ -142,6 +142,69 @@ void distinct_positions(const double* points, const double* weights, int64_t n,
     }
 }
 
+// The triangles of `triangulation` (each once: from the cell of smaller index, or from the
+// only finite cell on the hull) whose three vertices, mapped through `original`, are below
+// `limit`, as a new array of 3 * *count indices, each row ascending; with `ordered` the rows
+// in lexicographic order.
+void finite_facets(const GEO::Delaunay& triangulation, const int64_t* original, int64_t limit,
+                   int ordered, int64_t** facets, int64_t* count) {
+    const GEO::index_t total = triangulation.nb_cells();
+    const GEO::index_t* corners = triangulation.cell_to_v();
+    const GEO::index_t* neighbours = triangulation.cell_to_cell();
+    std::vector<std::array<int64_t, 3>> found;
+    found.reserve(size_t(total) * 2);
+    for (GEO::index_t c = 0; c < total; ++c) {
+        if (triangulation.cell_is_infinite(c)) {
+            continue;
+        }
+        int64_t v[4];
+        for (int j = 0; j < 4; ++j) {
+            v[j] = original[corners[4 * c + j]];
+        }
+        for (int f = 0; f < 4; ++f) {  // facet f is opposite vertex f
+            const GEO::index_t other = neighbours[4 * c + f];
+            if (other != GEO::NO_INDEX && other < c && !triangulation.cell_is_infinite(other)) {
+                continue;  // listed from the other cell
+            }
+            std::array<int64_t, 3> row;
+            int k = 0;
+            for (int j = 0; j < 4; ++j) {
+                if (j != f) {
+                    row[k++] = v[j];
+                }
+            }
+            if (row[0] < limit && row[1] < limit && row[2] < limit) {
+                std::sort(row.begin(), row.end());
+                found.push_back(row);
+            }
+        }
+    }
+    if (ordered) {
+        std::sort(found.begin(), found.end());
+    }
+    int64_t* out = new int64_t[found.size() * 3 + 1];
+    for (size_t i = 0; i < found.size(); ++i) {
+        std::copy(found[i].begin(), found[i].end(), out + 3 * i);
+    }
+    *facets = out;
+    *count = int64_t(found.size());
+}
+
+// The regular triangulation of vb_regular_cells, built on the distinct positions.
+GEO::Delaunay_var regular_triangulation(const double* points, const double* weights, int64_t n,
+                                        std::vector<double>& lifted,
+                                        std::vector<int64_t>& original) {
+    std::call_once(started, start_geogram);
+    distinct_positions(points, weights, n, lifted, original);
+    GEO::Numeric::random_reset(-1);  // as in vb_delaunay_cells
+    GEO::Delaunay_var triangulation = GEO::Delaunay::create(4, "VBPOW");
+    if (!triangulation.is_null()) {
+        triangulation->set_keeps_infinite(false);
+        triangulation->set_vertices(GEO::index_t(original.size()), lifted.data());
+    }
+    return triangulation;
+}
+
 }  // namespace
 
 extern "C" {
@@ -185,18 +248,40 @@ int vb_regular_cells(const double* points, const double* weights, int64_t n, int
         return 2;
     }
     try {
-        std::call_once(started, start_geogram);
         std::vector<double> lifted;
         std::vector<int64_t> original;
-        distinct_positions(points, weights, n, lifted, original);
-        GEO::Numeric::random_reset(-1);  // as in vb_delaunay_cells
-        GEO::Delaunay_var triangulation = GEO::Delaunay::create(4, "VBPOW");
+        GEO::Delaunay_var triangulation =
+            regular_triangulation(points, weights, n, lifted, original);
         if (triangulation.is_null()) {
             return 1;
         }
-        triangulation->set_keeps_infinite(false);
-        triangulation->set_vertices(GEO::index_t(original.size()), lifted.data());
         finite_cells(*triangulation, original.data(), ordered, cells, count);
+        return 0;
+    } catch (...) {
+        return 1;
+    }
+}
+
+// The triangles of that regular triangulation whose three vertices are below `limit` (the
+// check's balls come first, its filler points after them), each once, as 3 * *count indices
+// (rows ascending; with `ordered` in lexicographic order), to be freed with vb_free_cells.
+// Returns as vb_regular_cells.
+int vb_regular_facets(const double* points, const double* weights, int64_t n, int64_t limit,
+                      int ordered, int64_t** facets, int64_t* count) {
+    *facets = nullptr;
+    *count = 0;
+    if (n < 0 || n >= INT32_MAX) {
+        return 2;
+    }
+    try {
+        std::vector<double> lifted;
+        std::vector<int64_t> original;
+        GEO::Delaunay_var triangulation =
+            regular_triangulation(points, weights, n, lifted, original);
+        if (triangulation.is_null()) {
+            return 1;
+        }
+        finite_facets(*triangulation, original.data(), limit, ordered, facets, count);
         return 0;
     } catch (...) {
         return 1;

@@ -81,6 +81,16 @@ def _library() -> ctypes.CDLL | None:
         ctypes.POINTER(ctypes.c_int64),
     ]
     library.vb_regular_cells.restype = ctypes.c_int
+    library.vb_regular_facets.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_void_p,
+        ctypes.c_int64,
+        ctypes.c_int64,
+        ctypes.c_int,
+        ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
+        ctypes.POINTER(ctypes.c_int64),
+    ]
+    library.vb_regular_facets.restype = ctypes.c_int
     library.vb_side4w_stages.argtypes = [ctypes.c_void_p] * 2 + [ctypes.POINTER(ctypes.c_int)] * 3
     library.vb_side4w_stages.restype = None
     library.vb_set_double_double.argtypes = [ctypes.c_int]
@@ -202,6 +212,30 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     return lexicographic_rows(found, len(points)) if ordered and found is not tetrahedra else found
 
 
+def _regular_input(points: np.ndarray, weights: np.ndarray):
+    """(library, scaled points, scaled weights) for the regular triangulation, or None (the
+    conditions of :func:`regular_tetrahedra`)."""
+    library = _library()
+    if np.ndim(points) != 2 or np.shape(points)[1] != 3 or np.shape(weights) != (len(points),):
+        return None
+    if library is None or len(points) < MIN_POINTS or len(points) > MAX_POINTS:
+        return None
+    frame = weighted_frame(points, weights)
+    return None if frame is None else (library, *frame)
+
+
+def _take_rows(library, rows, count: int, width: int) -> np.ndarray:
+    """The module's array of ``count`` rows of ``width`` indices, copied, then freed."""
+    try:
+        return (
+            np.ctypeslib.as_array(rows, shape=(count, width)).copy()
+            if count
+            else np.zeros((0, width), dtype=np.int64)
+        )
+    finally:
+        library.vb_free_cells(rows)
+
+
 def regular_tetrahedra(
     points: np.ndarray, weights: np.ndarray, ordered: bool = True
 ) -> np.ndarray | None:
@@ -217,15 +251,10 @@ def regular_tetrahedra(
     doubles and geogram's expansions behind it. None when the compiled module is missing, the
     input is outside the exact range (:func:`weighted_frame`) or geogram failed: the caller then
     uses GUDHI."""
-    library = _library()
-    if np.ndim(points) != 2 or np.shape(points)[1] != 3 or np.shape(weights) != (len(points),):
+    given = _regular_input(points, weights)
+    if given is None:
         return None
-    if library is None or len(points) < MIN_POINTS or len(points) > MAX_POINTS:
-        return None
-    frame = weighted_frame(points, weights)
-    if frame is None:
-        return None
-    scaled, heavy = frame
+    library, scaled, heavy = given
     cells = ctypes.POINTER(ctypes.c_int64)()
     count = ctypes.c_int64()
     with _LOCK:  # geogram's random engine (restarted per call) is global
@@ -237,16 +266,35 @@ def regular_tetrahedra(
             ctypes.byref(cells),
             ctypes.byref(count),
         )
-    if code != 0:
+    return _take_rows(library, cells, count.value, 4) if code == 0 else None
+
+
+def regular_triangles(
+    points: np.ndarray, weights: np.ndarray, limit: int, ordered: bool = True
+) -> np.ndarray | None:
+    """The triangles (m, 3) of the regular triangulation of :func:`regular_tetrahedra` whose
+    three vertices are below ``limit`` (the check's balls, before its filler points), each
+    once, as point indices (int64, ascending within a row; with ``ordered`` the rows in
+    lexicographic order, GUDHI's simplex-tree order). Read from geogram's cells and their
+    neighbours in C++ (each facet from the cell of smaller index), with no sort of all faces.
+    None where :func:`regular_tetrahedra` is None."""
+    given = _regular_input(points, weights)
+    if given is None:
         return None
-    try:
-        return (
-            np.ctypeslib.as_array(cells, shape=(count.value, 4)).copy()
-            if count.value
-            else np.zeros((0, 4), dtype=np.int64)
+    library, scaled, heavy = given
+    facets = ctypes.POINTER(ctypes.c_int64)()
+    count = ctypes.c_int64()
+    with _LOCK:  # as in regular_tetrahedra
+        code = library.vb_regular_facets(
+            scaled.ctypes.data,
+            heavy.ctypes.data,
+            len(scaled),
+            int(limit),
+            int(ordered),
+            ctypes.byref(facets),
+            ctypes.byref(count),
         )
-    finally:
-        library.vb_free_cells(cells)
+    return _take_rows(library, facets, count.value, 3) if code == 0 else None
 
 
 def side4w_stages(points: np.ndarray, weights: np.ndarray) -> tuple[int, int, int]:
