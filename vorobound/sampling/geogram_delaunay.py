@@ -166,10 +166,11 @@ def weighted_frame(points: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray,
         return None
     largest = float(np.abs(np.asarray(points, dtype=np.float64)).max()) if len(scaled) else 0.0
     exponent = math.frexp(largest)[1] if largest else 0
-    heavy = np.ldexp(heavy, -2 * exponent)
-    magnitude = np.abs(heavy[heavy != 0])
+    given = heavy != 0
+    heavy = np.ldexp(heavy, -2 * exponent)  # rounds only below the range: refused below
+    magnitude = np.abs(heavy[given])
     low, high = WEIGHT_RANGE
-    if magnitude.size and (magnitude.min() < low or magnitude.max() > high):
+    if magnitude.size and not (magnitude.min() >= low and magnitude.max() <= high):
         return None
     return scaled, heavy
 
