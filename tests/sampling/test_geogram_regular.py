@@ -205,10 +205,16 @@ def test_scaling_by_a_power_of_two_changes_nothing():
 
 @pytest.mark.parametrize(
     "weights",
-    [np.array([np.nan]), np.array([np.inf]), np.array([2.0**320]), np.array([2.0**-320])],
+    [
+        np.array([np.nan]),
+        np.array([np.inf]),
+        np.array([2.0**320]),
+        np.array([2.0**-320]),
+        np.array([5e-324]),  # the scaling (points up to 3: by 2⁻⁴) rounds it to zero
+    ],
 )
 def test_weights_outside_the_exact_range_give_none(weights):
-    points = np.random.default_rng(7).random((50, 3))
+    points = 3 * np.random.default_rng(7).random((50, 3))
     heavy = np.zeros(50)
     heavy[:1] = weights
     assert geogram_delaunay.regular_tetrahedra(points, heavy) is None
