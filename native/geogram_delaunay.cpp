@@ -33,6 +33,7 @@ int side4_3d(const double* p0, const double* p1, const double* p2, const double*
 }  // namespace vb_insphere
 
 namespace vb_power {
+extern thread_local long long skipped_copies;
 int side4w_3d_filter(const double* p0, const double* p1, const double* p2, const double* p3,
                      const double* p4, double w0, double w1, double w2, double w3, double w4);
 }  // namespace vb_power
@@ -148,22 +149,22 @@ void distinct_positions(const double* points, const double* weights, int64_t n,
 // in lexicographic order.
 void finite_facets(const GEO::Delaunay& triangulation, const int64_t* original, int64_t limit,
                    int ordered, int64_t** facets, int64_t* count) {
+    // Without the infinite cells (set_keeps_infinite(false)) every cell is finite, and a hull
+    // facet has no neighbour (NO_INDEX).
     const GEO::index_t total = triangulation.nb_cells();
     const GEO::index_t* corners = triangulation.cell_to_v();
     const GEO::index_t* neighbours = triangulation.cell_to_cell();
     std::vector<std::array<int64_t, 3>> found;
     found.reserve(size_t(total) * 2);
     for (GEO::index_t c = 0; c < total; ++c) {
-        if (triangulation.cell_is_infinite(c)) {
-            continue;
-        }
         int64_t v[4];
         for (int j = 0; j < 4; ++j) {
-            v[j] = original[corners[4 * c + j]];
+            const GEO::index_t corner = corners[4 * c + j];
+            v[j] = corner == GEO::NO_INDEX ? limit : original == nullptr ? corner : original[corner];
         }
         for (int f = 0; f < 4; ++f) {  // facet f is opposite vertex f
             const GEO::index_t other = neighbours[4 * c + f];
-            if (other != GEO::NO_INDEX && other < c && !triangulation.cell_is_infinite(other)) {
+            if (other != GEO::NO_INDEX && other < c) {
                 continue;  // listed from the other cell
             }
             std::array<int64_t, 3> row;
@@ -179,7 +180,18 @@ void finite_facets(const GEO::Delaunay& triangulation, const int64_t* original, 
             }
         }
     }
-    if (ordered) {
+    if (ordered && limit <= (int64_t(1) << 21)) {
+        // Three indices below 2^21 packed in one key: the same order, a cheaper sort.
+        std::vector<uint64_t> keys(found.size());
+        for (size_t i = 0; i < found.size(); ++i) {
+            keys[i] = uint64_t(found[i][0]) << 42 | uint64_t(found[i][1]) << 21 | uint64_t(found[i][2]);
+        }
+        std::sort(keys.begin(), keys.end());
+        const uint64_t mask = (uint64_t(1) << 21) - 1;
+        for (size_t i = 0; i < keys.size(); ++i) {
+            found[i] = {int64_t(keys[i] >> 42), int64_t(keys[i] >> 21 & mask), int64_t(keys[i] & mask)};
+        }
+    } else if (ordered) {
         std::sort(found.begin(), found.end());
     }
     int64_t* out = new int64_t[found.size() * 3 + 1];
@@ -190,19 +202,38 @@ void finite_facets(const GEO::Delaunay& triangulation, const int64_t* original, 
     *count = int64_t(found.size());
 }
 
-// The regular triangulation of vb_regular_cells, built on the distinct positions.
+// The regular triangulation of vb_regular_cells. First on every point, `original` left empty
+// (the identity); where geogram skipped a copy of an inserted vertex (it would keep whichever
+// it inserts first, whatever the weights), again on the distinct positions. Without a skipped
+// copy the result is that of the distinct positions: a copy of a point hidden at its
+// insertion is inserted if heavier, hidden if not.
 GEO::Delaunay_var regular_triangulation(const double* points, const double* weights, int64_t n,
                                         std::vector<double>& lifted,
                                         std::vector<int64_t>& original) {
     std::call_once(started, start_geogram);
-    distinct_positions(points, weights, n, lifted, original);
-    GEO::Numeric::random_reset(-1);  // as in vb_delaunay_cells
-    GEO::Delaunay_var triangulation = GEO::Delaunay::create(4, "VBPOW");
-    if (!triangulation.is_null()) {
-        triangulation->set_keeps_infinite(false);
-        triangulation->set_vertices(GEO::index_t(original.size()), lifted.data());
+    lifted.resize(size_t(n) * 4);
+    for (int64_t i = 0; i < n; ++i) {
+        std::copy(points + 3 * i, points + 3 * i + 3, lifted.data() + 4 * i);
+        lifted[size_t(4 * i + 3)] = weights[i];
     }
-    return triangulation;
+    original.clear();
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            distinct_positions(points, weights, n, lifted, original);
+        }
+        GEO::Numeric::random_reset(-1);  // as in vb_delaunay_cells
+        GEO::Delaunay_var triangulation = GEO::Delaunay::create(4, "VBPOW");
+        if (triangulation.is_null()) {
+            return triangulation;
+        }
+        triangulation->set_keeps_infinite(false);
+        vb_power::skipped_copies = 0;
+        triangulation->set_vertices(GEO::index_t(lifted.size() / 4), lifted.data());
+        if (vb_power::skipped_copies == 0 || pass == 1) {
+            return triangulation;
+        }
+    }
+    return GEO::Delaunay_var();  // not reached
 }
 
 }  // namespace
@@ -255,7 +286,8 @@ int vb_regular_cells(const double* points, const double* weights, int64_t n, int
         if (triangulation.is_null()) {
             return 1;
         }
-        finite_cells(*triangulation, original.data(), ordered, cells, count);
+        finite_cells(*triangulation, original.empty() ? nullptr : original.data(), ordered, cells,
+                     count);
         return 0;
     } catch (...) {
         return 1;
@@ -281,7 +313,8 @@ int vb_regular_facets(const double* points, const double* weights, int64_t n, in
         if (triangulation.is_null()) {
             return 1;
         }
-        finite_facets(*triangulation, original.data(), limit, ordered, facets, count);
+        finite_facets(*triangulation, original.empty() ? nullptr : original.data(), limit,
+                      ordered, facets, count);
         return 0;
     } catch (...) {
         return 1;

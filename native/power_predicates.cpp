@@ -83,6 +83,11 @@ inline double larger(double a, double b) { return a > b ? a : b; }
 
 }  // namespace
 
+// Points geogram skipped in the weighted mode of Delaunay_psm.cpp (vorobound's change) because an
+// inserted vertex sits at their position, whatever the weights: the glue (geogram_delaunay.cpp)
+// resets it, triangulates, and triangulates again without copies when it is not zero.
+thread_local long long skipped_copies = 0;
+
 // Sign of geogram's side4h(p0, .., p4) for the heights |p_i|^2 - w_i taken exactly (positive
 // when p4 is not in conflict with the tetrahedron p0..p3: its power distance to the
 // orthosphere is positive), or 0 when the filter cannot be sure.

@@ -20980,6 +20980,7 @@ namespace {
 
 // vorobound: the filter of the exact weighted side4 (../power_predicates.cpp).
 namespace vb_power {
+    extern thread_local long long skipped_copies;
     int side4w_3d_filter(const double* p0, const double* p1, const double* p2,
                          const double* p3, const double* p4, double w0, double w1,
                          double w2, double w3, double w4);
@@ -25682,6 +25683,8 @@ namespace GEO {
             (orient[3] == ZERO) ;
 
         if(nb_zero >= 3) {
+            // vorobound: a copy is skipped whatever its weight; the caller counts them.
+            vb_power::skipped_copies += vb_raw_weights_ ? 1 : 0;
             return;
         }
 
