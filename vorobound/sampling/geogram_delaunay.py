@@ -26,6 +26,14 @@ perturbation, a function of the coordinates only, so a subset of the points is t
 whole set is wherever a tetrahedron's ball holds no other point (what :mod:`.reconstruct.slabs`
 needs; CGAL's perturbation has the same property, but the two need not choose the same tetrahedra
 among cospherical points). A point at the coordinates of an earlier one gets no tetrahedron.
+
+The regular (weighted Delaunay) triangulation of the check's balls (:func:`regular_tetrahedra`,
+:func:`regular_triangles`) runs on geogram's weighted mode changed by vorobound so that it is
+exact for the weights given (native/power_predicates.cpp: geogram rounded each lifting |p|² − w
+to a double), in :func:`weighted_frame`'s range. On the torus row sample of 10⁶ balls with the
+check's filler points it takes about half of CGAL's bare build, and the check's candidate
+triples, read in C++ from its cells, come with no simplex tree (``python
+benchmarks/bench_engines.py check --sizes 1e6``; docs/performance.md).
 """
 
 from __future__ import annotations
