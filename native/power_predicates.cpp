@@ -31,26 +31,30 @@
 //    decide those).
 // 2. Rounding. Every value is computed by a tree of +, -, * from the exact differences
 //    d_ij = p_i[j] - p0[j] and dw_i = w_i - w0, each rounded once. Without underflow each
-//    operation returns op(x, y)(1 + d), |d| <= u, so the computed value is the sum of the exact
-//    monomials each times at most K such factors, K the tree's depth counting the input
-//    rounding (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1), and
-//    |computed - exact| <= gamma_K P, gamma_K = K u / (1 - K u), P the same tree on the
-//    absolute values of the exact inputs with every sign +. Depths: a 1, products of two a 2,
-//    the 2x2 minors 3, a * minor 4, Delta_k (two sums) 6; q_i = |a_i|^2 4, e_i = dw_i - q_i 5,
-//    Delta_k e_k 7, and r summed left to right 10.
+//    operation returns op(x, y)(1 + d), |d| <= u, so by induction over the tree the computed
+//    value is the sum of the exact monomials, each times at most K such factors (Higham,
+//    "Accuracy and Stability of Numerical Algorithms", 3.1), and |computed - exact| <=
+//    gamma_K P, gamma_K = K u / (1 - K u), P the same tree on the absolute values of the exact
+//    inputs with every sign +. K counts the input rounding and adds up over a product's two
+//    operands (a monomial of x y carries the factors of both) plus one, over a sum takes the
+//    larger plus one: a 1, a * a 3, the 2x2 minors 4, a * minor 6, Delta_k (two sums) 8;
+//    q_i = |a_i|^2 5, e_i = dw_i - q_i 6, Delta_k e_k 15, and r summed left to right 18. (The
+//    minors are computed once and shared by the Delta_k: each use reads the same computed
+//    value, so the bound holds as for the tree the sharing unfolds to.)
 // 3. P. With A' = max |d_ij| <= A / (1 - u) and D' = max |dw_i| <= D / (1 - u):
 //    P(Delta_k) <= 3 A' (2 A'^2) = 6 A'^3, P(e_k) <= D' + 3 A'^2, P(r) <= 24 A'^3 (D' + 3 A'^2).
-//    So |r - exact| <= gamma_10 24 A^3 (D + 3 A^2) / (1 - u)^5 <= 240.1 u X with
+//    So |r - exact| <= gamma_18 24 A^3 (D + 3 A^2) / (1 - u)^5 <= 432.1 u X with
 //    X = A^3 (D + 3 A^2); X computed in double (six roundings) is within (1 - u)^6 of X, so
-//    241 u X_computed bounds it: the filter uses B_r = 2^-45 X_computed (256 u). For Delta4:
-//    gamma_6 6 A'^3 <= 36.1 u A^3, bounded by B_4 = 2^-47 (A*A)*A (64 u).
+//    433 u X_computed bounds it: the filter uses B_r = 2^-43 X_computed (1024 u). For Delta4:
+//    gamma_8 6 A'^3 <= 48.1 u A^3 <= 48.2 u (A*A)*A computed, bounded by B_4 = 2^-47 (A*A)*A
+//    (64 u).
 // 4. Underflow. A product whose result is subnormal may add an absolute error up to 2^-1075
 //    (sums and differences stay exact there). The unfolded trees hold 52 products for r and 9
 //    for Delta4, and an error made at one of them reaches the root multiplied by the other
 //    factors on its path, each below 2^34 under step 1 (|a| <= 2^10, |e| <= 2^22,
 //    |Delta| <= 6 2^30, with rounding margins): at most 52 * 2^-1075 * 2^34 < 2^-1035 in all.
 //    Step 1 also gives X >= 3 A^5 >= 2^-300 and A^3 >= 2^-180, so the margins left in step 3
-//    (15 u X and 27 u A^3, above 2^-349 and 2^-229) absorb it, and the second-order terms of
+//    (590 u X and 15 u A^3, above 2^-344 and 2^-229) absorb it, and the second-order terms of
 //    the relative model as well. No overflow: every value stays below 2^60.
 // 5. So the exact r has the sign of the computed one when |r| > B_r, and Delta4 likewise when
 //    |Delta4| > B_4; the result is their product's sign.
@@ -76,7 +80,7 @@ namespace {
 constexpr double SMALLEST_SPREAD = 0x1p-60;
 constexpr double LARGEST_SPREAD = 0x1p10;
 constexpr double LARGEST_WEIGHT_SPREAD = 0x1p20;
-constexpr double R_BOUND = 0x1p-45;
+constexpr double R_BOUND = 0x1p-43;
 constexpr double DELTA_BOUND = 0x1p-47;
 
 inline double larger(double a, double b) { return a > b ? a : b; }

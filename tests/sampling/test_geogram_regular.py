@@ -111,6 +111,24 @@ def test_the_predicate_is_exact_where_rounding_the_lifting_flips_the_sign(offset
     assert lifted_wrong > 20  # the flaw the exact weights repair (about a third of them)
 
 
+def test_the_filter_is_right_around_its_threshold():
+    """The fifth weight moved off the orthosphere by 2⁻ᵏ (the spread about 1): the filter
+    decides from about k = 40 down (its bound is about 2⁻⁴³ of the size), never wrongly."""
+    rng = np.random.default_rng(3)
+    decided = {}
+    for trial in range(150):
+        points, weights = _on_the_orthosphere(rng, 0.0, 1.0, 0)
+        k = 30 + trial % 25
+        weights[4] += rng.choice([-1.0, 1.0]) * 2.0**-k
+        filtered, full, _ = geogram_delaunay.side4w_stages(points, weights)
+        expected = _power_sign(points, weights)
+        assert full == expected != 0
+        assert filtered in (0, expected)
+        decided[k] = decided.get(k, 0) + (filtered != 0)
+    assert decided[30] == 6 and decided[54] == 0  # far above and far below the threshold
+    assert 0 < sum(decided[k] for k in range(36, 46)) < 60  # some near it, not all
+
+
 def test_the_filter_stays_silent_near_zero_and_out_of_range():
     rng = np.random.default_rng(2)
     points, weights = _on_the_orthosphere(rng, 0.5, 0.01, 0)
