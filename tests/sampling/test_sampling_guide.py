@@ -165,6 +165,20 @@ def test_filler_points_keep_their_clearance():
     assert dist.min() >= guide.FILLER_CLEARANCE * radius
 
 
+def test_auto_picks_geogram_where_it_was_built(monkeypatch):
+    from vorobound.errors import InputError
+
+    built = guide.geogram_available()
+    assert guide.resolve_engine("auto", False) is (
+        guide.Engine.geogram if built else guide.Engine.gudhi
+    )
+    assert guide.resolve_engine("auto", True) is guide.Engine.hull
+    monkeypatch.setattr(guide, "geogram_available", lambda: False)
+    assert guide.resolve_engine("auto", False) is guide.Engine.gudhi
+    with pytest.raises(InputError, match="engine geogram needs"):
+        guide.resolve_engine("geogram", False)
+
+
 def test_classify_handles_no_triples():
     balls = _random_surface_balls(20, 3)
     seeded = classify(balls, np.empty((0, 3), dtype=np.int64))
