@@ -18,7 +18,8 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
   .regular_tetrahedra`), then the check's route (the triangles among the balls, read in C++).
   Target: check ≤ 2.5× the bare triangulation at 10⁶ balls.
 * ``tile``: the stages of one tile of that sample (a sixth of the balls, one thread), each
-  timed apart against CGAL's triangulation of the same tile: filler points, CGAL, GUDHI's
+  timed apart against CGAL's triangulation of the same tile: filler points, CGAL, geogram's
+  regular triangulation with the triangles read (the ``geogram`` engine's route), GUDHI's
   simplex tree, its serialization, reading the triangles, freeing both, the seeds (their
   geometry and the coverage queries) and the 16 nearest neighbours of the pair conditions.
 * ``binding``: the other maintained CGAL binding on PyPI, the SWIG bindings of the ``cgal``
@@ -238,7 +239,7 @@ def child_tile(path: str) -> dict:
     from scipy.spatial import cKDTree
 
     from vorobound.geometry.threads import limited_threads
-    from vorobound.sampling import simplex_kernel
+    from vorobound.sampling import geogram_delaunay, simplex_kernel
     from vorobound.sampling.balls import Balls
     from vorobound.sampling.guides.seeds import classify, lifted_balls, other_power, seed_pairs
     from vorobound.sampling.guides.triangles import filler_points
@@ -266,6 +267,10 @@ def child_tile(path: str) -> dict:
         weights = np.concatenate([w, np.zeros(len(filler))])
         complex_ = timed("CGAL triangulation", lambda: gudhi.DelaunayComplex(
             points=points, weights=weights, precision="fast"))  # fmt: skip
+        if geogram_delaunay.available():  # the geogram engine's route, for comparison
+            geogram_delaunay.regular_triangles(points[:1000], weights[:1000], 1000)  # loaded
+            timed("geogram triangulation + triangles", lambda: geogram_delaunay
+                  .regular_triangles(points, weights, len(balls)))  # fmt: skip
         tree = timed("GUDHI simplex tree", complex_.create_simplex_tree)
         start = _cpu()
         del complex_
