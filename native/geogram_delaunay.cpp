@@ -297,7 +297,8 @@ int vb_regular_cells(const double* points, const double* weights, int64_t n, int
 // The triangles of that regular triangulation whose three vertices are below `limit` (the
 // check's balls come first, its filler points after them), each once, as 3 * *count indices
 // (rows ascending; with `ordered` in lexicographic order), to be freed with vb_free_cells.
-// Returns as vb_regular_cells.
+// Returns as vb_regular_cells, and 3 when the points span no volume (geogram makes no cell;
+// a flat set has triangles all the same, which the caller then asks CGAL for).
 int vb_regular_facets(const double* points, const double* weights, int64_t n, int64_t limit,
                       int ordered, int64_t** facets, int64_t* count) {
     *facets = nullptr;
@@ -312,6 +313,9 @@ int vb_regular_facets(const double* points, const double* weights, int64_t n, in
             regular_triangulation(points, weights, n, lifted, original);
         if (triangulation.is_null()) {
             return 1;
+        }
+        if (triangulation->nb_cells() == 0) {
+            return 3;
         }
         finite_facets(*triangulation, original.empty() ? nullptr : original.data(), limit,
                       ordered, facets, count);

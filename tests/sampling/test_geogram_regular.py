@@ -201,6 +201,22 @@ def test_torus_balls_with_filler_points_give_cgals_tetrahedra():
     assert _rows(found) == _rows(_gudhi(points, weights))
 
 
+def test_a_flat_set_gives_no_cells_and_no_triangles_from_geogram():
+    """Points in one plane: geogram makes no cell, so its triangles are refused (None) and the
+    check asks CGAL, whose flat triangulation has them."""
+    rng = np.random.default_rng(8)
+    points = np.column_stack([rng.random((60, 2)), np.zeros(60)])
+    weights = rng.random(60) * 1e-3
+    assert len(geogram_delaunay.regular_tetrahedra(points, weights)) == 0
+    assert geogram_delaunay.regular_triangles(points, weights, 60) is None
+    from vorobound.sampling.guides.triangles import Engine, regular_triangles
+
+    pytest.importorskip("gudhi")
+    found = regular_triangles(points, weights, Engine.geogram)  # the filler may be empty
+    assert len(found) > 0
+    np.testing.assert_array_equal(found, regular_triangles(points, weights, Engine.gudhi))
+
+
 def test_equal_weights_give_the_unweighted_triangulation():
     points = np.random.default_rng(5).normal(size=(3000, 3))
     for weight in (0.0, 0.7):

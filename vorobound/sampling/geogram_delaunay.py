@@ -286,7 +286,8 @@ def regular_triangles(
     once, as point indices (int64, ascending within a row; with ``ordered`` the rows in
     lexicographic order, GUDHI's simplex-tree order). Read from geogram's cells and their
     neighbours in C++ (each facet from the cell of smaller index), with no sort of all faces.
-    None where :func:`regular_tetrahedra` is None."""
+    None where :func:`regular_tetrahedra` is None, and where the points span no volume (geogram
+    then makes no cell, while a flat set has triangles: the caller asks CGAL)."""
     given = _regular_input(points, weights)
     if given is None:
         return None

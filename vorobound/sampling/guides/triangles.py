@@ -258,7 +258,7 @@ def regular_triangles(
     in bulk (:func:`vorobound.sampling.simplices.delaunay_simplices`, no Python loop over
     simplices); geogram: geogram's exact regular triangulation, the triangles read in C++
     (:func:`vorobound.sampling.geogram_delaunay.regular_triangles`), CGAL's where the input
-    leaves its exact range."""
+    leaves its exact range or spans no volume."""
     filler = filler_points(centers, math.sqrt(float(weights.max())))
     points = np.vstack([centers, filler])
     lifted = np.concatenate([weights, np.zeros(len(filler))])
@@ -270,9 +270,9 @@ def regular_triangles(
             return found
         if not gudhi_available():
             raise InputError(
-                "these balls leave the exact range of geogram's regular triangulation (extreme "
-                "spreads of coordinates or weights, or fewer than five points with the filler): "
-                "install gudhi"
+                "geogram's regular triangulation does not take these balls (extreme spreads of "
+                "coordinates or weights, all in one plane, or fewer than five points with the "
+                "filler): install gudhi"
             )
     from ..simplices import delaunay_simplices
 
