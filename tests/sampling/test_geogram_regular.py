@@ -175,6 +175,21 @@ def test_hidden_points_are_in_no_tetrahedron_as_in_cgal():
     assert _rows(found) == _rows(_gudhi(points, weights))
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_lattice_with_weights_below_the_liftings_rounding_gives_cgals_tetrahedra(seed):
+    """Cospherical lattice points far from the origin (|p|² about 2,000, whose unit in the last
+    place is 2⁻⁴²) with weights below 2⁻⁴⁰: the weights alone decide every in-sphere tie, and a
+    lifting rounded to a double would lose them. Exact for the weights given, geogram agrees
+    with CGAL, and not with the unweighted triangulation."""
+    rng = np.random.default_rng(seed)
+    side = np.arange(7.0) + 20
+    points = np.array(np.meshgrid(side, side, side, indexing="ij")).reshape(3, -1).T.copy()
+    weights = rng.integers(0, 2**20, len(points)) * 2.0**-60
+    found = geogram_delaunay.regular_tetrahedra(points, weights)
+    assert _rows(found) == _rows(_gudhi(points, weights))
+    assert _rows(found) != _rows(geogram_delaunay.delaunay_tetrahedra(points))
+
+
 def test_copies_keep_the_heaviest_position():
     rng = np.random.default_rng(4)
     points = rng.random((400, 3))
