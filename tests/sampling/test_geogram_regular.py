@@ -179,8 +179,8 @@ def test_hidden_points_are_in_no_tetrahedron_as_in_cgal():
 def test_a_lattice_with_weights_below_the_liftings_rounding_gives_cgals_tetrahedra(seed):
     """Cospherical lattice points far from the origin (|p|² about 2,000, whose unit in the last
     place is 2⁻⁴²) with weights below 2⁻⁴⁰: the weights alone decide every in-sphere tie, and a
-    lifting rounded to a double would lose them. Exact for the weights given, geogram agrees
-    with CGAL, and not with the unweighted triangulation."""
+    lifting rounded to a double would keep two of their twenty bits. Exact for the weights
+    given, geogram agrees with CGAL, and not with the unweighted triangulation."""
     rng = np.random.default_rng(seed)
     side = np.arange(7.0) + 20
     points = np.array(np.meshgrid(side, side, side, indexing="ij")).reshape(3, -1).T.copy()
