@@ -51,7 +51,8 @@
 // 4. Underflow. A product whose result is subnormal may add an absolute error up to 2^-1075
 //    (sums and differences stay exact there). The unfolded trees hold 52 products for r and 9
 //    for Delta4, and an error made at one of them reaches the root multiplied by the other
-//    factors on its path, each below 2^34 under step 1 (|a| <= 2^10, |e| <= 2^22,
+//    factors on its path, whose product is below 2^34 under step 1 (a minor's product meets
+//    an a and an e, a q_i's product a Delta, an a * minor an e; |a| <= 2^10, |e| <= 2^22,
 //    |Delta| <= 6 2^30, with rounding margins): at most 52 * 2^-1075 * 2^34 < 2^-1035 in all.
 //    Step 1 also gives X >= 3 A^5 >= 2^-300 and A^3 >= 2^-180, so the margins left in step 3
 //    (590 u X and 15 u A^3, above 2^-344 and 2^-229) absorb it, and the second-order terms of
