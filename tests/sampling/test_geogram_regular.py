@@ -10,6 +10,7 @@ from vorobound.sampling import geogram_delaunay
 from vorobound.sampling.balls import make_balls
 from vorobound.sampling.guides.triangles import filler_points
 from vorobound.sampling.sampler.maximal import sample_surface
+from vorobound.sampling.sampler.torus_rows import torus_rows
 from vorobound.sampling.surfaces.analytic import TorusShape
 
 pytestmark = pytest.mark.skipif(
@@ -204,10 +205,21 @@ def test_copies_keep_the_heaviest_position():
     assert np.unique(found).max() < 400  # equal weights: the first copy
 
 
-def test_torus_balls_with_filler_points_give_cgals_tetrahedra():
-    """The check's input: the balls of a torus sample and the filler points around them."""
+def _row_balls():
+    parts = list(torus_rows(3.0, 1.0, 0.1))
+    return make_balls(np.concatenate([c for c, _ in parts]), np.concatenate([r for _, r in parts]))
+
+
+def _surface_balls():
     sample = sample_surface(TorusShape(1.0, 0.4), 0.12, 0.75, seed=0)
-    balls = make_balls(sample.points, 2.0 * 0.12 * sample.lfs)
+    return make_balls(sample.points, 2.0 * 0.12 * sample.lfs)
+
+
+@pytest.mark.parametrize("make", [_surface_balls, _row_balls])
+def test_torus_balls_with_filler_points_give_cgals_tetrahedra(make):
+    """The check's input: the balls of a torus sample (a maximal one, and the row sample of
+    the benchmarks, near a lattice) and the filler points around them."""
+    balls = make()
     filler = filler_points(balls.centers, float(balls.radii.max()))
     points = np.vstack([balls.centers, filler])
     weights = np.concatenate([balls.weights, np.zeros(len(filler))])
