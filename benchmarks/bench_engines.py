@@ -12,10 +12,14 @@ in its own fresh process; printed are CPU and wall seconds and the load average 
 * ``check``: on the torus row sample of about N balls (benchmarks/bench_scale.py makes it, in
   ``--data``), CGAL's bare regular triangulation of the balls with the filler points check
   uses (GUDHI ``DelaunayComplex`` built, no simplex tree; then with its simplex tree), against
-  ``vorobound check --balls F --eps E --workers 1`` end to end. Target: check ≤ 2.5× the bare
-  triangulation at 10⁶ balls.
+  ``vorobound check --balls F --eps E --workers 1`` end to end (``--engines auto,gudhi``: one
+  run per engine; ``auto`` is geogram's where it was built). Beside CGAL, geogram's exact
+  regular triangulation of the same points (:func:`vorobound.sampling.geogram_delaunay
+  .regular_tetrahedra`), then the check's route (the triangles among the balls, read in C++).
+  Target: check ≤ 2.5× the bare triangulation at 10⁶ balls.
 * ``tile``: the stages of one tile of that sample (a sixth of the balls, one thread), each
-  timed apart against CGAL's triangulation of the same tile: filler points, CGAL, GUDHI's
+  timed apart against CGAL's triangulation of the same tile: filler points, CGAL, geogram's
+  regular triangulation with the triangles read (the ``geogram`` engine's route), GUDHI's
   simplex tree, its serialization, reading the triangles, freeing both, the seeds (their
   geometry and the coverage queries) and the 16 nearest neighbours of the pair conditions.
 * ``binding``: the other maintained CGAL binding on PyPI, the SWIG bindings of the ``cgal``
@@ -116,6 +120,31 @@ def child_cgal_balls(path: str) -> dict:
             "simplices": int(tree.num_simplices())}  # fmt: skip
 
 
+def child_geogram_balls(path: str) -> dict:
+    """geogram's exact regular triangulation of the same balls and filler points: its finite
+    tetrahedra (geogram's order), then the check's route, the triangles among the balls read in
+    C++ (lexicographic order)."""
+    import numpy as np
+
+    from vorobound.sampling import geogram_delaunay
+    from vorobound.sampling.guides.triangles import filler_points
+
+    centers, radii = _read_balls(path)
+    filler = filler_points(centers, float(radii.max()))
+    points = np.vstack([centers, filler])
+    weights = np.concatenate([radii**2, np.zeros(len(filler))])
+    cpu, wall = _cpu(), time.perf_counter()
+    tetrahedra = geogram_delaunay.regular_tetrahedra(points, weights, ordered=False)
+    cells = (_cpu() - cpu, time.perf_counter() - wall)
+    cpu, wall = _cpu(), time.perf_counter()
+    triangles = geogram_delaunay.regular_triangles(points, weights, len(centers))
+    route = (_cpu() - cpu, time.perf_counter() - wall)
+    if tetrahedra is None or triangles is None:
+        raise SystemExit("geogram's regular triangulation refused the balls")
+    return {"cells": cells, "route": route, "tetrahedra": len(tetrahedra),
+            "triangles": len(triangles), "peak_gb": _peak_gb()}  # fmt: skip
+
+
 def child_binding(path: str) -> dict:
     """The ``cgal`` package's SWIG regular triangulation and its two ways out, against GUDHI."""
     import gudhi
@@ -180,12 +209,12 @@ def child_binding(path: str) -> dict:
             "cells": int((mapped >= 0).all(axis=1).sum())}  # fmt: skip
 
 
-def child_check(path: str, eps: str) -> dict:
+def child_check(path: str, eps: str, engine: str = "auto") -> dict:
     """``vorobound check`` on one worker, in this process."""
     wall = time.perf_counter()
     done = subprocess.run(
         [sys.executable, "-m", "vorobound", "check", "--balls", path, "--eps", eps,
-         "--workers", "1", "--json"],
+         "--workers", "1", "--json", "--engine", engine],
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     wall = time.perf_counter() - wall
@@ -194,7 +223,7 @@ def child_check(path: str, eps: str) -> dict:
         raise SystemExit(done.stderr)
     summary = json.loads(done.stdout)
     tiles = summary.get("tiles", {})
-    return {"cpu": usage.ru_utime + usage.ru_stime, "wall": wall,
+    return {"cpu": usage.ru_utime + usage.ru_stime, "wall": wall, "engine": summary.get("engine"),
             "guide": summary.get("n_guide_triangles"), "tiles": tiles.get("count"),
             "halo": tiles.get("halo_share"), "stages": tiles.get("cpu_seconds", {}),
             "driver": tiles.get("driver_cpu_seconds", {})}  # fmt: skip
@@ -210,7 +239,7 @@ def child_tile(path: str) -> dict:
     from scipy.spatial import cKDTree
 
     from vorobound.geometry.threads import limited_threads
-    from vorobound.sampling import simplex_kernel
+    from vorobound.sampling import geogram_delaunay, simplex_kernel
     from vorobound.sampling.balls import Balls
     from vorobound.sampling.guides.seeds import classify, lifted_balls, other_power, seed_pairs
     from vorobound.sampling.guides.triangles import filler_points
@@ -238,6 +267,10 @@ def child_tile(path: str) -> dict:
         weights = np.concatenate([w, np.zeros(len(filler))])
         complex_ = timed("CGAL triangulation", lambda: gudhi.DelaunayComplex(
             points=points, weights=weights, precision="fast"))  # fmt: skip
+        if geogram_delaunay.available():  # the geogram engine's route, for comparison
+            geogram_delaunay.regular_triangles(points[:1000], weights[:1000], 1000)  # loaded
+            timed("geogram triangulation + triangles", lambda: geogram_delaunay
+                  .regular_triangles(points, weights, len(balls)))  # fmt: skip
         tree = timed("GUDHI simplex tree", complex_.create_simplex_tree)
         start = _cpu()
         del complex_
@@ -596,25 +629,33 @@ def _pair(label: str, cpu_wall, base, load=None) -> str:
     return text + (f"  load {load[0]:.1f} → {load[1]:.1f}" if load else "")
 
 
-def bench_check(data: str, sizes: list[int]) -> None:
+def bench_check(data: str, sizes: list[int], engines: list[str]) -> None:
     sys.path.insert(0, os.path.dirname(__file__))
     from bench_scale import sample_file
+
+    from vorobound.sampling import geogram_delaunay
 
     for count in sizes:
         path, eps = sample_file(data, count)
         cgal = _child("cgal_balls", str(path))
-        check = _child("check", str(path), str(eps))
+        geogram = _child("geogram_balls", str(path)) if geogram_delaunay.available() else None
         base = cgal["built"]
         print(f"{cgal['balls']:,} balls (+{cgal['filler']:,} filler points), ε = {eps}")
         print(_pair("CGAL regular triangulation (built)", base, base, cgal["load"]))
         print(_pair("CGAL + simplex tree", cgal["tree"], base))
-        print(_pair("vorobound check --workers 1", (check["cpu"], check["wall"]), base,
-                    check["load"]))  # fmt: skip
-        stages = {**check["stages"], **{f"driver {k}": v for k, v in check["driver"].items()}}
-        rest = check["cpu"] - sum(stages.values())
-        print(f"    {check['tiles']} tiles, halo {100 * check['halo']:.1f} %; CPU-s by stage: "
-              + ", ".join(f"{k} {v:.2f}" for k, v in stages.items())
-              + f", the rest (start-up, imports, merge) {rest:.2f}")  # fmt: skip
+        if geogram is not None:
+            print(_pair("geogram regular triangulation (cells)", geogram["cells"], base,
+                        geogram["load"]))  # fmt: skip
+            print(_pair("geogram + triangles of the balls", geogram["route"], base))
+        for engine in engines:
+            check = _child("check", str(path), str(eps), engine)
+            label = f"vorobound check --workers 1 ({check['engine']})"
+            print(_pair(label, (check["cpu"], check["wall"]), base, check["load"]))
+            stages = {**check["stages"], **{f"driver {k}": v for k, v in check["driver"].items()}}
+            rest = check["cpu"] - sum(stages.values())
+            print(f"    {check['tiles']} tiles, halo {100 * check['halo']:.1f} %; CPU-s by stage: "
+                  + ", ".join(f"{k} {v:.2f}" for k, v in stages.items())
+                  + f", the rest (start-up, imports, merge) {rest:.2f}")  # fmt: skip
 
 
 def _on_sample(task: str, data: str, count: int) -> dict:
@@ -742,11 +783,14 @@ def main() -> None:
         "--stages", action="store_true", help="reconstruct: also time M̂'s steps one by one"
     )
     parser.add_argument("--cube", action="store_true", help="cells: the cube's seeds")
+    parser.add_argument(
+        "--engines", default="auto", help="check: the --engine of each check run, comma-separated"
+    )
     parser.add_argument("--repeat", type=int, default=1, help="cells: runs of each route")
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "vorobound-bench"))
     args = parser.parse_args()
     if args.what == "tiny":  # CI: every measurement at a size that takes seconds
-        bench_check(args.data, [20_000])
+        bench_check(args.data, [20_000], ["auto"])
         bench_tile(args.data, 20_000)
         bench_binding(args.data, 20_000)
         bench_reconstruct("0.3", True)
@@ -755,7 +799,8 @@ def main() -> None:
     elif args.what == "delaunay":
         bench_delaunay([int(float(s)) for s in args.sizes.split(",")])
     elif args.what == "check":
-        bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")])
+        engines = args.engines.split(",")
+        bench_check(args.data, [int(float(s)) for s in args.sizes.split(",")], engines)
     elif args.what == "binding":
         bench_binding(args.data, int(float(args.sizes.split(",")[-1])))
     elif args.what == "tile":

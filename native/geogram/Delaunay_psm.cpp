@@ -20698,6 +20698,118 @@ namespace {
         return Sign(Delta4_sign * r_sign);
     }
 
+    // vorobound: side4h_3d_exact_SOS for the heights |p_i|^2 - w_i taken exactly, from the
+    // raw weights: h0 - h_i becomes (w_i - w0) - |p_i - p0|^2, which differs by a combination
+    // of the first three columns and leaves the determinant unchanged
+    // (../power_predicates.cpp). The symbolic perturbation is the original's.
+    Sign side4w_3d_exact_SOS(
+        const double* p0, const double* p1,
+        const double* p2, const double* p3, const double* p4,
+        double w0, double w1, double w2, double w3, double w4,
+        bool sos = true
+    ) {
+        stats_orient3dh.log_exact();
+
+        const expansion& a11 = expansion_diff(p1[0], p0[0]);
+        const expansion& a12 = expansion_diff(p1[1], p0[1]);
+        const expansion& a13 = expansion_diff(p1[2], p0[2]);
+        const expansion& a14 = expansion_diff(
+            expansion_diff(w1, w0), expansion_sq_dist(p1, p0, 3)
+        );
+
+        const expansion& a21 = expansion_diff(p2[0], p0[0]);
+        const expansion& a22 = expansion_diff(p2[1], p0[1]);
+        const expansion& a23 = expansion_diff(p2[2], p0[2]);
+        const expansion& a24 = expansion_diff(
+            expansion_diff(w2, w0), expansion_sq_dist(p2, p0, 3)
+        );
+
+        const expansion& a31 = expansion_diff(p3[0], p0[0]);
+        const expansion& a32 = expansion_diff(p3[1], p0[1]);
+        const expansion& a33 = expansion_diff(p3[2], p0[2]);
+        const expansion& a34 = expansion_diff(
+            expansion_diff(w3, w0), expansion_sq_dist(p3, p0, 3)
+        );
+
+        const expansion& a41 = expansion_diff(p4[0], p0[0]);
+        const expansion& a42 = expansion_diff(p4[1], p0[1]);
+        const expansion& a43 = expansion_diff(p4[2], p0[2]);
+        const expansion& a44 = expansion_diff(
+            expansion_diff(w4, w0), expansion_sq_dist(p4, p0, 3)
+        );
+
+        // Note: we could probably reuse some of the 2x2 co-factors
+        // (but for now I'd rather keep this form that is easier to
+        //  read ... and to debug if need be !)
+        const expansion& Delta1 = expansion_det3x3(
+            a21, a22, a23,
+            a31, a32, a33,
+            a41, a42, a43
+        );
+        const expansion& Delta2 = expansion_det3x3(
+            a11, a12, a13,
+            a31, a32, a33,
+            a41, a42, a43
+        );
+        const expansion& Delta3 = expansion_det3x3(
+            a11, a12, a13,
+            a21, a22, a23,
+            a41, a42, a43
+        );
+        const expansion& Delta4 = expansion_det3x3(
+            a11, a12, a13,
+            a21, a22, a23,
+            a31, a32, a33
+        );
+
+        Sign Delta4_sign = Delta4.sign();
+        geo_assert(Delta4_sign != ZERO);
+
+        const expansion& r_1 = expansion_product(Delta1, a14);
+        const expansion& r_2 = expansion_product(Delta2, a24).negate();
+        const expansion& r_3 = expansion_product(Delta3, a34);
+        const expansion& r_4 = expansion_product(Delta4, a44).negate();
+        const expansion& r = expansion_sum4(r_1, r_2, r_3, r_4);
+
+        Sign r_sign = r.sign();
+
+        // Simulation of Simplicity (symbolic perturbation)
+        if(sos && r_sign == ZERO) {
+            stats_orient3dh.log_SOS();
+            const double* p_sort[5] = {p0, p1, p2, p3, p4};
+            SOS_sort(p_sort, p_sort + 5, 3);
+            for(index_t i = 0; i < 5; ++i) {
+                if(p_sort[i] == p0) {
+                    const expansion& z1 = expansion_diff(Delta2, Delta1);
+                    const expansion& z2 = expansion_diff(Delta4, Delta3);
+                    const expansion& z = expansion_sum(z1, z2);
+                    Sign z_sign = z.sign();
+                    if(z_sign != ZERO) {
+                        return Sign(Delta4_sign * z_sign);
+                    }
+                } else if(p_sort[i] == p1) {
+                    Sign Delta1_sign = Delta1.sign();
+                    if(Delta1_sign != ZERO) {
+                        return Sign(Delta4_sign * Delta1_sign);
+                    }
+                } else if(p_sort[i] == p2) {
+                    Sign Delta2_sign = Delta2.sign();
+                    if(Delta2_sign != ZERO) {
+                        return Sign(-Delta4_sign * Delta2_sign);
+                    }
+                } else if(p_sort[i] == p3) {
+                    Sign Delta3_sign = Delta3.sign();
+                    if(Delta3_sign != ZERO) {
+                        return Sign(Delta4_sign * Delta3_sign);
+                    }
+                } else if(p_sort[i] == p4) {
+                    return NEGATIVE;
+                }
+            }
+        }
+        return Sign(Delta4_sign * r_sign);
+    }
+
 
     Sign side3h_2d_exact_SOS(
         const double* p0, const double* p1,
@@ -20865,6 +20977,14 @@ namespace {
 }
 
 
+
+// vorobound: the filter of the exact weighted side4 (../power_predicates.cpp).
+namespace vb_power {
+    extern thread_local long long skipped_copies;
+    int side4w_3d_filter(const double* p0, const double* p1, const double* p2,
+                         const double* p3, const double* p4, double w0, double w1,
+                         double w2, double w3, double w4);
+}
 
 // vorobound: the double-double stage of in_sphere_3d_SOS (../insphere_dd.cpp).
 namespace vb_insphere {
@@ -21322,6 +21442,27 @@ namespace GEO {
             }
             // orient_4d() is opposite to side4h()
             // (like in_sphere() that is opposite to side4())
+            return Sign(-result);
+        }
+
+        // vorobound: orient_3dlifted_SOS with raw weights w_i in place of the heights,
+        // exact for the weights given (../power_predicates.cpp).
+        Sign orient_3dweighted_SOS(
+            const double* p0, const double* p1,
+            const double* p2, const double* p3, const double* p4,
+            double w0, double w1, double w2, double w3, double w4
+        ) {
+            stats_orient3dh.log_invoke();
+            Sign result = Sign(
+                vb_power::side4w_3d_filter(
+                    p0, p1, p2, p3, p4, w0, w1, w2, w3, w4
+                )
+            );
+            if(result == 0) {
+                result = side4w_3d_exact_SOS(
+                    p0, p1, p2, p3, p4, w0, w1, w2, w3, w4
+                );
+            }
             return Sign(-result);
         }
 
@@ -23084,6 +23225,12 @@ namespace GEO {
                     (p - vertex_ptr(0)) / int(vertex_stride_)
                 );
                 double h = heights_[pindex];
+                // vorobound: with raw weights in heights_, the exact weighted test.
+                if(vb_raw_weights_) {
+                    return (PCK::orient_3dweighted_SOS(
+                                pv[0],pv[1],pv[2],pv[3],p,h0,h1,h2,h3,h
+                            ) > 0) ;
+                }
                 return (PCK::orient_3dlifted_SOS(
                             pv[0],pv[1],pv[2],pv[3],p,h0,h1,h2,h3,h
                         ) > 0) ;
@@ -23135,6 +23282,11 @@ namespace GEO {
         index_t first_free_;
         bool weighted_;
         vector<double> heights_; // only used in weighted mode
+        // vorobound: heights_ holds the raw weights w_i (ExactRegularDelaunay3d), and the
+        // conflict test is exact for them (PCK::orient_3dweighted_SOS).
+    protected:
+        bool vb_raw_weights_;
+    private:
 
         bool debug_mode_;
 
@@ -23233,6 +23385,18 @@ namespace GEO {
 
     protected:
         ~RegularWeightedDelaunay3d() override;
+    };
+
+    // vorobound: the regular triangulation of points (x, y, z, w) with weight w (power
+    // distance |x - p|^2 - w), exact for the weights given ("VBPOW").
+    class ExactRegularDelaunay3d : public Delaunay3d {
+    public:
+        ExactRegularDelaunay3d(coord_index_t dimension = 4) : Delaunay3d(4) {
+            if(dimension != 4) {
+                throw InvalidDimension(dimension, "ExactRegularDelaunay3d", "4");
+            }
+            vb_raw_weights_ = true;
+        }
     };
 }
 
@@ -23538,6 +23702,7 @@ namespace GEO {
         geo_register_Delaunay_creator(ParallelDelaunay3d, "PDEL");
 #endif
         geo_register_Delaunay_creator(RegularWeightedDelaunay3d, "BPOW");
+        geo_register_Delaunay_creator(ExactRegularDelaunay3d, "VBPOW"); // vorobound
 
         geo_register_Delaunay_creator(Delaunay2d, "BDEL2d");
         geo_register_Delaunay_creator(RegularWeightedDelaunay2d, "BPOW2d");
@@ -24972,6 +25137,7 @@ namespace GEO {
         }
         first_free_ = END_OF_LIST;
         weighted_ = (dimension == 4);
+        vb_raw_weights_ = false; // vorobound
         // In weighted mode, vertices are 4d but combinatorics is 3d.
         if(weighted_) {
             cell_size_ = 4;
@@ -24996,7 +25162,11 @@ namespace GEO {
         cur_stamp_ = 0;
         if(weighted_) {
             heights_.resize(nb_vertices);
-            for(index_t i = 0; i < nb_vertices; ++i) {
+            // vorobound: the 4th coordinate is the weight itself.
+            for(index_t i = 0; vb_raw_weights_ && i < nb_vertices; ++i) {
+                heights_[i] = vertices[4 * i + 3];
+            }
+            for(index_t i = 0; !vb_raw_weights_ && i < nb_vertices; ++i) {
                 // Client code uses 4d embedding with ti = sqrt(W - wi)
                 //   where W = max(wi)
                 // We recompute the standard "shifted" lifting on
@@ -25513,6 +25683,8 @@ namespace GEO {
             (orient[3] == ZERO) ;
 
         if(nb_zero >= 3) {
+            // vorobound: a copy is skipped whatever its weight; the caller counts them.
+            vb_power::skipped_copies += vb_raw_weights_ ? 1 : 0;
             return;
         }
 

@@ -13,6 +13,7 @@ from vorobound.errors import InputError
 from vorobound.reports import check as whole_check
 from vorobound.sampling.balls import make_balls
 from vorobound.sampling.guides.engines import Engine
+from vorobound.sampling.guides.triangles import geogram_available
 from vorobound.sampling.io.balls import write_balls
 from vorobound.sampling.sampler.maximal import sample_surface
 from vorobound.sampling.surfaces.analytic import TorusShape
@@ -83,6 +84,22 @@ def test_slabs_change_the_candidates_only(torus_balls):
     assert a.sparsity == b.sparsity and a.lipschitz == b.lipschitz
     rows = [{tuple(t) for t in outcome.kept.guides.triples.tolist()} for outcome in (a, b)]
     assert rows[0] == rows[1]
+
+
+@pytest.mark.skipif(not geogram_available(), reason="the compiled module was not built")
+@pytest.mark.parametrize("slabs", [True, False])
+def test_geogram_and_gudhi_give_the_same_candidates_and_guides(torus_balls, slabs):
+    """The two regular triangulations (geogram's exact one, CGAL's) propose the same triples,
+    in slabs (a whole check) and as one triangulation (a tile), so the check is the same."""
+    found = {}
+    for engine in (Engine.gudhi, Engine.geogram):
+        settings = _settings(torus_balls, slabs=slabs, engine=engine.value)
+        found[engine] = pipeline.check_part(pipeline.TileJob.whole(torus_balls, settings))
+    a, b = found[Engine.gudhi], found[Engine.geogram]
+    assert a.guides.count == b.guides.count > 0
+    assert a.candidates == b.candidates and a.with_seeds == b.with_seeds
+    assert a.guides.maxima == b.guides.maxima and a.guides.counts == b.guides.counts
+    assert np.array_equal(a.kept.guides.triples, b.kept.guides.triples)
 
 
 def test_the_bounds_stage_runs_where_the_settings_have_none(torus_balls):

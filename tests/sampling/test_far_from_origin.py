@@ -6,7 +6,11 @@ import numpy as np
 import pytest
 
 from vorobound.sampling.balls import Balls
-from vorobound.sampling.guides.triangles import find_guide_triangles, gudhi_available
+from vorobound.sampling.guides.triangles import (
+    find_guide_triangles,
+    geogram_available,
+    gudhi_available,
+)
 
 SHIFTS = [1e3, 1e5, 1e7, 1e9]
 
@@ -26,10 +30,12 @@ def _guides(balls, engine):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("engine", ["gudhi", "brute"])
+@pytest.mark.parametrize("engine", ["geogram", "gudhi", "brute"])
 def test_shifted_balls_have_the_same_guide_triangles(torus_balls, engine):
     if engine == "gudhi" and not gudhi_available():
         pytest.skip("gudhi is not installed")
+    if engine == "geogram" and not geogram_available():
+        pytest.skip("the compiled module was not built")
     reference = _guides(torus_balls, engine)
     assert len(reference) > 1000
     direction = np.array([1.0, -0.6, 0.3])

@@ -15,6 +15,11 @@ SEED_ATOL = 1e-12
 
 gudhi = pytest.importorskip("gudhi")
 
+REGULAR_ENGINES = (guide.Engine.gudhi,) + (
+    (guide.Engine.geogram,) if guide.geogram_available() else ()
+)
+"""The engines that read a regular triangulation (geogram's where its module was built)."""
+
 
 def _balls(shape, eps, seed=0):
     sample = sample_surface(shape, eps, 0.75, seed=seed)
@@ -93,7 +98,7 @@ def test_engines_agree_with_the_reference(case):
     balls = REFERENCE_CASES[case]()
     reference_guides, reference_halves = _reference_guides(balls)
     assert reference_guides  # the comparison is not vacuous
-    for engine in (guide.Engine.gudhi, guide.Engine.brute):
+    for engine in (*REGULAR_ENGINES, guide.Engine.brute):
         found = guide.find_guide_triangles(balls, engine)
         assert _as_set(found.guide.triples) == reference_guides, engine
         halves = found.seeded.triples[found.seeded.half_covered]
@@ -114,6 +119,9 @@ def test_gudhi_slabs_and_filler_agree_with_brute_on_a_larger_sample(monkeypatch,
     assert _as_set(by_gudhi.guide.triples) == _as_set(by_brute.guide.triples)
     assert by_gudhi.half_covered == by_brute.half_covered
     assert by_gudhi.candidates < by_brute.candidates / 10
+    for slabs in (True, False):  # geogram's exact regular triangulation: the same triples
+        triples = [guide.candidate_triples(balls, engine, slabs) for engine in REGULAR_ENGINES]
+        assert all(np.array_equal(t, triples[0]) for t in triples)
 
 
 def test_sphere_with_equal_radii_guides_are_the_hull_facets():
@@ -157,6 +165,20 @@ def test_filler_points_keep_their_clearance():
     assert dist.min() >= guide.FILLER_CLEARANCE * radius
 
 
+def test_auto_picks_geogram_where_it_was_built(monkeypatch):
+    from vorobound.errors import InputError
+
+    built = guide.geogram_available()
+    assert guide.resolve_engine("auto", False) is (
+        guide.Engine.geogram if built else guide.Engine.gudhi
+    )
+    assert guide.resolve_engine("auto", True) is guide.Engine.hull
+    monkeypatch.setattr(guide, "geogram_available", lambda: False)
+    assert guide.resolve_engine("auto", False) is guide.Engine.gudhi
+    with pytest.raises(InputError, match="engine geogram needs"):
+        guide.resolve_engine("geogram", False)
+
+
 def test_classify_handles_no_triples():
     balls = _random_surface_balls(20, 3)
     seeded = classify(balls, np.empty((0, 3), dtype=np.int64))
@@ -166,5 +188,5 @@ def test_classify_handles_no_triples():
 def test_far_apart_balls_have_no_guide_triangles():
     centers = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0], [0, 0, 10], [10, 10, 10]], float)
     balls = make_balls(centers, np.ones(5))
-    for engine in (guide.Engine.gudhi, guide.Engine.brute):
+    for engine in (*REGULAR_ENGINES, guide.Engine.brute):
         assert len(guide.find_guide_triangles(balls, engine).guide.triples) == 0

@@ -231,9 +231,10 @@ EngineOpt = Annotated[
     EngineChoice,
     typer.Option(
         "--engine",
-        help="Candidate triples: gudhi (regular triangulation, CGAL), hull (equal radii on a "
+        help="Candidate triples: geogram (regular triangulation, geogram's, compiled with "
+        "vorobound, exact), gudhi (regular triangulation, CGAL), hull (equal radii on a "
         "sphere), brute (all overlapping triples; small inputs), auto (hull for a sphere, else "
-        "gudhi if installed, else brute).",
+        "geogram if built, else gudhi if installed, else brute).",
     ),
 ]
 

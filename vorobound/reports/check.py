@@ -3,10 +3,11 @@
 :func:`check_surface` samples a surface (:mod:`vorobound.sampling.sampler.maximal`) and checks the
 sample; :func:`check_balls` checks balls someone else made (L_i = r_i/δ). Both run the check's
 one pipeline, :func:`vorobound.tiling.job.check_part`, on the whole sample as one tile in
-process (no halo, every thread, GUDHI in slabs or the hull engine, L exact where the surface
-gives it, λ measured where a mesh's L has none), and add the stages only a surface has around
-it: sampling before, coverage after. A tiled check (:mod:`vorobound.reports.check_tiled`, on
-the tile engine :mod:`vorobound.tiling`) runs the same pipeline per tile.
+process (no halo, every thread, a regular triangulation in slabs or the hull engine, L exact
+where the surface gives it, λ measured where a mesh's L has none), and add the stages only a
+surface has around it: sampling before, coverage after. A tiled check
+(:mod:`vorobound.reports.check_tiled`, on the tile engine :mod:`vorobound.tiling`) runs the same
+pipeline per tile.
 
 Both reports build their summary once, by :func:`summary_fields`, from the pipeline's
 :class:`~vorobound.tiling.job.Tallies` (a whole check's one outcome, or the merge of the
@@ -18,7 +19,7 @@ summary.json, a VTU for ParaView and a histogram of the realized gap, as one set
 What a whole check has that tiles cannot: coverage (needs the surface and every ball), the
 measured λ (a property of the whole sample), every guide triangle's row in memory (the VTU
 shows them all, the gap histogram is drawn from the values, ``to_frame``), and candidate counts
-of GUDHI's slabs or the hull (a tile triangulates once; its guide triangles are the same).
+of the slabs or the hull (a tile triangulates once; its guide triangles are the same).
 
 References
 ----------

@@ -145,7 +145,8 @@ def check_ball_file(
         As for :func:`~vorobound.reports.check.check_balls` (``params.lipschitz`` the λ that
         L = r/δ should satisfy).
     engine : Engine
-        ``gudhi`` (default when installed) or ``brute``; ``hull`` needs the whole sphere.
+        ``geogram`` (default when built), ``gudhi`` or ``brute``; ``hull`` needs the whole
+        sphere.
     workers : int
         Processes of the local pool (1: tiles run in this process).
     scheduler : str, optional

@@ -26,6 +26,14 @@ perturbation, a function of the coordinates only, so a subset of the points is t
 whole set is wherever a tetrahedron's ball holds no other point (what :mod:`.reconstruct.slabs`
 needs; CGAL's perturbation has the same property, but the two need not choose the same tetrahedra
 among cospherical points). A point at the coordinates of an earlier one gets no tetrahedron.
+
+The regular (weighted Delaunay) triangulation of the check's balls (:func:`regular_tetrahedra`,
+:func:`regular_triangles`) runs on geogram's weighted mode changed by vorobound so that it is
+exact for the weights given (native/power_predicates.cpp: geogram rounded each lifting |p|² − w
+to a double), in :func:`weighted_frame`'s range. On the torus row sample of 10⁶ balls with the
+check's filler points it takes about half of CGAL's bare build, and the check's candidate
+triples, read in C++ from its cells, come with no simplex tree (``python
+benchmarks/bench_engines.py check --sizes 1e6``; docs/performance.md).
 """
 
 from __future__ import annotations
@@ -40,6 +48,9 @@ import numpy as np
 
 SMALLEST_SCALED = 2.0**-150
 """Smallest nonzero |coordinate| (after the power-of-two scaling) geogram is given."""
+WEIGHT_RANGE = (2.0**-300, 2.0**300)
+"""Range of the nonzero |weights| (after the scaling, by the square of the points' factor) the
+regular triangulation is given (:func:`weighted_frame`)."""
 MAX_POINTS = 10**8
 """More points go to CGAL: geogram's indices are 32-bit, and its arrays of four entries per
 tetrahedron (about 6.5 tetrahedra a point, many more in bad cases) would wrap past 2³²."""
@@ -69,6 +80,27 @@ def _library() -> ctypes.CDLL | None:
     library.vb_free_cells.restype = None
     library.vb_side4_stages.argtypes = [ctypes.c_void_p] + [ctypes.POINTER(ctypes.c_int)] * 2
     library.vb_side4_stages.restype = None
+    library.vb_regular_cells.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_void_p,
+        ctypes.c_int64,
+        ctypes.c_int,
+        ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
+        ctypes.POINTER(ctypes.c_int64),
+    ]
+    library.vb_regular_cells.restype = ctypes.c_int
+    library.vb_regular_facets.argtypes = [
+        ctypes.c_void_p,
+        ctypes.c_void_p,
+        ctypes.c_int64,
+        ctypes.c_int64,
+        ctypes.c_int,
+        ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
+        ctypes.POINTER(ctypes.c_int64),
+    ]
+    library.vb_regular_facets.restype = ctypes.c_int
+    library.vb_side4w_stages.argtypes = [ctypes.c_void_p] * 2 + [ctypes.POINTER(ctypes.c_int)] * 3
+    library.vb_side4w_stages.restype = None
     library.vb_set_double_double.argtypes = [ctypes.c_int]
     library.vb_set_double_double.restype = None
     return library
@@ -125,6 +157,32 @@ def exact_frame(points: np.ndarray) -> np.ndarray | None:
     return np.ldexp(scaled, -exponent)
 
 
+def weighted_frame(points: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """``points`` in :func:`exact_frame` and ``weights`` times the square of its factor (power
+    distances scale by that square: the regular triangulation is unchanged), as new float64
+    arrays; None when a weight is not finite or a nonzero |weight| leaves :data:`WEIGHT_RANGE`
+    after the scaling, or :func:`exact_frame` refuses the points.
+
+    Why that range keeps the weighted predicate exact. Its determinant has the terms
+    Delta_k ((w_i - w_0) - |p_i - p_0|²) (native/power_predicates.cpp): after the scaling the
+    coordinates are multiples of 2⁻²⁰² (module docstring), the weights of their unit in the last
+    place, at least 2⁻³⁵² above 2⁻³⁰⁰, so every term of the expansions is a multiple of
+    2⁻⁶⁰⁶·2⁻⁴⁰⁴ = 2⁻¹⁰¹⁰ ≥ 2⁻¹⁰⁷⁴, and none exceeds about 2³¹⁰."""
+    scaled = exact_frame(points)
+    heavy = np.array(weights, dtype=np.float64, order="C", copy=True)
+    if scaled is None or not np.isfinite(heavy).all():
+        return None
+    largest = float(np.abs(np.asarray(points, dtype=np.float64)).max()) if len(scaled) else 0.0
+    exponent = math.frexp(largest)[1] if largest else 0
+    given = heavy != 0
+    heavy = np.ldexp(heavy, -2 * exponent)  # rounds only below the range: refused below
+    magnitude = np.abs(heavy[given])
+    low, high = WEIGHT_RANGE
+    if magnitude.size and not (magnitude.min() >= low and magnitude.max() <= high):
+        return None
+    return scaled, heavy
+
+
 def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray | None:
     """The finite tetrahedra (k, 4) of the Delaunay triangulation of ``points`` (n, 3), as
     point indices (int64, ascending within a row; with ``ordered`` the rows in lexicographic
@@ -161,6 +219,113 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     # their first point need the numpy sort again.
     found = first_copies(scaled, tetrahedra)
     return lexicographic_rows(found, len(points)) if ordered and found is not tetrahedra else found
+
+
+def _regular_input(points: np.ndarray, weights: np.ndarray):
+    """(library, scaled points, scaled weights) for the regular triangulation, or None (the
+    conditions of :func:`regular_tetrahedra`)."""
+    library = _library()
+    if np.ndim(points) != 2 or np.shape(points)[1] != 3 or np.shape(weights) != (len(points),):
+        return None
+    if library is None or len(points) < MIN_POINTS or len(points) > MAX_POINTS:
+        return None
+    frame = weighted_frame(points, weights)
+    return None if frame is None else (library, *frame)
+
+
+def _take_rows(library, rows, count: int, width: int) -> np.ndarray:
+    """The module's array of ``count`` rows of ``width`` indices, copied, then freed."""
+    try:
+        return (
+            np.ctypeslib.as_array(rows, shape=(count, width)).copy()
+            if count
+            else np.zeros((0, width), dtype=np.int64)
+        )
+    finally:
+        library.vb_free_cells(rows)
+
+
+def regular_tetrahedra(
+    points: np.ndarray, weights: np.ndarray, ordered: bool = True
+) -> np.ndarray | None:
+    """The finite tetrahedra (k, 4) of the regular (weighted Delaunay) triangulation of
+    ``points`` (n, 3) with ``weights`` (n,) (power distance |x − p|² − w, GUDHI's and CGAL's
+    convention: a ball of radius r has weight r²), as point indices in the layout of
+    :func:`delaunay_tetrahedra`. A hidden point (whose power cell is empty) is in no row; of
+    points at one position only the heaviest, the first of those, can be.
+
+    The predicates are exact for the doubles given: geogram's weighted mode rounds the lifting
+    |p|² − w of each point to a double, and vorobound's change to it (native/power_predicates.cpp,
+    native/geogram/README.md) computes the conflict test from the raw weights, with a filter in
+    doubles and geogram's expansions behind it. None when the compiled module is missing, the
+    input is outside the exact range (:func:`weighted_frame`) or geogram failed: the caller then
+    uses GUDHI."""
+    given = _regular_input(points, weights)
+    if given is None:
+        return None
+    library, scaled, heavy = given
+    cells = ctypes.POINTER(ctypes.c_int64)()
+    count = ctypes.c_int64()
+    with _LOCK:  # geogram's random engine (restarted per call) is global
+        code = library.vb_regular_cells(
+            scaled.ctypes.data,
+            heavy.ctypes.data,
+            len(scaled),
+            int(ordered),
+            ctypes.byref(cells),
+            ctypes.byref(count),
+        )
+    return _take_rows(library, cells, count.value, 4) if code == 0 else None
+
+
+def regular_triangles(
+    points: np.ndarray, weights: np.ndarray, limit: int, ordered: bool = True
+) -> np.ndarray | None:
+    """The triangles (m, 3) of the regular triangulation of :func:`regular_tetrahedra` whose
+    three vertices are below ``limit`` (the check's balls, before its filler points), each
+    once, as point indices (int64, ascending within a row; with ``ordered`` the rows in
+    lexicographic order, GUDHI's simplex-tree order). Read from geogram's cells and their
+    neighbours in C++ (each facet from the cell of smaller index), with no sort of all faces.
+    None where :func:`regular_tetrahedra` is None, and where the points span no volume (geogram
+    then makes no cell, while a flat set has triangles: the caller asks CGAL)."""
+    given = _regular_input(points, weights)
+    if given is None:
+        return None
+    library, scaled, heavy = given
+    facets = ctypes.POINTER(ctypes.c_int64)()
+    count = ctypes.c_int64()
+    with _LOCK:  # as in regular_tetrahedra
+        code = library.vb_regular_facets(
+            scaled.ctypes.data,
+            heavy.ctypes.data,
+            len(scaled),
+            int(limit),
+            int(ordered),
+            ctypes.byref(facets),
+            ctypes.byref(count),
+        )
+    return _take_rows(library, facets, count.value, 3) if code == 0 else None
+
+
+def side4w_stages(points: np.ndarray, weights: np.ndarray) -> tuple[int, int, int]:
+    """The weighted conflict test of five weighted points (5, 3) and (5,), as side4 signs (+1
+    when the last point's power distance to the orthosphere of the first four, which must not
+    be coplanar, is positive: no conflict): (the double filter's, 0 when it is not sure; the
+    whole exact predicate's, with the symbolic perturbation; geogram's original weighted
+    predicate's, on the liftings |p|² − w rounded to doubles), the last two 0 when geogram
+    failed. For tests: no frame is applied (:func:`weighted_frame`)."""
+    library = _library()
+    if library is None:
+        from ..errors import MissingDependency
+
+        raise MissingDependency("geogram's module was not built with the package")
+    five = np.ascontiguousarray(points, dtype=np.float64).reshape(15)
+    heavy = np.ascontiguousarray(weights, dtype=np.float64).reshape(5)
+    signs = [ctypes.c_int() for _ in range(3)]
+    with _LOCK:
+        library.vb_side4w_stages(five.ctypes.data, heavy.ctypes.data, *map(ctypes.byref, signs))
+    filtered, full, lifted = (sign.value for sign in signs)
+    return filtered, full, lifted
 
 
 def first_copies(points: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:

@@ -7,8 +7,8 @@ ball if it is known exactly) and the :class:`TileSettings` every part of one che
 :func:`check_part` runs the stages, each timed by the caller's clock:
 
 1. ``triangulation``: the engine's candidate triples
-   (:func:`~vorobound.sampling.guides.triangles.candidate_triples`: ``hull``, ``gudhi`` in
-   slabs on threads or as one regular triangulation, ``brute``), kept when their smallest
+   (:func:`~vorobound.sampling.guides.triangles.candidate_triples`: ``hull``, ``geogram`` or
+   ``gudhi`` in slabs or as one regular triangulation, ``brute``), kept when their smallest
    vertex index is in the core;
 2. ``seeds``: their seeds, classified with the whole set's lifting (W = ``top``); a whole
    check without a guide triangle stops here (:func:`no_guide_triangles`; a tiled check
@@ -82,7 +82,7 @@ class TileSettings:
     params: SamplingParams
     lipschitz: float | None
     engine: str
-    """``gudhi``, ``brute`` or (a whole check only) ``hull``
+    """``geogram``, ``gudhi``, ``brute`` or (a whole check only) ``hull``
     (:class:`vorobound.sampling.guides.triangles.Engine`, resolved)."""
     top: float
     """W = the largest weight of the whole set (the seeds' lifting)."""
@@ -102,8 +102,8 @@ class TileSettings:
     features: object = None
     """:class:`vorobound.sampling.guides.features.SharpFeatures` of the part, or None."""
     slabs: bool = False
-    """The ``gudhi`` engine cuts space into slabs on threads (a whole check), else one regular
-    triangulation (a tile, on one thread)."""
+    """The ``gudhi`` and ``geogram`` engines cut space into slabs on threads (a whole check),
+    else one regular triangulation (a tile, on one thread)."""
     measure_lipschitz: bool = False
     """λ is measured on the part (a whole sample of a mesh's L), not ``lipschitz``."""
 

@@ -10,6 +10,7 @@ class Engine(str, Enum):
     """Where candidate triples come from."""
 
     auto = "auto"
+    geogram = "geogram"
     gudhi = "gudhi"
     hull = "hull"
     brute = "brute"
