@@ -23,11 +23,13 @@
 //    factor).
 // 2. The determinants. Delta4 = det[a_1..a_3] (the orientation of p0..p3) and
 //    r = sum_k (-1)^(k+1) Delta_k * q_k with q_i = |a_i|^2 (geogram's expansion of side4), as
-//    trees of double-double operations of depth 5 and 10: products of a_ij (depth 1), the 2x2
-//    minors (2), the minor times a_ij (3), the three-term sums Delta_k (5), q_i (3), the
-//    products Delta_k q_k (6) and the four-term sum started from zero (10). The six minors are
-//    computed once and shared by the Delta_k: each use reads the same computed value, so the
-//    bound below holds as for the tree the sharing unfolds to.
+//    trees of double-double operations. What the bound below needs is, per exact monomial, the
+//    number D of rounded operations it passes through, where a product passes on the counts
+//    of both its operands plus its own: products of a_ij (1), the 2x2 minors (2), the minor
+//    times a_ij (3), the three-term sums Delta_k (5), q_i (3), the products Delta_k q_k
+//    (5 + 3 + 1 = 9) and the four-term sum started from zero (13). So D = 5 for Delta4 and
+//    D = 13 for r. The six minors are computed once and shared by the Delta_k: each use reads
+//    the same computed value, so the bound below holds as for the tree the sharing unfolds to.
 // 3. Each operation returns op(x, y)(1 + d) with |d| <= 7u^2 (u = 2^-53) for the computed
 //    operands x, y: products by DWTimesDW1 (7u^2), sums by AccurateDWPlusDW (3u^2/(1-4u)), in
 //    the absence of underflow (Joldes, Muller, Popescu, "Tight and rigorous error bounds for
@@ -35,9 +37,9 @@
 //    the tree (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1), the computed
 //    value is the sum of the exact monomials, each times a product of at most D such factors,
 //    so |computed - exact| <= gamma_D * P with gamma_D = D*7u^2/(1 - D*7u^2) and P the same
-//    tree evaluated on |a_ij| with every sign +. For D = 10: gamma_10 < 71u^2 < 2^-99.8.
+//    tree evaluated on |a_ij| with every sign +. For D = 13: gamma_13 < 92u^2 < 2^-99.4.
 // 4. P is evaluated in double on RN(|hi| (1 + 2^-52)) >= |hi| + ulp(hi) >= |a_ij| (Two-Sum's
-//    |lo| is at most ulp(hi)/2), all terms positive: at most 10 roundings on a path, so
+//    |lo| is at most ulp(hi)/2), all terms positive: at most 13 roundings per monomial, so
 //    P <= P_double (1 + 2^-47) where no product of sizes underflows; where some do, P_double
 //    misses at most 2^-1040, which 2^-96 turns into nothing step 6 could not absorb.
 // 5. Underflow. After step 1 every quantity in the trees is below 2^12 in size. A DWTimesDW1
@@ -46,9 +48,9 @@
 //    two in the cross terms); an addition none (a subnormal sum is exact, and Two-Sum and
 //    Fast-Two-Sum stay exact). At most 52 products, each error carried through at most two later
 //    products by factors below 2^12: the sum stays below 52 * 3 * 2^-1074 * 2^24 < 2^-1040.
-// 6. So |computed - exact| <= B = 2^-96 P_double + 2^-1000 (more than 12 times the bound of
-//    3-5), and the exact value has the sign of the computed hi part when |hi| > 2 B (the lo
-//    part is below u |hi|). Delta4 is treated the same way with its own P.
+// 6. So |computed - exact| <= B = 2^-96 P_double + 2^-1000 (more than 11 times the bound of
+//    3-5: 2^-96 / (92u^2) > 11.1), and the exact value has the sign of the computed hi part
+//    when |hi| > 2 B (the lo part is below u |hi|). Delta4 is treated the same way with its own P.
 //
 // A test compares the stage with an exact rational evaluation on rounded cospherical and
 // exactly cospherical points (tests/sampling/test_geogram_delaunay.py).
