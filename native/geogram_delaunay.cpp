@@ -21,7 +21,9 @@
 #include <cstdint>
 #include <exception>
 #include <mutex>
+#include <memory>
 #include <new>
+#include <utility>
 #include <vector>
 
 #include "Delaunay_psm.h"
@@ -70,28 +72,44 @@ void start_geogram() {
 
 // The finite tetrahedra of `triangulation` as a new array of 4 * *count indices (each row
 // ascending, through `original` when it is not null; with `ordered` the rows in lexicographic
-// order).
+// order). With `neighbours` not null (only with `ordered` 0), also a new array of the same
+// shape: per row, the row across the face opposite each of its corners (geogram's facet lf is
+// opposite its vertex lf, so each row's facets are permuted with its corners), -1 on the hull.
 void finite_cells(const GEO::Delaunay& triangulation, const int64_t* original, int ordered,
-                  int64_t** cells, int64_t* count) {
+                  int64_t** cells, int64_t* count, int64_t** neighbours = nullptr) {
     const GEO::index_t total = triangulation.nb_cells();
+    std::vector<int64_t> row_of(total, -1);  // finite cell -> output row
     int64_t finite = 0;
     for (GEO::index_t c = 0; c < total; ++c) {
-        finite += triangulation.cell_is_infinite(c) ? 0 : 1;
+        if (!triangulation.cell_is_infinite(c)) {
+            row_of[c] = finite++;
+        }
     }
-    int64_t* out = new int64_t[size_t(finite) * 4 + 1];
+    std::unique_ptr<int64_t[]> kept(new int64_t[size_t(finite) * 4 + 1]);
+    std::unique_ptr<int64_t[]> beside(neighbours == nullptr ? nullptr
+                                                            : new int64_t[size_t(finite) * 4 + 1]);
+    int64_t* out = kept.get();
+    int64_t* across = beside.get();
     const GEO::index_t* corners = triangulation.cell_to_v();
-    int64_t k = 0;
     for (GEO::index_t c = 0; c < total; ++c) {
-        if (triangulation.cell_is_infinite(c)) {
+        const int64_t k = row_of[c];
+        if (k < 0) {
             continue;
         }
-        int64_t* row = out + 4 * k;
-        for (int j = 0; j < 4; ++j) {
+        std::array<std::pair<int64_t, int64_t>, 4> row;  // (vertex, row across its facet)
+        for (GEO::index_t j = 0; j < 4; ++j) {
             const int64_t v = int64_t(corners[4 * c + j]);
-            row[j] = original == nullptr ? v : original[v];
+            const GEO::index_t other = triangulation.cell_adjacent(c, j);
+            row[j] = {original == nullptr ? v : original[v],
+                      other < total ? row_of[other] : int64_t(-1)};
         }
-        std::sort(row, row + 4);
-        ++k;
+        std::sort(row.begin(), row.end());
+        for (int j = 0; j < 4; ++j) {
+            out[4 * k + j] = row[j].first;
+            if (across != nullptr) {
+                across[4 * k + j] = row[j].second;
+            }
+        }
     }
     if (ordered) {
         using Row = std::array<int64_t, 4>;  // 32 bytes, no padding: the rows in place
@@ -99,8 +117,11 @@ void finite_cells(const GEO::Delaunay& triangulation, const int64_t* original, i
         Row* rows = reinterpret_cast<Row*>(out);
         std::sort(rows, rows + finite);
     }
-    *cells = out;
+    *cells = kept.release();
     *count = finite;
+    if (neighbours != nullptr) {
+        *neighbours = beside.release();
+    }
 }
 
 // The weighted points (x, y, z, w) geogram is given, one per distinct position: of the points
@@ -244,10 +265,20 @@ extern "C" {
 // a new array of 4 * *count vertex indices (the finite tetrahedra, each row ascending; with
 // `ordered` nonzero the rows in lexicographic order), to be freed with vb_free_cells. Returns 1
 // when geogram failed (an assertion or an allocation), 2 for n out of range.
+// With `neighbours` not null (and `ordered` 0), also *neighbours: a second new array of
+// 4 * *count indices, per row the row across the face opposite each corner, -1 on the hull (the
+// layout of scipy's Delaunay.neighbors), to be freed with vb_free_cells. Returns 2 also for
+// neighbours asked with `ordered`.
 int vb_delaunay_cells(const double* points, int64_t n, int ordered, int64_t** cells,
-                      int64_t* count) {
+                      int64_t** neighbours, int64_t* count) {
     *cells = nullptr;
     *count = 0;
+    if (neighbours != nullptr) {
+        *neighbours = nullptr;
+        if (ordered) {
+            return 2;
+        }
+    }
     if (n < 0 || n >= INT32_MAX) {
         return 2;
     }
@@ -259,7 +290,7 @@ int vb_delaunay_cells(const double* points, int64_t n, int ordered, int64_t** ce
         GEO::Delaunay_var triangulation = GEO::Delaunay::create(3, "BDEL");
         triangulation->set_keeps_infinite(false);
         triangulation->set_vertices(GEO::index_t(n), points);
-        finite_cells(*triangulation, nullptr, ordered, cells, count);
+        finite_cells(*triangulation, nullptr, ordered, cells, count, neighbours);
         return 0;
     } catch (...) {
         return 1;

@@ -164,6 +164,10 @@ def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
     from vorobound.sampling.surfaces.demo_meshes import torus_mesh
 
     found = {}
+    mesh = torus_mesh(3.0, 1.0, 64, 16, jitter=0.2, seed=1)
+    found["geogram, its adjacency"] = estimate_lfs(mesh).lfs
+    # The other routes: tetrahedra from either engine, neighbours from matching their faces.
+    monkeypatch.setattr(lfs_delaunay, "delaunay_neighbours", lambda points: None)
     for engine in ("geogram", "cgal"):
         monkeypatch.setattr(
             lfs_delaunay,
@@ -174,6 +178,37 @@ def test_lfs_is_the_same_bit_for_bit_on_either_engine(monkeypatch):
         )
         found[engine] = estimate_lfs(torus_mesh(3.0, 1.0, 64, 16, jitter=0.2, seed=1)).lfs
     np.testing.assert_array_equal(found["geogram"], found["cgal"])
+    np.testing.assert_array_equal(found["geogram, its adjacency"], found["cgal"])
+
+
+@pytest.mark.parametrize("kind", ["random", "lattice", "sphere"])
+def test_geograms_adjacency_is_the_face_matching(kind):
+    """delaunay_neighbours reads the neighbours from geogram's own adjacency: the same array as
+    matching the faces of its tetrahedra (scipy's layout: across the face opposite each
+    corner, −1 on the hull), in geogram's row order."""
+    from vorobound.sampling.simplices import face_neighbours
+
+    rng = np.random.default_rng(11)
+    if kind == "random":
+        points = rng.random((4000, 3))
+    elif kind == "lattice":  # cospherical everywhere: the symbolic perturbation decides
+        g = np.arange(6.0)
+        points = np.array(np.meshgrid(g, g, g, indexing="ij")).reshape(3, -1).T.copy()
+    else:
+        points = rng.normal(size=(1500, 3))
+        points /= np.linalg.norm(points, axis=1)[:, None]
+    tetrahedra, neighbours = geogram_delaunay.delaunay_neighbours(points)
+    np.testing.assert_array_equal(
+        tetrahedra, geogram_delaunay.delaunay_tetrahedra(points, ordered=False)
+    )
+    np.testing.assert_array_equal(neighbours, face_neighbours(tetrahedra))
+    assert (neighbours == -1).any() and (neighbours >= 0).any()
+
+
+def test_geograms_adjacency_is_refused_where_points_repeat():
+    points = np.random.default_rng(12).random((200, 3))
+    assert geogram_delaunay.delaunay_neighbours(np.vstack([points, points[:3]])) is None
+    assert geogram_delaunay.delaunay_neighbours(np.zeros((3, 3))) is None  # too few points
 
 
 # Review (branch georeview): the three tests below failed before the fixes committed after them.

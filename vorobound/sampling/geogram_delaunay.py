@@ -73,6 +73,7 @@ def _library() -> ctypes.CDLL | None:
         ctypes.c_int64,
         ctypes.c_int,
         ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
+        ctypes.POINTER(ctypes.POINTER(ctypes.c_int64)),
         ctypes.POINTER(ctypes.c_int64),
     ]
     library.vb_delaunay_cells.restype = ctypes.c_int
@@ -191,6 +192,34 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     otherwise geogram's order, the same on every call); no rows when the points
     span no volume. None when the compiled module is missing, the input is outside the exact
     range (module docstring) or geogram failed: the caller then uses CGAL."""
+    found = _cells(points, ordered, neighbours=False)
+    if found is None:
+        return None
+    scaled, tetrahedra, _ = found
+    # The module orders the rows (a sort of 32-byte rows in C++, docstring); copies mapped to
+    # their first point need the numpy sort again.
+    first = first_copies(scaled, tetrahedra)
+    return lexicographic_rows(first, len(points)) if ordered and first is not tetrahedra else first
+
+
+def delaunay_neighbours(points: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """:func:`delaunay_tetrahedra` in geogram's row order, and for each row the row across
+    the face opposite each of its corners (−1 on the hull), read from geogram's own adjacency
+    (the layout of scipy's ``Delaunay.neighbors``; the same array as matching the faces, in a
+    fraction of its time). None as :func:`delaunay_tetrahedra`, and where points repeat (rows
+    renamed to the first copies are sorted again, which would move their neighbours)."""
+    found = _cells(points, ordered=False, neighbours=True)
+    if found is None:
+        return None
+    scaled, tetrahedra, across = found
+    if first_copies(scaled, tetrahedra) is not tetrahedra:
+        return None
+    return tetrahedra, across
+
+
+def _cells(points, ordered: bool, neighbours: bool):
+    """(the points in the exact frame, geogram's tetrahedra, their neighbours or None), or None
+    (:func:`delaunay_tetrahedra`)."""
     library = _library()
     if np.ndim(points) != 2 or np.shape(points)[1] != 3:
         return None  # the compiled module reads three doubles a point
@@ -200,25 +229,32 @@ def delaunay_tetrahedra(points: np.ndarray, ordered: bool = True) -> np.ndarray 
     if scaled is None:
         return None
     cells = ctypes.POINTER(ctypes.c_int64)()
+    across = ctypes.POINTER(ctypes.c_int64)()
     count = ctypes.c_int64()
     with _LOCK:  # one at a time: geogram's random engine (restarted per call) is global
         code = library.vb_delaunay_cells(
-            scaled.ctypes.data, len(scaled), int(ordered), ctypes.byref(cells), ctypes.byref(count)
+            scaled.ctypes.data,
+            len(scaled),
+            int(ordered),
+            ctypes.byref(cells),
+            ctypes.byref(across) if neighbours else None,
+            ctypes.byref(count),
         )
     if code != 0:
         return None
+    arrays = []
     try:
-        tetrahedra = (
-            np.ctypeslib.as_array(cells, shape=(count.value, 4)).copy()
-            if count.value
-            else np.zeros((0, 4), dtype=np.int64)
-        )
+        for pointer in (cells, across) if neighbours else (cells,):
+            arrays.append(
+                np.ctypeslib.as_array(pointer, shape=(count.value, 4)).copy()
+                if count.value
+                else np.zeros((0, 4), dtype=np.int64)
+            )
     finally:
         library.vb_free_cells(cells)
-    # The module orders the rows (a sort of 32-byte rows in C++, docstring); copies mapped to
-    # their first point need the numpy sort again.
-    found = first_copies(scaled, tetrahedra)
-    return lexicographic_rows(found, len(points)) if ordered and found is not tetrahedra else found
+        if neighbours:
+            library.vb_free_cells(across)
+    return scaled, arrays[0], arrays[1] if neighbours else None
 
 
 def _regular_input(points: np.ndarray, weights: np.ndarray):

@@ -9,8 +9,9 @@ against 5 s for a quarter of them. CGAL's incremental triangulation with exact p
 of its simplex tree in bulk (no Python loop per simplex: issue 35 measured that loop at as much
 CPU as qhull's whole triangulation of a 65 536-vertex torus). Where the package's compiled module
 was built, geogram's exact triangulation hands over the tetrahedra as an array instead, without
-any simplex tree (:func:`vorobound.sampling.simplices.delaunay_tetrahedra`); the neighbours come
-from matching the faces of the tetrahedra.
+any simplex tree, with the neighbours from geogram's own adjacency
+(:func:`vorobound.sampling.geogram_delaunay.delaunay_neighbours`); otherwise (CGAL, or repeated
+points) the neighbours come from matching the faces of the tetrahedra.
 
 The triangulation is the same as before (GUDHI's ``AlphaComplex``, read simplex by simplex):
 both are CGAL's Delaunay triangulation with exact predicates, unique for the jittered points
@@ -25,6 +26,7 @@ import numpy as np
 
 from ...errors import VoroboundError
 from ...geometry.kernels import load_kernel
+from ..geogram_delaunay import delaunay_neighbours
 from ..simplices import delaunay_tetrahedra as engine_tetrahedra
 from ..simplices import face_neighbours, kernel_available
 
@@ -34,7 +36,11 @@ def delaunay_tetrahedra(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     the tetrahedron across the face opposite each corner (t, 4), −1 on the convex hull (the
     layout of scipy's ``Delaunay.simplices`` and ``neighbors``). No tetrahedron at all for
     coplanar points."""
-    tets = engine_tetrahedra(np.asarray(points, dtype=float), ordered=False)  # any row order
+    points = np.asarray(points, dtype=float)
+    found = delaunay_neighbours(points)  # geogram's own adjacency: no face matching
+    if found is not None:
+        return found
+    tets = engine_tetrahedra(points, ordered=False)  # any row order
     if not len(tets):
         return tets, np.zeros((0, 4), dtype=np.int64)
     kernel = _facets_kernel()
