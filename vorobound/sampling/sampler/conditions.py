@@ -107,6 +107,9 @@ def neighbours(points: np.ndarray, owned: np.ndarray | None = None) -> Neighbour
         mutual[tied] = (near[second[tied], 1:] == first[tied, None]).any(axis=1)
         keep = (first < second) | ~mutual
         pairs = np.column_stack([first[keep], second[keep]])
+        # The tree's distances are these pairs' gaps: the same sum of squares in the same order
+        # as the norm below (tests/sampling/test_conditions_neighbours.py holds them to it).
+        return Neighbours(pairs, apart[keep], tree, dist[:, -1], owned)
     gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
     return Neighbours(pairs, gap, tree, dist[:, -1], owned)
 
