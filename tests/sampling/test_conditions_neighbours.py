@@ -1,15 +1,16 @@
 """The numpy shortcuts of the check's nearest-neighbour steps give the bits of the plain forms.
 
 The tiled check takes a tile's pair gaps from the k-d tree's distances and finds covering
-balls with column-by-column minima; these tests hold each to the direct computation it
-replaces, bit for bit, so a change of scipy or numpy that breaks the equality shows here.
+balls with column-by-column minima on a tree of its own shape; these tests hold each to the
+direct computation it replaces, bit for bit, so a change of scipy or numpy that breaks the
+equality shows here.
 """
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.guides.seeds import lifted_balls, other_power
+from vorobound.sampling.guides.seeds import LIFTED_LEAFSIZE, lifted_balls, other_power
 from vorobound.sampling.sampler import conditions
 from vorobound.tiling.plan import box_distance
 
@@ -41,6 +42,10 @@ def test_other_power_is_the_smallest_power_outside_each_triple():
     scale = balls.radii[rows[:, 0]] * rng.uniform(0.9, 1.1, 2000)
     points = balls.centers[rows[:, 0]] + scale[:, None] * direction
     got = other_power(tree, top, points, rows)
+    lifted = lifted_balls(balls, top)
+    for leafsize, balanced in ((LIFTED_LEAFSIZE, False), (1, True), (256, False)):
+        other = cKDTree(lifted, leafsize=leafsize, balanced_tree=balanced)
+        assert other_power(other, top, points, rows).tobytes() == got.tobytes()
     # The plain form: the four nearest lifted balls, the triple's own ones left out.
     query = np.column_stack([points, np.zeros(len(points))])
     bound = np.sqrt(top * (1 + 4e-9))
