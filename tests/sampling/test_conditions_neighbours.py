@@ -10,7 +10,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from vorobound.sampling.balls import make_balls
-from vorobound.sampling.guides.seeds import LIFTED_LEAFSIZE, lifted_balls, other_power
+from vorobound.sampling.guides.seeds import LIFTED_LEAFSIZE, _row_norm, lifted_balls, other_power
 from vorobound.sampling.sampler import conditions
 from vorobound.tiling.plan import box_distance
 
@@ -64,3 +64,9 @@ def test_box_distance_sums_like_a_row_sum():
     got = box_distance(points, lo, hi)
     assert (want > 0).any() and (want == 0).any()
     assert want.tobytes() == got.tobytes()
+
+
+def test_seed_normals_are_normalized_like_numpy_norm():
+    vectors = _points() - [1e3, -7.0, 0.5]
+    want = np.linalg.norm(vectors, axis=1)
+    assert want.tobytes() == _row_norm(vectors).tobytes()

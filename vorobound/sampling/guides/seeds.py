@@ -98,13 +98,15 @@ def seed_pairs(balls: Balls, triples: np.ndarray) -> tuple[WeightedTriangles, np
     geometry = weighted_triangles(centers, weights)
     normal = np.cross(centers[:, 1] - centers[:, 0], centers[:, 2] - centers[:, 0])
     with np.errstate(all="ignore"):
-        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-        r_min_sq = weights.min(axis=1)
+        normal /= _row_norm(normal)[:, None]
+        r_min_sq = _column_min(weights)
         depth_sq = -geometry.orthoradius_sq
         exists = geometry.valid & (depth_sq > SEED_RTOL * r_min_sq)
         half = np.sqrt(np.where(exists, depth_sq, np.nan))[:, None] * normal
-    center = geometry.orthocenter
-    seeds = np.stack([center + half, center - half], axis=1)
+    center = np.asarray(geometry.orthocenter)
+    seeds = np.empty((len(center), 2, 3))
+    np.add(center, half, out=seeds[:, 0])
+    np.subtract(center, half, out=seeds[:, 1])
     return geometry, seeds
 
 
@@ -191,6 +193,13 @@ def _row_min(weights: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """The smallest of ``weights`` over each row of indices ``rows`` (column by column: the
     same value as a reduction along the row, without its per-row overhead)."""
     return _column_min(weights[rows])
+
+
+def _row_norm(vectors: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of an (n, 3) array: the squares summed in the order of
+    ``numpy.linalg.norm(vectors, axis=1)`` (the same bits), without its per-row reduction."""
+    square = vectors * vectors
+    return np.sqrt(square[:, 0] + square[:, 1] + square[:, 2])
 
 
 def _column_min(values: np.ndarray) -> np.ndarray:
