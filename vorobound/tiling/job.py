@@ -267,7 +267,8 @@ def check_part(
         # Local order is the global order (ids increase), so the smallest local index is the
         # smallest ball index: its owner counts the triangle.
         if not job.is_whole:
-            triples = triples[core[triples.min(axis=1)]]
+            first = np.minimum(np.minimum(triples[:, 0], triples[:, 1]), triples[:, 2])
+            triples = triples[core[first]]
     with clock("seeds"):
         seeded = classify(balls, triples, progress, top=s.top)
         has = seeded.has_seeds

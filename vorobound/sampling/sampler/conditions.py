@@ -143,7 +143,7 @@ def sparsity(
     pairs, ratio = _complete(points, near, reach, pairs, ratio, measure)
     broken = ratio < 1
     if near.owned is not None:
-        broken &= near.owned[pairs.min(axis=1)]
+        broken &= near.owned[np.minimum(pairs[:, 0], pairs[:, 1])]
     return _report(pairs, ratio, broken, smallest=True)
 
 
