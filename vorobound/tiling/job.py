@@ -267,15 +267,15 @@ def check_part(
         # Local order is the global order (ids increase), so the smallest local index is the
         # smallest ball index: its owner counts the triangle.
         if not job.is_whole:
-            triples = triples[core[triples.min(axis=1)]]
+            first = np.minimum(np.minimum(triples[:, 0], triples[:, 1]), triples[:, 2])
+            triples = triples[core[first]]
     with clock("seeds"):
         seeded = classify(balls, triples, progress, top=s.top)
         has = seeded.has_seeds
-        found = seeded.take(seeded.uncovered.any(axis=1))
-        guide = found.take(found.guide)
-        with_seeds, half_covered = int(has.sum()), int(found.half_covered.sum())
+        guide = seeded.take(seeded.guide)
+        with_seeds, half_covered = int(has.sum()), int(seeded.half_covered.sum())
         seed_reach = 0.0 if job.is_whole else _seed_reach(seeded, has, balls, job)
-        del seeded, found  # every candidate's geometry: not kept through the later stages
+        del seeded  # every candidate's geometry: not kept through the later stages
     if job.is_whole and len(guide.triples) == 0:
         raise no_guide_triangles(s.what, with_seeds, half_covered)  # a tile may have none
     lfs = balls.radii / s.params.delta if job.lfs is None else job.lfs
@@ -379,13 +379,19 @@ def _seed_reach(seeded, has: np.ndarray, balls: Balls, job: TileJob) -> float:
     radius: the seed's distance to the box plus the cover tolerance (seeds.COVER_RTOL)."""
     if not has.any():
         return 0.0
-    seeds = seeded.seeds[has]
-    r_min = np.sqrt(balls.weights[seeded.triples[has]].min(axis=1))
+    seeds, triples = seeded.seeds, seeded.triples
+    if not has.all():
+        seeds, triples = seeds[has], triples[has]
+    weights = balls.weights
+    w_min = np.minimum(
+        np.minimum(weights[triples[:, 0]], weights[triples[:, 1]]), weights[triples[:, 2]]
+    )
     gap = np.maximum(
         tiles.box_distance(seeds[:, 0], job.lo, job.hi),
         tiles.box_distance(seeds[:, 1], job.lo, job.hi),
     )
-    return float((gap + math.sqrt(COVER_RTOL) * r_min).max())
+    gap += math.sqrt(COVER_RTOL) * np.sqrt(w_min)  # r_min
+    return float(gap.max())
 
 
 def _vtu_rows(job: TileJob, guides: GuideMeasurements) -> VtuRows:

@@ -146,8 +146,14 @@ def _subtree_max(plan: TilePlan, beta: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 def box_distance(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Euclidean distance from each point to its box [lo, hi] (0 inside)."""
-    outside = np.maximum(np.maximum(lo - points, points - hi), 0.0)
-    return np.sqrt((outside * outside).sum(axis=1))
+    outside = lo - points
+    np.maximum(outside, points - hi, out=outside)
+    np.maximum(outside, 0.0, out=outside)
+    outside *= outside
+    total = outside[:, 0].copy()  # summed column by column, in the order sum(axis=1) takes
+    for column in range(1, outside.shape[1]):
+        total += outside[:, column]
+    return np.sqrt(total)
 
 
 def plan_tiles(

@@ -98,15 +98,19 @@ def neighbours(points: np.ndarray, owned: np.ndarray | None = None) -> Neighbour
         pairs = _unique_pairs(first, near[:, 1:].ravel(), len(points))
     else:
         sources = np.flatnonzero(owned)
-        first = np.repeat(sources, count - 1)
-        second = near[sources, 1:].ravel()
+        # (sources, count - 1) tables: the first point of each pair broadcast along its row.
+        first = np.broadcast_to(sources[:, None], (len(sources), count - 1))
+        second, apart = near[sources, 1:], dist[sources, 1:]
         # i is among j's neighbours when closer than j's last one (the lists decide ties).
-        apart, last = dist[sources, 1:].ravel(), dist[second, -1]
+        last = dist[second, -1]
         mutual = apart < last
-        tied = np.flatnonzero(apart == last)
-        mutual[tied] = (near[second[tied], 1:] == first[tied, None]).any(axis=1)
+        tied = np.nonzero(apart == last)
+        mutual[tied] = (near[second[tied], 1:] == sources[tied[0], None]).any(axis=1)
         keep = (first < second) | ~mutual
         pairs = np.column_stack([first[keep], second[keep]])
+        # The tree's distances are these pairs' gaps: the same sum of squares in the same order
+        # as the norm below (tests/sampling/test_conditions_neighbours.py holds them to it).
+        return Neighbours(pairs, apart[keep], tree, dist[:, -1], owned)
     gap = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
     return Neighbours(pairs, gap, tree, dist[:, -1], owned)
 
@@ -139,7 +143,7 @@ def sparsity(
     pairs, ratio = _complete(points, near, reach, pairs, ratio, measure)
     broken = ratio < 1
     if near.owned is not None:
-        broken &= near.owned[pairs.min(axis=1)]
+        broken &= near.owned[np.minimum(pairs[:, 0], pairs[:, 1])]
     return _report(pairs, ratio, broken, smallest=True)
 
 
