@@ -129,7 +129,7 @@ def filler_effect() -> dict:
     for label, context in (("with", contextlib.nullcontext()), ("without", without)):
         with context:
             cpu0, start = _cpu_seconds(), time.perf_counter()
-            found[label] = guide.gudhi_triples(balls)
+            found[label] = guide.slab_triples(balls)
             out[label] = {"wall": time.perf_counter() - start, "cpu": _cpu_seconds() - cpu0}
     out["same_candidates"] = bool(np.array_equal(found["with"], found["without"]))
     guides = {}

@@ -192,7 +192,7 @@ def candidate_triples(
         return hull_triples(balls)
     if engine in (Engine.gudhi, Engine.geogram):
         if slabs:
-            return gudhi_triples(balls, progress, engine)
+            return slab_triples(balls, progress, engine)
         return np.sort(regular_triangles(balls.centers, balls.weights, engine), axis=1)
     return overlap_triples(balls, progress)
 
@@ -204,7 +204,7 @@ def hull_triples(balls: Balls) -> np.ndarray:
     return np.sort(ConvexHull(balls.centers).simplices, axis=1)
 
 
-def gudhi_triples(
+def slab_triples(
     balls: Balls, progress: Progress | None = None, engine: Engine = Engine.gudhi
 ) -> np.ndarray:
     """Triangles of the regular triangulation of ``balls`` by ``engine`` (gudhi or geogram),
