@@ -559,6 +559,7 @@ def _delaunay_points(kind: str, count: int):
         raise Caught
 
     lfs_delaunay.engine_tetrahedra = catch
+    lfs_delaunay.delaunay_neighbours = catch  # geogram's route, tried first
     try:
         estimate_lfs(mesh)
     except Caught:
