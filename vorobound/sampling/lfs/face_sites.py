@@ -318,9 +318,7 @@ def merge_thin(xyz, area, size, spacing, group):
     rows = np.flatnonzero(thin)
     level = np.floor(np.log2(MERGE_CELL * spacing[rows]))
     cell = np.floor(middle[rows] / np.exp2(level)[:, None])
-    key = np.c_[group[rows], level, cell]
-    _, cluster = np.unique(key, axis=0, return_inverse=True)
-    cluster = cluster.reshape(-1)
+    cluster = _row_labels(np.c_[group[rows], level, cell])
     clusters = int(cluster.max()) + 1
     weight = area[rows]
     total = np.bincount(cluster, weight, clusters)
@@ -353,6 +351,25 @@ def merge_thin(xyz, area, size, spacing, group):
     new_reach[rep[merged]] = reach[merged]
     chosen = np.flatnonzero(keep)
     return chosen, new_area[chosen], new_reach[chosen]
+
+
+def _row_labels(key: np.ndarray) -> np.ndarray:
+    """The rank of each row of ``key`` (integer-valued floats) among its distinct rows in
+    lexicographic order: the inverse of ``np.unique(key, axis=0)``. The columns are packed
+    into one integer (mixed radix, first column most significant) where their ranges allow,
+    which sorts many times faster than rows of floats."""
+    low = key.min(axis=0)
+    span = key.max(axis=0) - low + 1
+    # Exact integers, and a product of the ranges below 2⁶² (checked in floating point with
+    # room to spare): the packed key neither rounds nor overflows.
+    if not (np.abs(key).max() < 2.0**52 and np.prod(span) < 2.0**62):
+        _, inverse = np.unique(key, axis=0, return_inverse=True)
+        return inverse.reshape(-1)
+    packed = np.zeros(len(key), dtype=np.int64)
+    for column in range(key.shape[1]):
+        packed = packed * int(span[column]) + (key[:, column] - low[column]).astype(np.int64)
+    _, inverse = np.unique(packed, return_inverse=True)
+    return inverse.reshape(-1)
 
 
 DECIDED_RTOL = 1e-9
