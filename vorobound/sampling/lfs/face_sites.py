@@ -123,7 +123,7 @@ def face_sites(
     batch = np.floor(np.cumsum(count[order]) / CHUNK_PIECES).astype(np.int64)
     cuts = np.flatnonzero(np.diff(batch)) + 1
     slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
-    parts = []
+    parts: list[dict] = []
     total = 0
     for chosen in np.split(order, cuts):
 
@@ -143,20 +143,24 @@ def face_sites(
         total += len(part.points)
         if total > max_sites:
             raise _too_many(max_sites)
-        parts.append(part)
-    # Every batch is cut with its groups, so every part carries the reach of its sites.
-    reach = [p.reach for p in parts if p.reach is not None]
-    assert len(reach) == len(parts)
+        # Every batch is cut with its groups, so every part carries the reach of its sites.
+        assert part.reach is not None
+        parts.append(dict(vars(part), face=chosen[part.face]))
+
+    def joined(name: str) -> np.ndarray:
+        """The parts' ``name`` in one array; the parts' own arrays are let go as it is made,
+        so that the sites are held about once, not twice, while they are joined."""
+        return np.concatenate([p.pop(name) for p in parts])
+
+    corners = joined("corners")  # the largest first: the peak is the parts plus it
     return FaceSites(
-        np.concatenate([p.points for p in parts]),
-        np.concatenate([p.normals for p in parts]),
-        np.concatenate(
-            [chosen[p.face] for chosen, p in zip(np.split(order, cuts), parts, strict=True)]
-        ),
-        np.concatenate([p.areas for p in parts]),
-        np.concatenate([p.sizes for p in parts]),
-        np.concatenate([p.corners for p in parts]),
-        np.concatenate(reach),
+        points=joined("points"),
+        normals=joined("normals"),
+        face=joined("face"),
+        areas=joined("areas"),
+        sizes=joined("sizes"),
+        corners=corners,
+        reach=joined("reach"),
     )
 
 
