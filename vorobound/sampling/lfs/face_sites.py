@@ -48,8 +48,9 @@ class FaceSites:
     """(n,) area of each point's piece (the pieces tile the faces)."""
     sizes: np.ndarray
     """(n,) longest edge of each point's piece."""
-    corners: np.ndarray
-    """(n, 3, 3) the piece itself (on the flat face; of a merged site, the piece it is)."""
+    corners: np.ndarray | None
+    """(n, 3, 3) the piece itself, on the flat face (None with ``reach``: a merged site stands
+    for several pieces, and the reach is what the estimate needs of them)."""
     reach: np.ndarray | None = None
     """(n,) distance from each point to the farthest corner of the pieces it stands for (None:
     its own piece's)."""
@@ -152,14 +153,13 @@ def face_sites(
         so that the sites are held about once, not twice, while they are joined."""
         return np.concatenate([p.pop(name) for p in parts])
 
-    corners = joined("corners")  # the largest first: the peak is the parts plus it
     return FaceSites(
         points=joined("points"),
         normals=joined("normals"),
         face=joined("face"),
         areas=joined("areas"),
         sizes=joined("sizes"),
-        corners=corners,
+        corners=None,
         reach=joined("reach"),
     )
 
@@ -282,7 +282,10 @@ def _face_sites(
         own = np.linalg.norm(xyz - position[:, None], axis=2).max(axis=1)
         lift = np.linalg.norm(position - xyz.mean(axis=1), axis=1)
         reach = np.where(np.isnan(reach), own, reach + lift)
-    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz, reach)
+    # With groups every site has its reach; the pieces' corners are not kept (the largest
+    # array of the sites, not needed then).
+    corners = xyz if reach is None else None
+    return FaceSites(position, normal, owner, area, lengths.max(axis=1), corners, reach)
 
 
 THIN = 0.1
@@ -334,10 +337,12 @@ def merge_thin(xyz, area, size, spacing, group):
     )
     # The representative: the member nearest the merged centroid (ties: the first).
     gap = np.linalg.norm(middle[rows] - centre[cluster], axis=1)
-    order = np.lexsort((gap, cluster))
-    first = np.r_[True, cluster[order][1:] != cluster[order][:-1]]
-    rep = np.empty(clusters, dtype=np.int64)
-    rep[cluster[order][first]] = rows[order][first]
+    nearest = np.full(clusters, np.inf)
+    np.minimum.at(nearest, cluster, gap)
+    tied = np.flatnonzero(gap == nearest[cluster])
+    first = np.full(clusters, len(rows))
+    np.minimum.at(first, cluster[tied], tied)
+    rep = rows[first]
     far = np.linalg.norm(xyz[rows] - middle[rep][cluster][:, None], axis=2).max(axis=1)
     reach = np.zeros(clusters)
     np.maximum.at(reach, cluster, far)

@@ -408,6 +408,7 @@ def evaluate_round(
     radii = np.zeros(count)
     face_rows = slice(n_vertex, n_vertex + len(on_faces.points))
     if on_faces.reach is None:
+        assert on_faces.corners is not None  # cut without groups: the pieces are kept
         radii[face_rows] = np.linalg.norm(on_faces.corners - on_faces.points[:, None], axis=2).max(
             axis=1
         )
