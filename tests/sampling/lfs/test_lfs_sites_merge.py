@@ -169,3 +169,38 @@ def test_row_labels_are_the_inverse_of_unique_rows():
     for rows in (key, key * np.r_[1, 1, 2.0**48, 1, 1]):
         _, inverse = np.unique(rows, axis=0, return_inverse=True)
         assert np.array_equal(_row_labels(rows), inverse.reshape(-1))
+
+
+def test_the_face_sites_are_the_same_with_the_field_cut_off_at_the_floor():
+    """The sites a round cuts with the spacing of :func:`spacings` (the field's search cut
+    off at the floor) are those cut with max(factor·L, floor) from L itself, bit for bit."""
+    from vorobound.sampling.lfs.lipschitz import Envelope
+    from vorobound.sampling.lfs.sites import spacings
+
+    mesh = cad_meshes.gear(teeth=12, faces=800, bore=2.0)
+    points, faces = mesh.points, mesh.triangles
+    normals = np.repeat(np.array([[[0.0, 0.0, 1.0]]]), len(faces), axis=0).repeat(3, axis=1)
+    curved = np.zeros(len(faces), dtype=bool)
+    groups = np.arange(len(faces)) % 7
+    rng = np.random.default_rng(4)
+    lows = points.min(axis=0)
+    sites = lows + np.ptp(points, axis=0) * rng.uniform(0, 1, (300, 3))
+    field = Envelope(sites, rng.uniform(0.2, 2.0, 300), 0.5)
+    factor = np.where(groups % 2 == 0, 0.5, 1.0)
+    corners = points[faces]
+    floor = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1) / 8
+    asked = {"floor": 0}
+
+    def exact(x, face):
+        value = factor[face] * field(x)
+        asked["floor"] += int((value <= floor[face]).sum())
+        return np.maximum(value, floor[face])
+
+    face_spacing, _ = spacings(field, factor, floor, floor)
+    slope = factor * 0.5 * (1 + 1e-6)
+    cut = face_sites(points, faces, normals, curved, face_spacing, slope=slope, groups=groups)
+    plain = face_sites(points, faces, normals, curved, exact, slope=slope, groups=groups)
+    assert asked["floor"] > 100  # the floor decided many pieces
+    for name in ("points", "normals", "face", "areas", "sizes", "reach"):
+        assert np.array_equal(getattr(cut, name), getattr(plain, name)), name
+    assert cut.corners is None  # with groups the pieces' corners are not kept

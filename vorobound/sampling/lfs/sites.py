@@ -127,11 +127,15 @@ def _cutoff(floor, scale) -> np.ndarray:
     (rounding is monotone), and the spacing is the same, bit for bit."""
     scale = np.broadcast_to(np.asarray(scale, dtype=float), np.shape(floor))
     cut = floor / scale
-    over = scale * cut > floor
-    while over.any():  # a step or two below the rounded quotient
-        cut = np.where(over, np.nextafter(cut, -np.inf), cut)
+    for _ in range(CUTOFF_STEPS):  # a step below the rounded quotient is enough
         over = scale * cut > floor
-    return cut
+        cut = np.where(over, np.nextafter(cut, -np.inf), cut)
+    # Never reached for a finite positive scale; no cutoff (the full search) is always right.
+    return np.where(scale * cut > floor, -np.inf, cut)
+
+
+CUTOFF_STEPS = 4
+"""Steps down from floor/scale that :func:`_cutoff` takes at most."""
 
 
 def site_gradients(points, lfs, labels, kind, normals, slope: float):
