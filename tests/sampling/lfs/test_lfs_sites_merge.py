@@ -157,8 +157,8 @@ def test_the_spacing_is_the_same_with_the_field_cut_off_at_the_floor():
 
 
 def test_row_labels_are_the_inverse_of_unique_rows():
-    """The packed grouping of merge_thin numbers the rows as np.unique(axis=0) does, also
-    where the ranges are too wide to pack (then it is np.unique)."""
+    """The grouping of merge_thin numbers the rows as np.unique(axis=0) does: packed, with
+    ranges too wide to pack, and with values too large for exact integers."""
     from vorobound.sampling.lfs.face_sites import _row_labels
 
     rng = np.random.default_rng(2)
@@ -166,7 +166,7 @@ def test_row_labels_are_the_inverse_of_unique_rows():
         rng.integers(0, 5, 5000), rng.integers(-30, -20, 5000), rng.integers(-9, 9, (5000, 3))
     ].astype(float)
     key[:10, 2] = -0.0
-    for rows in (key, key * np.r_[1, 1, 2.0**48, 1, 1]):
+    for rows in (key, key * np.r_[1, 2.0**20, 2.0**40, 1, 1], key * np.r_[1, 1, 2.0**48, 1, 1]):
         _, inverse = np.unique(rows, axis=0, return_inverse=True)
         assert np.array_equal(_row_labels(rows), inverse.reshape(-1))
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...mesh.rows import unique_rows
 
 MAX_SITES = 4_000_000
 """Largest number of face pieces produced (refused beyond; about 0.5 GB of sites)."""
@@ -363,22 +364,13 @@ def merge_thin(xyz, area, size, spacing, group):
 
 
 def _row_labels(key: np.ndarray) -> np.ndarray:
-    """The rank of each row of ``key`` (integer-valued floats) among its distinct rows in
-    lexicographic order: the inverse of ``np.unique(key, axis=0)``. The columns are packed
-    into one integer (mixed radix, first column most significant) where their ranges allow,
-    which sorts many times faster than rows of floats."""
-    low = key.min(axis=0)
-    span = key.max(axis=0) - low + 1
-    # Exact integers, and a product of the ranges below 2⁶² (checked in floating point with
-    # room to spare): the packed key neither rounds nor overflows.
-    if not (np.abs(key).max() < 2.0**52 and np.prod(span) < 2.0**62):
+    """The inverse of ``np.unique(key, axis=0)`` for rows of integer-valued floats: as
+    integers through :func:`vorobound.mesh.rows.unique_rows` (packed keys, many times faster
+    than sorting rows of floats) where they are exact, else numpy's call."""
+    if not np.abs(key).max() < 2.0**52:  # beyond, not every float is an int64 exactly
         _, inverse = np.unique(key, axis=0, return_inverse=True)
         return inverse.reshape(-1)
-    packed = np.zeros(len(key), dtype=np.int64)
-    for column in range(key.shape[1]):
-        packed = packed * int(span[column]) + (key[:, column] - low[column]).astype(np.int64)
-    _, inverse = np.unique(packed, return_inverse=True)
-    return inverse.reshape(-1)
+    return unique_rows(key.astype(np.int64), return_inverse=True)[1]
 
 
 DECIDED_RTOL = 1e-9
