@@ -106,13 +106,18 @@ def with_probes(mesh, probes: np.ndarray):
         flip = np.array([float(np.dot(own.get(int(f), n), n)) < 0 for f, n in pairs])
         normal[flip] *= -1
         tiny = 1e-9 * (corners - corners.mean(axis=1)[:, None])
+        # A probe stands for a tiny piece around it: its corners, or (where the sites carry
+        # their reach instead, as merged sites do) its distance to them.
+        pieces = closest[:, None] + tiny
+        reach = np.linalg.norm(tiny, axis=2).max(axis=1)
         return FaceSites(
             np.vstack([made.points, closest]),
             np.vstack([made.normals, normal]),
             np.concatenate([made.face, face]),
             np.concatenate([made.areas, np.full(len(face), 1e-30)]),
             np.concatenate([made.sizes, np.full(len(face), 1e-9)]),
-            np.vstack([made.corners, closest[:, None] + tiny]),
+            None if made.corners is None else np.vstack([made.corners, pieces]),
+            None if made.reach is None else np.concatenate([made.reach, reach]),
         )
 
     settings.face_sites = face_sites

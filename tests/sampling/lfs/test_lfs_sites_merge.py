@@ -126,3 +126,81 @@ def test_a_small_gear_has_far_fewer_face_sites_on_its_caps(monkeypatch):
     plain_count, plain_area = caps(quiet(gear()))
     assert merged_count < 0.75 * plain_count
     assert merged_area == pytest.approx(plain_area, rel=1e-9)
+
+
+def test_the_spacing_is_the_same_with_the_field_cut_off_at_the_floor():
+    """The face spacing max(factor·L, floor) asks the field with a cutoff below which any
+    value gives the floor: the spacing is the same to the last bit as with L itself."""
+    from vorobound.sampling.lfs.lipschitz import Envelope
+    from vorobound.sampling.lfs.sites import _cutoff, spacings
+
+    rng = np.random.default_rng(5)
+    sites = rng.uniform(0, 1, (2000, 3))
+    field = Envelope(sites, rng.uniform(0.01, 0.2, 2000), 1.0, rng.uniform(0, 0.01, 2000))
+    faces = rng.integers(0, 50, 30_000)
+    factor = np.where(np.arange(50) % 2 == 0, 0.5, 1.0)
+    floor = rng.uniform(0.01, 0.1, 50)
+    face_spacing, edge_spacing = spacings(field, factor, floor, floor)
+    x = rng.uniform(0, 1, (30_000, 3))
+    exact = field(x)
+    assert np.array_equal(face_spacing(x, faces), np.maximum(factor[faces] * exact, floor[faces]))
+    assert np.array_equal(edge_spacing(x, faces), np.maximum(0.5 * exact, floor[faces]))
+    assert ((factor[faces] * exact <= floor[faces]).mean()) > 0.2  # the floor is reached
+    # The cutoff t has scale·t ≤ floor and lies within rounding of floor/scale, also for a
+    # scale that is not a power of two (0.3: the quotient is rounded up for some floors).
+    scale = np.full(10_000, 0.3)
+    floors = rng.uniform(1e-3, 1, 10_000)
+    cut = _cutoff(floors, scale)
+    assert (scale * cut <= floors).all()
+    assert np.allclose(cut, floors / scale, rtol=1e-15, atol=0)
+    assert (cut < floors / scale).any()
+
+
+def test_row_labels_are_the_inverse_of_unique_rows():
+    """The grouping of merge_thin numbers the rows as np.unique(axis=0) does: packed, with
+    ranges too wide to pack, and with values too large for exact integers."""
+    from vorobound.sampling.lfs.face_sites import _row_labels
+
+    rng = np.random.default_rng(2)
+    key = np.c_[
+        rng.integers(0, 5, 5000), rng.integers(-30, -20, 5000), rng.integers(-9, 9, (5000, 3))
+    ].astype(float)
+    key[:10, 2] = -0.0
+    for rows in (key, key * np.r_[1, 2.0**20, 2.0**40, 1, 1], key * np.r_[1, 1, 2.0**48, 1, 1]):
+        _, inverse = np.unique(rows, axis=0, return_inverse=True)
+        assert np.array_equal(_row_labels(rows), inverse.reshape(-1))
+
+
+def test_the_face_sites_are_the_same_with_the_field_cut_off_at_the_floor():
+    """The sites a round cuts with the spacing of :func:`spacings` (the field's search cut
+    off at the floor) are those cut with max(factor·L, floor) from L itself, bit for bit."""
+    from vorobound.sampling.lfs.lipschitz import Envelope
+    from vorobound.sampling.lfs.sites import spacings
+
+    mesh = cad_meshes.gear(teeth=12, faces=800, bore=2.0)
+    points, faces = mesh.points, mesh.triangles
+    normals = np.repeat(np.array([[[0.0, 0.0, 1.0]]]), len(faces), axis=0).repeat(3, axis=1)
+    curved = np.zeros(len(faces), dtype=bool)
+    groups = np.arange(len(faces)) % 7
+    rng = np.random.default_rng(4)
+    lows = points.min(axis=0)
+    sites = lows + np.ptp(points, axis=0) * rng.uniform(0, 1, (300, 3))
+    field = Envelope(sites, rng.uniform(0.2, 2.0, 300), 0.5)
+    factor = np.where(groups % 2 == 0, 0.5, 1.0)
+    corners = points[faces]
+    floor = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1) / 8
+    asked = {"floor": 0}
+
+    def exact(x, face):
+        value = factor[face] * field(x)
+        asked["floor"] += int((value <= floor[face]).sum())
+        return np.maximum(value, floor[face])
+
+    face_spacing, _ = spacings(field, factor, floor, floor)
+    slope = factor * 0.5 * (1 + 1e-6)
+    cut = face_sites(points, faces, normals, curved, face_spacing, slope=slope, groups=groups)
+    plain = face_sites(points, faces, normals, curved, exact, slope=slope, groups=groups)
+    assert asked["floor"] > 100  # the floor decided many pieces
+    for name in ("points", "normals", "face", "areas", "sizes", "reach"):
+        assert np.array_equal(getattr(cut, name), getattr(plain, name)), name
+    assert cut.corners is None  # with groups the pieces' corners are not kept

@@ -177,3 +177,28 @@ def test_the_compiled_tree_order_is_the_numpy_order(count, grid, flat, seed):
     np.testing.assert_array_equal(
         compiled_envelope().tree_order(sites, tree.depth), tree._numpy_order(sites)
     )
+
+
+@pytest.mark.parametrize("field", ["cones", "planes"])
+def test_a_cutoff_changes_nothing_above_it(field):
+    """With a cutoff per query, the walk may stop at the first cone at most the cutoff: where
+    the envelope is above the cutoff the value is the same to the last bit, elsewhere it lies
+    between the envelope and the cutoff; so max(value, cutoff) never changes."""
+    rng = np.random.default_rng(3)
+    count = 3000
+    sites, values, radii, gradients, scale = _draw(rng, count, "spread")
+    slope = 0.5
+    gradients = (
+        None if field == "cones" else gradients * (slope * rng.uniform(0, 1, count))[:, None]
+    )
+    queries = sites[rng.integers(0, count, 20_000)] + 0.1 * scale * rng.normal(size=(20_000, 3))
+    envelope = Envelope(sites, values, slope, radii, gradients=gradients)
+    exact = envelope(queries)
+    cutoff = np.quantile(exact, 0.5) + scale * rng.normal(size=len(queries))
+    got = envelope(queries, cutoff=cutoff)
+    above = exact > cutoff
+    assert 0.2 < above.mean() < 0.8  # both cases are tried
+    assert np.array_equal(got[above], exact[above])
+    assert (exact[~above] <= got[~above]).all() and (got[~above] <= cutoff[~above]).all()
+    assert np.array_equal(np.maximum(got, cutoff), np.maximum(exact, cutoff))
+    assert (got[~above] > exact[~above]).any()  # some walks did stop early

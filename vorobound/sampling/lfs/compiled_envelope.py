@@ -44,6 +44,9 @@ PRUNE_MARGIN = 1e-12
 """A node is dropped when its bound exceeds the best value by more than this times the sum of
 the magnitudes that enter the comparison (rounding moves them by ~1e-16 relative)."""
 
+NO_CUTOFF = -math.inf
+"""The cutoff of a query whose walk runs to the end (:meth:`FlatTree.evaluate`)."""
+
 MODE_CONE, MODE_PLANE, MODE_CAP = 0, 1, 2
 """Plain cones value + slope·max(0, |x − y| − ρ); cones with a tangent plane; the distance
 cap max(value, max(0, |x − y| − ρ)) (no slope)."""
@@ -81,9 +84,19 @@ class FlatTree:
             levels.append(levels[-1][0::2] | levels[-1][1::2])
         self.planar = np.ascontiguousarray(np.concatenate(levels[::-1]), dtype=np.bool_)
 
-    def evaluate(self, queries: np.ndarray, slope: float | None, best: np.ndarray) -> None:
+    def evaluate(
+        self,
+        queries: np.ndarray,
+        slope: float | None,
+        best: np.ndarray,
+        cutoff: np.ndarray | None = None,
+    ) -> None:
         """min(best, every site's cone) at each query, in place (``best``: float64, C order,
-        upper bounds or inf)."""
+        upper bounds or inf). With ``cutoff`` (one per query), the walk of a query stops at
+        the first cone at most its cutoff: where the minimum is at most the cutoff, the
+        value left is some value at most it, not the minimum (:data:`NO_CUTOFF`: none)."""
+        if cutoff is None:
+            cutoff = np.full(len(queries), NO_CUTOFF)
         if slope is None:
             mode, slope_value = MODE_CAP, 0.0
         else:
@@ -106,6 +119,7 @@ class FlatTree:
             self.gradients,
             mode,
             slope_value,
+            np.ascontiguousarray(cutoff, dtype=float),
         )
 
 
@@ -175,6 +189,7 @@ def _envelope_kernel(
     gradients,
     mode,
     slope,
+    cutoff,
 ):
     first_leaf = (1 << depth) - 1
     width = leaf_sites.shape[1]
@@ -185,16 +200,20 @@ def _envelope_kernel(
     for i in range(queries.shape[0]):
         x0, x1, x2 = queries[i, 0], queries[i, 1], queries[i, 2]
         value = best[i]
+        enough = cutoff[i]  # a value at most this ends the walk (FlatTree.evaluate)
         if previous >= 0:
             cone = _cone(x0, x1, x2, previous, sites, values, radii, gradients, mode, slope)
             if cone < value:
                 value = cone
+        if value <= enough:
+            best[i] = value
+            continue
         bound, margin = _node_bound(
             x0, x1, x2, 0, value, low, high, best_value, max_radius, planar, mode, slope
         )
         stack_node[0], stack_bound[0], stack_margin[0] = 0, bound, margin
         top = 1
-        while top > 0:
+        while top > 0 and value > enough:
             top -= 1
             node = stack_node[top]
             if _dropped(stack_bound[top], stack_margin[top], value):

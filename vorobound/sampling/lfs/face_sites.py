@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
+from ...mesh.rows import unique_rows
 
 MAX_SITES = 4_000_000
 """Largest number of face pieces produced (refused beyond; about 0.5 GB of sites)."""
@@ -48,8 +49,9 @@ class FaceSites:
     """(n,) area of each point's piece (the pieces tile the faces)."""
     sizes: np.ndarray
     """(n,) longest edge of each point's piece."""
-    corners: np.ndarray
-    """(n, 3, 3) the piece itself (on the flat face; of a merged site, the piece it is)."""
+    corners: np.ndarray | None
+    """(n, 3, 3) the piece itself, on the flat face (None with ``reach``: a merged site stands
+    for several pieces, and the reach is what the estimate needs of them)."""
     reach: np.ndarray | None = None
     """(n,) distance from each point to the farthest corner of the pieces it stands for (None:
     its own piece's)."""
@@ -123,7 +125,7 @@ def face_sites(
     batch = np.floor(np.cumsum(count[order]) / CHUNK_PIECES).astype(np.int64)
     cuts = np.flatnonzero(np.diff(batch)) + 1
     slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
-    parts = []
+    parts: list[dict] = []
     total = 0
     for chosen in np.split(order, cuts):
 
@@ -143,20 +145,23 @@ def face_sites(
         total += len(part.points)
         if total > max_sites:
             raise _too_many(max_sites)
-        parts.append(part)
-    # Every batch is cut with its groups, so every part carries the reach of its sites.
-    reach = [p.reach for p in parts if p.reach is not None]
-    assert len(reach) == len(parts)
+        # Every batch is cut with its groups, so every part carries the reach of its sites.
+        assert part.reach is not None
+        parts.append(dict(vars(part), face=chosen[part.face]))
+
+    def joined(name: str) -> np.ndarray:
+        """The parts' ``name`` in one array; the parts' own arrays are let go as it is made,
+        so that the sites are held about once, not twice, while they are joined."""
+        return np.concatenate([p.pop(name) for p in parts])
+
     return FaceSites(
-        np.concatenate([p.points for p in parts]),
-        np.concatenate([p.normals for p in parts]),
-        np.concatenate(
-            [chosen[p.face] for chosen, p in zip(np.split(order, cuts), parts, strict=True)]
-        ),
-        np.concatenate([p.areas for p in parts]),
-        np.concatenate([p.sizes for p in parts]),
-        np.concatenate([p.corners for p in parts]),
-        np.concatenate(reach),
+        points=joined("points"),
+        normals=joined("normals"),
+        face=joined("face"),
+        areas=joined("areas"),
+        sizes=joined("sizes"),
+        corners=None,
+        reach=joined("reach"),
     )
 
 
@@ -278,7 +283,10 @@ def _face_sites(
         own = np.linalg.norm(xyz - position[:, None], axis=2).max(axis=1)
         lift = np.linalg.norm(position - xyz.mean(axis=1), axis=1)
         reach = np.where(np.isnan(reach), own, reach + lift)
-    return FaceSites(position, normal, owner, area, lengths.max(axis=1), xyz, reach)
+    # With groups every site has its reach; the pieces' corners are not kept (the largest
+    # array of the sites, not needed then).
+    corners = xyz if reach is None else None
+    return FaceSites(position, normal, owner, area, lengths.max(axis=1), corners, reach)
 
 
 THIN = 0.1
@@ -318,9 +326,7 @@ def merge_thin(xyz, area, size, spacing, group):
     rows = np.flatnonzero(thin)
     level = np.floor(np.log2(MERGE_CELL * spacing[rows]))
     cell = np.floor(middle[rows] / np.exp2(level)[:, None])
-    key = np.c_[group[rows], level, cell]
-    _, cluster = np.unique(key, axis=0, return_inverse=True)
-    cluster = cluster.reshape(-1)
+    cluster = _row_labels(np.c_[group[rows], level, cell])
     clusters = int(cluster.max()) + 1
     weight = area[rows]
     total = np.bincount(cluster, weight, clusters)
@@ -332,10 +338,12 @@ def merge_thin(xyz, area, size, spacing, group):
     )
     # The representative: the member nearest the merged centroid (ties: the first).
     gap = np.linalg.norm(middle[rows] - centre[cluster], axis=1)
-    order = np.lexsort((gap, cluster))
-    first = np.r_[True, cluster[order][1:] != cluster[order][:-1]]
-    rep = np.empty(clusters, dtype=np.int64)
-    rep[cluster[order][first]] = rows[order][first]
+    nearest = np.full(clusters, np.inf)
+    np.minimum.at(nearest, cluster, gap)
+    tied = np.flatnonzero(gap == nearest[cluster])
+    first = np.full(clusters, len(rows))
+    np.minimum.at(first, cluster[tied], tied)
+    rep = rows[first]
     far = np.linalg.norm(xyz[rows] - middle[rep][cluster][:, None], axis=2).max(axis=1)
     reach = np.zeros(clusters)
     np.maximum.at(reach, cluster, far)
@@ -353,6 +361,16 @@ def merge_thin(xyz, area, size, spacing, group):
     new_reach[rep[merged]] = reach[merged]
     chosen = np.flatnonzero(keep)
     return chosen, new_area[chosen], new_reach[chosen]
+
+
+def _row_labels(key: np.ndarray) -> np.ndarray:
+    """The inverse of ``np.unique(key, axis=0)`` for rows of integer-valued floats: as
+    integers through :func:`vorobound.mesh.rows.unique_rows` (packed keys, many times faster
+    than sorting rows of floats) where they are exact, else numpy's call."""
+    if not np.abs(key).max() < 2.0**52:  # beyond, not every float is an int64 exactly
+        _, inverse = np.unique(key, axis=0, return_inverse=True)
+        return inverse.reshape(-1)
+    return unique_rows(key.astype(np.int64), return_inverse=True)[1]
 
 
 DECIDED_RTOL = 1e-9

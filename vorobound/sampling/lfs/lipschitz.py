@@ -263,8 +263,15 @@ class Envelope:
         queries: np.ndarray,
         progress: Progress | None = None,
         upper: np.ndarray | None = None,
+        cutoff: np.ndarray | None = None,
     ) -> np.ndarray:
-        """The envelope at ``queries`` (m, 3), or its minimum with ``upper`` if given."""
+        """The envelope at ``queries`` (m, 3), or its minimum with ``upper`` if given.
+
+        ``cutoff`` (m,), optional: where the envelope is at most the query's cutoff, the
+        result may be any value from it up to the cutoff (the compiled search stops at the
+        first cone that low); elsewhere it is the envelope, bit for bit. For a caller that
+        needs only max(envelope, cutoff) (:func:`.sites.spacings`).
+        """
         queries = np.asarray(queries, dtype=float)
         counter = Counter(progress, "Lipschitz repair", len(queries))
         compiled = compiled_envelope()
@@ -275,10 +282,16 @@ class Envelope:
             result = np.full(len(queries), np.inf)
             if upper is not None:
                 np.minimum(result, upper, out=result)
+            cuts = None if cutoff is None else np.ascontiguousarray(cutoff, dtype=float)
 
             def descend(chunk):
                 start, stop = chunk
-                self._flat.evaluate(queries[start:stop], self.slope, result[start:stop])
+                self._flat.evaluate(
+                    queries[start:stop],
+                    self.slope,
+                    result[start:stop],
+                    None if cuts is None else cuts[start:stop],
+                )
 
         else:
             result = self._start(queries)

@@ -176,51 +176,66 @@ class Rounds:
 def run_rounds(state: RoundState, progress: Progress | None = None) -> Rounds:
     """Rounds of face sites until L at every vertex changes by at most STABLE_RTOL (at most
     ROUNDS rounds)."""
-    points, faces = state.prepared.points, state.prepared.triangles
-    patches = state.patches
-    field = None
+    points = state.prepared.points
+    field: Envelope | None = None
+    sites: Sites | None = None
     previous = None
     count = 0
     for done in range(1, ROUNDS + 1):
         count = done
-        if field is None:
-
-            def face_spacing(x, face):
-                return np.full(len(x), FIRST_SPACING)
-
-            def edge_spacing(x, edge):
-                return np.full(len(x), FIRST_SPACING)
-
-        else:
-            face_spacing, edge_spacing = spacings(
-                field, state.factor, state.face_floor, state.edge_floor
-            )
+        # What a round no longer needs is let go as soon as it can be, before the next big
+        # arrays are made: the last round's sites before the cut (which needs its field
+        # only), its field after it, the cut pieces and the raw envelope once the round's
+        # field is made. On a part of long thin faces these are the largest arrays.
+        sites = None
         counter = Counter(progress, "face sites", 1)
-        # The spacing is SITE_SPACING times the last field (λ-Lipschitz), or a constant.
-        slope = 0.0 if field is None else state.factor * state.slope * (1 + SLOPE_SLACK)
-        on_faces = face_sites(
-            points,
-            faces,
-            patches.corner_normals,
-            state.curved_face,
-            face_spacing,
-            slope=slope,
-            groups=patches.face_patch,
-        )
-        feature = edge_sites(points, patches.feature_edges, edge_spacing)
+        on_faces, feature = _cut(state, field)
         counter.step()
+        field = None
         sites, poles, envelope = evaluate_round(state, on_faces, feature, progress)
+        del on_faces, feature
         counter = Counter(progress, "L at the vertices", 1)
         # L between the sites, the feature cap's cones with them (docs/lfs.md).
         field = field_of(sites, state.slope, like=envelope)
+        del envelope
         at_vertices = field(points)
         counter.step()
         current = at_vertices[state.surface_ids]
         if previous is not None and np.all(np.abs(current - previous) <= STABLE_RTOL * previous):
             break
         previous = current
-    assert field is not None  # ROUNDS ≥ 1
+    assert field is not None and sites is not None  # ROUNDS ≥ 1
     return Rounds(sites, poles, field, at_vertices, count)
+
+
+def _cut(state: RoundState, field: Envelope | None) -> tuple[FaceSites, EdgeSites]:
+    """The faces and feature edges cut at SITE_SPACING times the last round's ``field``
+    (λ-Lipschitz), or at FIRST_SPACING in the first round (``field`` None)."""
+    points, faces = state.prepared.points, state.prepared.triangles
+    patches = state.patches
+    if field is None:
+
+        def face_spacing(x, face):
+            return np.full(len(x), FIRST_SPACING)
+
+        def edge_spacing(x, edge):
+            return np.full(len(x), FIRST_SPACING)
+
+    else:
+        face_spacing, edge_spacing = spacings(
+            field, state.factor, state.face_floor, state.edge_floor
+        )
+    slope = 0.0 if field is None else state.factor * state.slope * (1 + SLOPE_SLACK)
+    on_faces = face_sites(
+        points,
+        faces,
+        patches.corner_normals,
+        state.curved_face,
+        face_spacing,
+        slope=slope,
+        groups=patches.face_patch,
+    )
+    return on_faces, edge_sites(points, patches.feature_edges, edge_spacing)
 
 
 def evaluate_round(
@@ -384,13 +399,16 @@ def evaluate_round(
     counter.step()
     counter = Counter(progress, "Lipschitz repair", 1)
     envelope = Envelope(site_points, raw, slope)
-    lfs = envelope(site_points, progress)
+    # Each site's own cone is its raw value there: a first bound that changes no value and
+    # spares the search most of the tree.
+    lfs = envelope(site_points, progress, upper=raw)
     counter = Counter(progress, "site radii", 1)
     areas = np.zeros(count)
     areas[n_vertex : n_vertex + len(on_faces.points)] = on_faces.areas
     radii = np.zeros(count)
     face_rows = slice(n_vertex, n_vertex + len(on_faces.points))
     if on_faces.reach is None:
+        assert on_faces.corners is not None  # cut without groups: the pieces are kept
         radii[face_rows] = np.linalg.norm(on_faces.corners - on_faces.points[:, None], axis=2).max(
             axis=1
         )

@@ -109,12 +109,33 @@ def spacings(field: Envelope, factor: np.ndarray, face_floor, edge_floor):
     the floors (:data:`MIN_PIECES`)."""
 
     def face_spacing(x, face):
-        return np.maximum(factor[face] * field(x), face_floor[face])
+        scale, floor = factor[face], face_floor[face]
+        return np.maximum(scale * field(x, cutoff=_cutoff(floor, scale)), floor)
 
     def edge_spacing(x, edge):
-        return np.maximum(SITE_SPACING["curved"] * field(x), edge_floor[edge])
+        scale, floor = SITE_SPACING["curved"], edge_floor[edge]
+        return np.maximum(scale * field(x, cutoff=_cutoff(floor, scale)), floor)
 
     return face_spacing, edge_spacing
+
+
+def _cutoff(floor, scale) -> np.ndarray:
+    """t = floor/scale, stepped down where rounding put it above, so that scale·t ≤ floor in
+    floating point (``scale`` positive). Where L is at most t, max(scale·L, floor) is the
+    floor whatever L is, so the field's search may stop at the first cone at most t
+    (:meth:`.lipschitz.Envelope.__call__`): any value v ≤ t gives scale·v ≤ scale·t ≤ floor
+    (rounding is monotone), and the spacing is the same, bit for bit."""
+    scale = np.broadcast_to(np.asarray(scale, dtype=float), np.shape(floor))
+    cut = floor / scale
+    for _ in range(CUTOFF_STEPS):  # a step below the rounded quotient is enough
+        over = scale * cut > floor
+        cut = np.where(over, np.nextafter(cut, -np.inf), cut)
+    # Never reached for a finite positive scale; no cutoff (the full search) is always right.
+    return np.where(scale * cut > floor, -np.inf, cut)
+
+
+CUTOFF_STEPS = 4
+"""Steps down from floor/scale that :func:`_cutoff` takes at most."""
 
 
 def site_gradients(points, lfs, labels, kind, normals, slope: float):
