@@ -32,7 +32,6 @@ def unique_rows(
     counts. The result is a tuple exactly when an option is asked for.
     """
     rows = np.asarray(rows)
-    flags = (return_index, return_inverse, return_counts)
     options: dict[str, Any] = dict(
         return_index=return_index, return_inverse=return_inverse, return_counts=return_counts
     )
@@ -45,7 +44,7 @@ def unique_rows(
             return tuple(found)
         return found
     keys, low, spans = packed
-    if not any(flags):
+    if not any(options.values()):
         # Sorted keys and a mask of changes: numpy's one-dimensional unique without options
         # takes a hashing path that is several times slower on millions of distinct keys.
         keys = np.sort(keys)

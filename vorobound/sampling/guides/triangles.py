@@ -44,6 +44,7 @@ import numpy as np
 from ...checks import brief
 from ...errors import InputError
 from ...geometry.threads import thread_count
+from ...mesh.rows import unique_rows
 from ...progress import Counter, Progress
 from ..balls import Balls
 from .engines import Engine
@@ -222,15 +223,7 @@ def slab_triples(
 
     with ThreadPoolExecutor(min(len(slabs), thread_count())) as pool:
         found = list(pool.map(run, slabs))
-    return _distinct_rows(np.sort(np.concatenate(found), axis=1))
-
-
-def _distinct_rows(rows: np.ndarray) -> np.ndarray:
-    """The distinct rows of an integer array, sorted (lexsort: fast for millions of rows)."""
-    rows = rows[np.lexsort(rows.T[::-1])]
-    fresh = np.ones(len(rows), dtype=bool)
-    fresh[1:] = (rows[1:] != rows[:-1]).any(axis=1)
-    return rows[fresh]
+    return unique_rows(np.sort(np.concatenate(found), axis=1))
 
 
 def _slabs(balls: Balls) -> list[np.ndarray]:
