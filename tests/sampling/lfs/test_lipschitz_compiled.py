@@ -156,6 +156,40 @@ def test_the_estimate_of_a_cad_part_is_the_same_by_both_paths(monkeypatch):
     assert np.array_equal(got, estimate.at(points))
 
 
+def _tree_depth(count):
+    from vorobound.sampling.lfs.lipschitz import LEAF_SIZE
+
+    return max(0, int(np.ceil(np.log2(max(count / LEAF_SIZE, 1)))))
+
+
+def _numpy_order(sites, depth):
+    """The numpy path's order of the tree of ``sites`` (a sort per node)."""
+    from vorobound.sampling.lfs.lipschitz import _ConeTree
+
+    tree = _ConeTree.__new__(_ConeTree)
+    tree.depth = depth
+    return tree._numpy_order(sites)
+
+
+def _assert_split_at_every_node(sites, order, depth):
+    """At every level, each node (the slice of the order between the tree's bounds) holds in
+    its first child only sites at most every site of its second child along the node's first
+    widest axis (as np.argmax)."""
+    from vorobound.sampling.lfs.lipschitz import _ConeTree
+
+    count = len(sites)
+    placed = sites[order]
+    for level in range(depth):
+        parent = _ConeTree._bounds(level, count)
+        child = _ConeTree._bounds(level + 1, count)
+        extent = np.maximum.reduceat(placed, parent[:-1]) - np.minimum.reduceat(placed, parent[:-1])
+        axis = np.argmax(extent, axis=1)
+        along = placed[np.arange(count), np.repeat(axis, np.diff(parent))]
+        first_max = np.maximum.reduceat(along, child[:-1])[0::2]
+        second_min = np.minimum.reduceat(along, child[:-1])[1::2]
+        assert (first_max <= second_min).all(), f"level {level}"
+
+
 @settings(max_examples=40, deadline=None)
 @given(
     count=st.integers(1, 3000),
@@ -163,20 +197,58 @@ def test_the_estimate_of_a_cad_part_is_the_same_by_both_paths(monkeypatch):
     flat=st.integers(0, 3),
     seed=st.integers(0, 2**31),
 )
-def test_the_compiled_tree_order_is_the_numpy_order(count, grid, flat, seed):
+def test_the_compiled_tree_order_splits_every_node_along_its_widest_axis(count, grid, flat, seed):
     # Ties along an axis (sites on a coarse grid, or flat in some coordinates) are where a
-    # sort that is not stable, or keys computed differently, would order the sites otherwise.
-    from vorobound.sampling.lfs.lipschitz import LEAF_SIZE, _ConeTree
-
+    # selection may loop or split at the wrong place.
     sites = np.random.default_rng(seed).random((count, 3))
     if grid:
         sites = np.round(sites * grid) / grid
     sites[:, :flat] = 0.5
-    tree = _ConeTree.__new__(_ConeTree)
-    tree.depth = max(0, int(np.ceil(np.log2(max(count / LEAF_SIZE, 1)))))
-    np.testing.assert_array_equal(
-        compiled_envelope().tree_order(sites, tree.depth), tree._numpy_order(sites)
-    )
+    depth = _tree_depth(count)
+    order = compiled_envelope().tree_order(sites, depth)
+    np.testing.assert_array_equal(np.sort(order), np.arange(count))
+    _assert_split_at_every_node(sites, order, depth)
+    _assert_split_at_every_node(sites, _numpy_order(sites, depth), depth)
+    if not grid and flat < 3:
+        # No ties along any widest axis: every leaf holds the same sites as the numpy path's
+        # leaf (in some order), so every node does.
+        bounds = np.arange(2**depth + 1) * count // 2**depth
+        leaf = np.repeat(np.arange(2**depth), np.diff(bounds)) * count
+        np.testing.assert_array_equal(
+            np.sort(leaf + order), np.sort(leaf + _numpy_order(sites, depth))
+        )
+
+
+@pytest.mark.parametrize("field", ["cones", "planes", "cap"])
+def test_the_envelope_is_the_same_for_the_compiled_and_the_numpy_order(field, monkeypatch):
+    """Two trees of the same sites, one in the selection's order and one in the numpy path's
+    sorted order, give the compiled walk the same value at every query, bit for bit (it
+    returns the minimum over all sites' cones whatever the tree). The sites lie on a coarse
+    grid: without ties the two orders put the same sites in each leaf."""
+    module = compiled_envelope()
+    rng = np.random.default_rng(7)
+    count = 5000
+    sites, values, radii, gradients, scale = _draw(rng, count, "spread")
+    sites = np.round(sites / scale * 4) * scale / 4
+    slope = 0.7
+    gradients = gradients * (slope * rng.uniform(0, 1, count))[:, None]
+    near = sites[rng.integers(0, count, 20_000)] + 0.1 * scale * rng.normal(size=(20_000, 3))
+    queries = np.vstack([near, rng.normal(size=(5000, 3)) * 5 * scale])
+
+    def make():
+        if field == "cap":
+            return DistanceCap(sites, np.abs(values), radii)
+        planes = gradients if field == "planes" else None
+        return Envelope(sites, values, slope, radii, gradients=planes)
+
+    selected = make()
+    got = selected(queries)
+    monkeypatch.setattr(module, "tree_order", _numpy_order)
+    sorted_ = make()
+    expected = sorted_(queries)
+    assert sorted_._flat is not None  # the compiled walk, on the sorted tree
+    assert not np.array_equal(selected.tree.order, sorted_.tree.order)
+    np.testing.assert_array_equal(got, expected)
 
 
 @pytest.mark.parametrize("field", ["cones", "planes"])

@@ -254,37 +254,119 @@ def _envelope_kernel(
         best[i] = value
 
 
+SELECT_SMALL = 16
+"""A range this short is put in order by insertion instead of being partitioned further."""
+
+SELECT_ROUNDS = 64
+"""Partitions one selection may take before it sorts what is left (median-of-three pivots
+make that rare; it bounds the worst case at a sort)."""
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def tree_order(sites, depth):
-    """The order of the sites in :meth:`.lipschitz._ConeTree._shape`'s tree, computed node by
-    node: the same keys (segment + ½·offset/extent along the node's widest axis, the same
-    operations in the same order) sorted stably within each node. The keys of node s lie in
-    [s, s + ½], so this is the numpy path's one stable sort of all keys, level by level."""
+    """The order of the sites in :meth:`.lipschitz._ConeTree._shape`'s tree: level by level,
+    each node (the slice [s·n/2^l, (s+1)·n/2^l) of the order, rounded down) is split at its
+    children's boundary along its first widest axis (as np.argmax), every site of the first
+    child at most every site of the second there. A selection, not a sort: O(n) per level,
+    and no order inside a node beyond its split (the branch and bound returns the minimum
+    over all sites' cones for any such tree)."""
     count = len(sites)
     order = np.arange(count)
+    keys = np.empty(count)
     for level in range(depth):
         nodes = 2**level
-        placed = order.copy()
         for s in range(nodes):
             start, end = (s * count) // nodes, ((s + 1) * count) // nodes
-            low = np.full(3, np.inf)
-            high = np.full(3, -np.inf)
+            split = ((2 * s + 1) * count) // (2 * nodes)
+            axis = _widest_axis(sites, order, start, end)
             for j in range(start, end):
-                for axis in range(3):
-                    value = sites[placed[j], axis]
-                    low[axis] = min(low[axis], value)
-                    high[axis] = max(high[axis], value)
-            axis = 0
-            for a in (1, 2):  # the first widest axis, as np.argmax
-                if high[a] - low[a] > high[axis] - low[axis]:
-                    axis = a
-            extent = high[axis] - low[axis]
-            scale = extent if extent > 0 else 1.0
-            keys = np.empty(end - start)
-            for j in range(start, end):
-                offset = sites[placed[j], axis] - low[axis]
-                keys[j - start] = s + 0.5 * offset / scale
-            ranked = np.argsort(keys, kind="mergesort")
-            for j in range(end - start):
-                order[start + j] = placed[start + ranked[j]]
+                keys[j] = sites[order[j], axis]
+            _select(keys, order, start, end, split)
     return order
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _widest_axis(sites, order, start, end):
+    """The first axis (as np.argmax) of the largest extent of sites order[start:end]."""
+    low = np.full(3, np.inf)
+    high = np.full(3, -np.inf)
+    for j in range(start, end):
+        for axis in range(3):
+            value = sites[order[j], axis]
+            low[axis] = min(low[axis], value)
+            high[axis] = max(high[axis], value)
+    widest = 0
+    for axis in (1, 2):
+        if high[axis] - low[axis] > high[widest] - low[widest]:
+            widest = axis
+    return widest
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _select(keys, order, start, end, split):
+    """Permute keys[start:end] and order[start:end] alike so that every key before ``split``
+    is at most every key from it on: quickselect with median-of-three pivots and a three-way
+    partition (ties end a round rather than loop), a sort after :data:`SELECT_ROUNDS`."""
+    lo, hi = start, end
+    rounds = 0
+    while split > lo and split < hi:
+        if hi - lo <= SELECT_SMALL:
+            _insertion_sort(keys, order, lo, hi)
+            return
+        if rounds == SELECT_ROUNDS:
+            ranked = np.argsort(keys[lo:hi], kind="mergesort")
+            keys[lo:hi] = keys[lo:hi][ranked]
+            order[lo:hi] = order[lo:hi][ranked]
+            return
+        rounds += 1
+        pivot = _median_of_three(keys[lo], keys[(lo + hi) // 2], keys[hi - 1])
+        below, above = _partition(keys, order, lo, hi, pivot)
+        if split < below:
+            hi = below
+        elif split >= above:
+            lo = above
+        else:
+            return  # the split falls among keys equal to the pivot
+
+
+@njit(inline="always", error_model="numpy")
+def _median_of_three(a, b, c):
+    """The middle one of three keys."""
+    return max(min(a, b), min(max(a, b), c))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _partition(keys, order, lo, hi, pivot):
+    """Three-way partition of [lo, hi) around ``pivot`` (Dijkstra's flag): keys below it in
+    [lo, below), equal in [below, above), above it in [above, hi); returns (below, above)."""
+    below, j, above = lo, lo, hi
+    while j < above:
+        key = keys[j]
+        if key < pivot:
+            _swap(keys, order, below, j)
+            below += 1
+            j += 1
+        elif key > pivot:
+            above -= 1
+            _swap(keys, order, j, above)
+        else:
+            j += 1
+    return below, above
+
+
+@njit(inline="always", error_model="numpy")
+def _swap(keys, order, i, j):
+    keys[i], keys[j] = keys[j], keys[i]
+    order[i], order[j] = order[j], order[i]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _insertion_sort(keys, order, lo, hi):
+    """Sort keys[lo:hi] (and order alike) in place, stably."""
+    for i in range(lo + 1, hi):
+        key, index = keys[i], order[i]
+        j = i - 1
+        while j >= lo and keys[j] > key:
+            keys[j + 1], order[j + 1] = keys[j], order[j]
+            j -= 1
+        keys[j + 1], order[j + 1] = key, index

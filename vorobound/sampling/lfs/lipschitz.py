@@ -137,7 +137,9 @@ class _ConeTree:
 
     def _numpy_order(self, sites: np.ndarray) -> np.ndarray:
         """The order of the sites: each node's sites sorted along its widest axis, level by
-        level (:func:`.compiled_envelope.tree_order` computes the same with numba)."""
+        level. :func:`.compiled_envelope.tree_order` only splits each node there, a selection;
+        where sites tie along a split axis the two may share them out differently between
+        the children, and either tree gives the same envelope."""
         count = len(sites)
         order = np.arange(count)
         for depth in range(self.depth):
