@@ -258,8 +258,8 @@ SELECT_SMALL = 16
 """A range this short is put in order by insertion instead of being partitioned further."""
 
 SELECT_ROUNDS = 64
-"""Partitions one selection may take before it sorts what is left (median-of-three pivots
-make that rare; it bounds the worst case at a sort)."""
+"""Partitions one selection may take before it sorts what is left: median-of-three pivots
+make that rare, and it bounds the worst case by a sort."""
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -267,34 +267,32 @@ def tree_order(sites, depth):
     """The order of the sites in :meth:`.lipschitz._ConeTree._shape`'s tree: level by level,
     each node (the slice [s·n/2^l, (s+1)·n/2^l) of the order, rounded down) is split at its
     children's boundary along its first widest axis (as np.argmax), every site of the first
-    child at most every site of the second there. A selection, not a sort: O(n) per level,
-    and no order inside a node beyond its split (the branch and bound returns the minimum
-    over all sites' cones for any such tree)."""
+    child at most every site of the second there. A selection, not a sort: O(n) per level
+    and no order within a child (the branch and bound returns the minimum over all sites'
+    cones, whichever way ties are shared out). The sites' coordinates travel with their
+    indices, so that every pass reads them in memory order."""
     count = len(sites)
     order = np.arange(count)
-    keys = np.empty(count)
+    placed = sites.copy()
     for level in range(depth):
         nodes = 2**level
         for s in range(nodes):
             start, end = (s * count) // nodes, ((s + 1) * count) // nodes
             split = ((2 * s + 1) * count) // (2 * nodes)
-            axis = _widest_axis(sites, order, start, end)
-            for j in range(start, end):
-                keys[j] = sites[order[j], axis]
-            _select(keys, order, start, end, split)
+            axis = _widest_axis(placed, start, end)
+            _select(placed, order, axis, start, end, split)
     return order
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _widest_axis(sites, order, start, end):
-    """The first axis (as np.argmax) of the largest extent of sites order[start:end]."""
+def _widest_axis(placed, start, end):
+    """The first axis (as np.argmax) of the largest extent of rows start..end of ``placed``."""
     low = np.full(3, np.inf)
     high = np.full(3, -np.inf)
     for j in range(start, end):
         for axis in range(3):
-            value = sites[order[j], axis]
-            low[axis] = min(low[axis], value)
-            high[axis] = max(high[axis], value)
+            low[axis] = min(low[axis], placed[j, axis])
+            high[axis] = max(high[axis], placed[j, axis])
     widest = 0
     for axis in (1, 2):
         if high[axis] - low[axis] > high[widest] - low[widest]:
@@ -303,70 +301,64 @@ def _widest_axis(sites, order, start, end):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _select(keys, order, start, end, split):
-    """Permute keys[start:end] and order[start:end] alike so that every key before ``split``
-    is at most every key from it on: quickselect with median-of-three pivots and a three-way
-    partition (ties end a round rather than loop), a sort after :data:`SELECT_ROUNDS`."""
+def _select(placed, order, axis, start, end, split):
+    """Permute rows start..end of ``placed`` and ``order`` alike so that no row before
+    ``split`` is above any row from it on along ``axis``: quickselect, deterministic
+    (median-of-three pivots, Hoare's partition, which shares ties out evenly), a sort of what
+    is left after :data:`SELECT_ROUNDS` partitions. Each partition shrinks the range."""
     lo, hi = start, end
-    rounds = 0
-    while split > lo and split < hi:
+    for _ in range(SELECT_ROUNDS):
+        if split <= lo or split >= hi:
+            return
         if hi - lo <= SELECT_SMALL:
-            _insertion_sort(keys, order, lo, hi)
+            _insertion_sort(placed, order, axis, lo, hi)
             return
-        if rounds == SELECT_ROUNDS:
-            ranked = np.argsort(keys[lo:hi], kind="mergesort")
-            keys[lo:hi] = keys[lo:hi][ranked]
-            order[lo:hi] = order[lo:hi][ranked]
-            return
-        rounds += 1
-        pivot = _median_of_three(keys[lo], keys[(lo + hi) // 2], keys[hi - 1])
-        below, above = _partition(keys, order, lo, hi, pivot)
-        if split < below:
-            hi = below
-        elif split >= above:
-            lo = above
-        else:
-            return  # the split falls among keys equal to the pivot
-
-
-@njit(inline="always", error_model="numpy")
-def _median_of_three(a, b, c):
-    """The middle one of three keys."""
-    return max(min(a, b), min(max(a, b), c))
+        first, middle, last = placed[lo, axis], placed[(lo + hi) // 2, axis], placed[hi - 1, axis]
+        pivot = max(min(first, middle), min(max(first, middle), last))
+        left, right = _partition(placed, order, axis, lo, hi, pivot)
+        if left == right:  # the row there equals the pivot, none before is above it
+            if split == left:
+                return
+            lo, hi = (left + 1, hi) if split > left else (lo, left)
+        else:  # rows lo..left are at most the pivot, rows left..hi at least it
+            lo, hi = (left, hi) if split >= left else (lo, left)
+    if lo < split < hi:
+        ranked = np.argsort(placed[lo:hi, axis], kind="mergesort")
+        placed[lo:hi] = placed[lo:hi][ranked]
+        order[lo:hi] = order[lo:hi][ranked]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _partition(keys, order, lo, hi, pivot):
-    """Three-way partition of [lo, hi) around ``pivot`` (Dijkstra's flag): keys below it in
-    [lo, below), equal in [below, above), above it in [above, hi); returns (below, above)."""
-    below, j, above = lo, lo, hi
-    while j < above:
-        key = keys[j]
-        if key < pivot:
-            _swap(keys, order, below, j)
-            below += 1
-            j += 1
-        elif key > pivot:
-            above -= 1
-            _swap(keys, order, j, above)
-        else:
-            j += 1
-    return below, above
+def _partition(placed, order, axis, lo, hi, pivot):
+    """Hoare's partition of rows lo..hi around ``pivot`` (a value among them), the two
+    scans stopping at rows equal to it. Returns (left, right): rows before ``left`` are at
+    most the pivot, rows after ``right`` at least it, and either left == right + 1 or
+    left == right, a row equal to the pivot."""
+    left, right = lo, hi - 1
+    while True:
+        while placed[left, axis] < pivot:
+            left += 1
+        while placed[right, axis] > pivot:
+            right -= 1
+        if left >= right:
+            return left, right
+        _swap(placed, order, left, right)
+        left += 1
+        right -= 1
 
 
 @njit(inline="always", error_model="numpy")
-def _swap(keys, order, i, j):
-    keys[i], keys[j] = keys[j], keys[i]
+def _swap(placed, order, i, j):
+    for axis in range(3):
+        placed[i, axis], placed[j, axis] = placed[j, axis], placed[i, axis]
     order[i], order[j] = order[j], order[i]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _insertion_sort(keys, order, lo, hi):
-    """Sort keys[lo:hi] (and order alike) in place, stably."""
+def _insertion_sort(placed, order, axis, lo, hi):
+    """Sort rows lo..hi of ``placed`` (and ``order`` alike) along ``axis``."""
     for i in range(lo + 1, hi):
-        key, index = keys[i], order[i]
-        j = i - 1
-        while j >= lo and keys[j] > key:
-            keys[j + 1], order[j + 1] = keys[j], order[j]
+        j = i
+        while j > lo and placed[j - 1, axis] > placed[j, axis]:
+            _swap(placed, order, j - 1, j)
             j -= 1
-        keys[j + 1], order[j + 1] = key, index
