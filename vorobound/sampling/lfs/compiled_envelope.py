@@ -268,7 +268,7 @@ def tree_order(sites, depth):
     each node (the slice [s·n/2^l, (s+1)·n/2^l) of the order, rounded down) is split at its
     children's boundary along its first widest axis (as np.argmax), every site of the first
     child at most every site of the second there. A selection, not a sort: O(n) per level
-    and no order within a child (the branch and bound returns the minimum over all sites'
+    and no order promised within a child (the branch and bound returns the minimum over all sites'
     cones, whichever way ties are shared out). The sites' coordinates travel with their
     indices, so that every pass reads them in memory order."""
     count = len(sites)
