@@ -363,8 +363,8 @@ def test_feature_gap_beyond_the_nearest_points_is_exact(numpy_only, monkeypatch)
 @pytest.mark.parametrize("slope", [0.0, 0.3, 1.0])
 def test_face_sites_decided_by_the_spacing_slope_are_the_same(slope):
     """Face sites made with the spacing's Lipschitz constant (pieces kept or split without
-    asking the spacing where the bound from their parent decides) are the sites made by asking
-    at every piece, and the spacing is asked at fewer points."""
+    asking the spacing where the bound from their parent decides), or with its floor, are
+    the sites made by asking at every piece, and the spacing is asked at fewer points."""
     from vorobound.sampling.lfs.face_sites import face_sites
     from vorobound.sampling.surfaces.cad_meshes import gear
 
@@ -388,6 +388,43 @@ def test_face_sites_decided_by_the_spacing_slope_are_the_same(slope):
         assert np.array_equal(getattr(plain, name), getattr(bounded, name)), name
     assert len(plain.points) > 3 * len(faces)  # the faces were cut
     assert asked["bounded"] < asked["plain"]
+
+
+@pytest.mark.parametrize("slope", [None, 0.3])
+def test_face_sites_kept_at_the_spacing_floor_are_the_same(slope):
+    """Given a floor of the spacing, pieces no longer than it are kept without asking: the
+    sites are those made by asking at every piece, and fewer points are asked; a floor given
+    above the spacing's own changes them."""
+    from vorobound.sampling.lfs.face_sites import face_sites
+    from vorobound.sampling.surfaces.cad_meshes import gear
+
+    mesh = gear(teeth=12, faces=800, bore=2.0)
+    points, faces = mesh.points, mesh.triangles
+    normals = np.repeat(np.array([[[0.0, 0.0, 1.0]]]), len(faces), axis=0).repeat(3, axis=1)
+    curved = np.zeros(len(faces), dtype=bool)
+    centre = points[0]
+    asked = {}
+
+    def spacing(x, face, key):
+        asked[key] = asked.get(key, 0) + len(x)
+        return np.maximum(0.05 + 0.3 * np.linalg.norm(x - centre, axis=1), 1.5)
+
+    def cut(key, floor):
+        return face_sites(
+            points,
+            faces,
+            normals,
+            curved,
+            lambda x, f: spacing(x, f, key),
+            slope=slope,
+            floor=None if floor is None else np.full(len(faces), floor),
+        )
+
+    plain, floored, wrong = cut("plain", None), cut("floored", 1.5), cut("wrong", 1.6)
+    for name in ("points", "normals", "face", "areas", "sizes", "corners"):
+        assert np.array_equal(getattr(plain, name), getattr(floored, name)), name
+    assert asked["floored"] < (0.8 if slope is None else 1.0) * asked["plain"]
+    assert len(wrong.points) != len(plain.points)
 
 
 def test_thickness_in_chunks_of_rays_is_the_same(monkeypatch):

@@ -77,6 +77,64 @@ def test_merge_thin_leaves_well_shaped_pieces_alone():
     assert chosen.tolist() == [0, 1] and areas.tolist() == [0.5, 0.5] and np.isnan(reach).all()
 
 
+def strips(count: int = 60, length: float = 6.0, width: float = 0.01):
+    """A flat bundle of ``count`` parallel strips (two slivers each, ``length`` long and
+    ``width`` wide, side by side), as the walls of an extruded CAD part are meshed."""
+    x = width * np.arange(count + 1)
+    bottom = np.c_[x, np.zeros(count + 1), np.zeros(count + 1)]
+    top = bottom + [0.0, length, 0.0]
+    points = np.vstack([bottom, top])
+    faces = []
+    for k in range(count):
+        faces += [(k, k + 1, count + 2 + k), (k, count + 2 + k, count + 1 + k)]
+    return points, np.array(faces)
+
+
+def test_the_merge_grids_join_what_one_grid_leaves(monkeypatch):
+    """Several grids (large cubes first, each also shifted) merge the slivers of a bundle of
+    strips into far fewer sites than one grid of small cubes, within the same conditions."""
+    import vorobound.sampling.lfs.face_sites as module
+
+    points, faces = strips()
+    normals = np.broadcast_to([0.0, 0.0, 1.0], (len(faces), 3, 3)).copy()
+    curved = np.zeros(len(faces), dtype=bool)
+    groups = np.zeros(len(faces), dtype=np.int64)
+
+    def constant(x, face):
+        return np.full(len(x), 0.5)
+
+    merged = face_sites(points, faces, normals, curved, constant, groups=groups)
+    monkeypatch.setattr(module, "MERGE_PASSES", ((0.25, 0.0),))
+    one_grid = face_sites(points, faces, normals, curved, constant, groups=groups)
+    assert len(merged.points) < 0.6 * len(one_grid.points)
+    assert merged.areas.sum() == pytest.approx(one_grid.areas.sum(), rel=1e-12)
+    assert (merged.reach <= 0.5 / np.sqrt(3) * (1 + 1e-12)).all()
+
+
+def test_pieces_of_different_spacing_are_not_merged():
+    """Two sets of slivers interleaved in the same cubes, their spacings 1 % apart (more than
+    MERGE_FLAT): every merged site stands for pieces of one set only (its area a multiple of
+    that set's piece area)."""
+    rng = np.random.default_rng(3)
+    count = 4000
+    start = rng.uniform(0, 4, (count, 3)) * [1, 1, 0]
+    along = np.c_[np.zeros(count), np.full(count, 0.3), np.zeros(count)]
+    across = np.c_[np.full(count, 0.002), np.zeros(count), np.zeros(count)]
+    xyz = np.stack([start, start + along, start + across], axis=1)
+    first = rng.random(count) < 0.5
+    area = np.where(first, 1.0, np.pi)  # stand-ins: sums of one kind stay recognizable
+    spacing = np.where(first, 1.0, 1.01)
+    size = np.linalg.norm(along, axis=1)
+    chosen, areas, reach = merge_thin(xyz, area * 1e-6 * size**2, size, spacing, np.zeros(count))
+    merged = np.isfinite(reach)
+    assert merged.sum() > 50
+    units = areas[merged] / (1e-6 * size[chosen][merged] ** 2)
+    of_first = np.isclose(units, np.round(units), rtol=0, atol=1e-6)
+    of_second = np.isclose(units / np.pi, np.round(units / np.pi), rtol=0, atol=1e-6)
+    assert (of_first | of_second).all()
+    assert of_first.any() and of_second.any()
+
+
 @pytest.fixture(scope="module")
 def bracket():
     mesh = cad_meshes.l_bracket()

@@ -77,6 +77,7 @@ def face_sites(
     max_sites: int = MAX_SITES,
     slope=None,
     groups: np.ndarray | None = None,
+    floor: np.ndarray | None = None,
 ) -> FaceSites:
     """Split every face until its pieces are at most ``spacing(centroid)`` long.
 
@@ -105,15 +106,23 @@ def face_sites(
         The patch of each face. With it, thin pieces (the pieces of long thin faces, whose
         width is the face's, not the spacing) of one patch are merged into one site where
         all of them lie within the spacing of it (:func:`merge_thin`).
+    floor : ndarray (f,), optional
+        A lower bound of ``spacing`` on each face: a piece no longer than it is kept without
+        asking ``spacing`` (the pieces are the same; where the spacing is at its floor, as on
+        most pieces of a part's long thin faces, it is not asked at all).
     """
     if groups is None:
-        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope)
+        return _face_sites(
+            points, faces, corner_normals, curved, spacing, max_sites, slope, floor=floor
+        )
     corners = points[faces]
     centroid = corners.mean(axis=1)
     first = np.asarray(spacing(centroid, np.arange(len(faces))), dtype=float)
     count = _first_pieces(corners, first)
     if count.sum() <= CHUNK_PIECES:
-        return _face_sites(points, faces, corner_normals, curved, spacing, max_sites, slope, groups)
+        return _face_sites(
+            points, faces, corner_normals, curved, spacing, max_sites, slope, groups, floor
+        )
     # Long thin faces make many pieces before they merge: cut the faces in batches, each of
     # one patch's faces near one another (in cells of 1/64 of the part), so that a batch
     # holds most of the pieces a merge joins and the pieces of one batch at a time are in
@@ -141,6 +150,7 @@ def face_sites(
             max_sites,
             None if slopes is None else slopes[chosen],
             groups[chosen],
+            None if floor is None else floor[chosen],
         )
         total += len(part.points)
         if total > max_sites:
@@ -182,7 +192,15 @@ def _first_pieces(corners: np.ndarray, spacing: np.ndarray) -> np.ndarray:
 
 
 def _face_sites(
-    points, faces, corner_normals, curved, spacing, max_sites=MAX_SITES, slope=None, groups=None
+    points,
+    faces,
+    corner_normals,
+    curved,
+    spacing,
+    max_sites=MAX_SITES,
+    slope=None,
+    groups=None,
+    floor=None,
 ) -> FaceSites:
     """:func:`face_sites` of one batch of faces."""
     # The pieces follow the corner order: put the corners in vertex order, so a face listed
@@ -197,7 +215,7 @@ def _face_sites(
     # The spacing at each piece's parent (the face's centroid for the first pieces).
     parent_middle, parent_limit = centroid[owner], first[owner]
     slopes = None if slope is None else np.broadcast_to(np.asarray(slope, float), len(faces))
-    done_owner, done_bary, done_low = [], [], []
+    done_owner, done_bary, done_xyz, done_size, done_low = [], [], [], [], []
     for level in range(MAX_LEVELS):
         xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
         size = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2).max(axis=1)
@@ -209,11 +227,18 @@ def _face_sites(
         ask = np.flatnonzero(~known) if level == 0 else np.arange(len(owner))
         split = np.zeros(len(owner), dtype=bool)
         low = np.full(len(owner), np.nan)  # a lower bound on the spacing at the piece
-        if slopes is not None:
-            reach = slopes[owner[ask]] * np.linalg.norm(middle[ask] - parent_middle[ask], axis=1)
-            keep, cut = _decided(size[ask], parent_limit[ask], reach)
+        if slopes is not None or floor is not None:
+            keep, cut, bound = _decided(
+                size[ask],
+                owner[ask],
+                middle[ask],
+                parent_middle[ask],
+                parent_limit[ask],
+                slopes,
+                floor,
+            )
             split[ask[cut]] = True
-            low[ask[keep]] = (parent_limit[ask] - reach)[keep]
+            low[ask[keep]] = bound[keep]
             limit[ask[keep | cut]] = np.nan  # decided without it (never used again)
             ask = ask[~(keep | cut)]
         limit[ask] = np.asarray(spacing(middle[ask], owner[ask]), dtype=float)
@@ -223,6 +248,8 @@ def _face_sites(
         low = np.where(np.isnan(low), limit, low)
         done_owner.append(owner[~split])
         done_bary.append(bary[~split])
+        done_xyz.append(xyz[~split])
+        done_size.append(size[~split])
         done_low.append(low[~split])
         if not split.any():
             break
@@ -258,16 +285,15 @@ def _face_sites(
         raise InputError("face subdivision did not converge (the spacing is far too small)")
     owner = np.concatenate(done_owner)
     bary = np.concatenate(done_bary)
-    xyz = np.einsum("nkc,ncd->nkd", bary, corners[owner])
-    lengths = np.linalg.norm(xyz - np.roll(xyz, -1, axis=1), axis=2)
+    xyz, size = np.concatenate(done_xyz), np.concatenate(done_size)  # size: longest edge
     area = 0.5 * np.linalg.norm(np.cross(xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]), axis=1)
     reach = None
     if groups is not None:
         low = np.concatenate(done_low)
         # Without the spacing at a piece (a face left whole), its own size bounds it below.
-        low = np.where(np.isfinite(low), low, lengths.max(axis=1))
-        chosen, area, reach = merge_thin(xyz, area, lengths.max(axis=1), low, groups[owner])
-        owner, bary, xyz, lengths = owner[chosen], bary[chosen], xyz[chosen], lengths[chosen]
+        low = np.where(np.isfinite(low), low, size)
+        chosen, area, reach = merge_thin(xyz, area, size, low, groups[owner])
+        owner, bary, xyz, size = owner[chosen], bary[chosen], xyz[chosen], size[chosen]
     centre = bary.mean(axis=1)  # barycentric coordinates of the piece's centroid
     position = np.einsum("nc,ncd->nd", centre, corners[owner])
     lifted = curved[owner]
@@ -286,47 +312,72 @@ def _face_sites(
     # With groups every site has its reach; the pieces' corners are not kept (the largest
     # array of the sites, not needed then).
     corners = xyz if reach is None else None
-    return FaceSites(position, normal, owner, area, lengths.max(axis=1), corners, reach)
+    return FaceSites(position, normal, owner, area, size, corners, reach)
 
 
 THIN = 0.1
 """Pieces whose area is below this times their longest edge squared are thin (a slab piece of
 a well-shaped face: 0.25; of a face 20 times longer than wide: about 0.025)."""
-MERGE_CELL = 0.25
-"""Thin pieces are merged within cubes of about this times their spacing (a power of two)."""
+MERGE_PASSES = ((1.0, 0.0), (1.0, 0.5), (0.5, 0.0), (0.5, 0.5), (0.25, 0.0), (0.25, 0.5))
+"""The grids of :func:`merge_thin`, one pass each over the thin pieces not merged yet: cubes of
+about the first number times their spacing (a power of two), shifted by the second number of
+cube sides. Large cubes first (a merged site then stands for many pieces), small ones for what
+is left; the shifted grid joins pieces a cube boundary kept apart."""
 MERGE_REACH = 1 / np.sqrt(3)
 """A merge is kept where every corner of its pieces lies within this times their spacing s
 from the site: the bound a single piece of longest edge s meets (its centroid is within
 s/√3 of its corners), so a merged site stands for no more surface than a piece does."""
-MERGE_FLAT = 0.05
+MERGE_FLAT = 0.005
 """... and where the spacing of its pieces varies by at most this share (L nearly constant
-over them: where L changes, the pieces stay sites of their own)."""
+over them: where L changes, the pieces stay sites of their own). With the larger merges of
+:data:`MERGE_PASSES`, 5 % let L of the coarse L-bracket move away from the fine one's
+(docs/lfs.md, triangulation independence); 0.5 % keeps it where single cubes had it."""
 
 
 def merge_thin(xyz, area, size, spacing, group):
-    """Thin pieces of one patch (``group``) whose centroids fall in one cube of side about
-    MERGE_CELL times their spacing merged into one site: the piece nearest the merged
-    centroid stands for all, with their summed area (the sites still tile the surface). A
-    merge is kept only where every corner of its pieces lies within MERGE_REACH = 1/√3 times
-    the smallest spacing s of its pieces from that piece's centroid (``spacing``: a lower
-    bound of the spacing at each piece), the bound every single piece no longer than s meets,
-    and where the spacing of its pieces varies by at most MERGE_FLAT: so a merged site stands
-    for no more surface than a piece of the spacing does, and the resolution of L the spacing
-    asks for is kept; the other pieces stay sites of their own.
+    """Thin pieces of one patch (``group``) merged into sites that stand for several: the
+    representative piece stands for all, with their summed area (the sites still tile the
+    surface). A merge is kept only where every corner of its pieces lies within MERGE_REACH
+    = 1/√3 times the smallest spacing s of its pieces from the representative's centroid
+    (``spacing``: a lower bound of the spacing at each piece), the bound every single piece no
+    longer than s meets, and where the spacing of its pieces varies by at most MERGE_FLAT: so
+    a merged site stands for no more surface than a piece of the spacing does, and the
+    resolution of L the spacing asks for is kept.
+
+    The merges are proposed on grids of cubes (:data:`MERGE_PASSES`), one pass per grid over
+    the thin pieces no earlier pass merged (:func:`_merge_pass`).
 
     Returns (the pieces kept as sites, their areas, their reach: the distance from each merged
     one's centroid to the farthest corner it stands for, NaN for a piece of its own).
     """
     count = len(xyz)
+    keep = np.ones(count, dtype=bool)
+    new_area, new_reach = area.copy(), np.full(count, np.nan)
+    rows = np.flatnonzero(area < THIN * size**2)
     middle = xyz.mean(axis=1)
-    own = np.full(count, np.nan)
-    thin = area < THIN * size**2
-    if thin.sum() < 2:
-        return np.arange(count), area, own
-    rows = np.flatnonzero(thin)
-    level = np.floor(np.log2(MERGE_CELL * spacing[rows]))
-    cell = np.floor(middle[rows] / np.exp2(level)[:, None])
-    cluster = _row_labels(np.c_[group[rows], level, cell])
+    for cell, shift in MERGE_PASSES:
+        if len(rows) < 2:
+            break
+        rows = _merge_pass(
+            rows, (cell, shift), xyz, middle, area, spacing, group, keep, new_area, new_reach
+        )
+    chosen = np.flatnonzero(keep)
+    return chosen, new_area[chosen], new_reach[chosen]
+
+
+def _merge_pass(rows, grid, xyz, middle, area, spacing, group, keep, new_area, new_reach):
+    """One pass of :func:`merge_thin` over the thin pieces ``rows`` on ``grid`` (cube size
+    relative to the spacing, shift in cube sides): in each cube of one patch, the piece
+    nearest the area-weighted centroid of the cube's pieces is the representative; a piece
+    joins it where its spacing lies within a factor √(1 + MERGE_FLAT) of the
+    representative's, s_r, and its corners within MERGE_REACH·s_r/√(1 + MERGE_FLAT) of the
+    representative's centroid (so the merge meets both conditions of :func:`merge_thin`, which
+    are checked again as stated). Writes the merges into ``keep``, ``new_area`` and
+    ``new_reach``; returns the pieces left for the next pass."""
+    cell, shift = grid
+    level = np.floor(np.log2(cell * spacing[rows]))
+    cube = np.floor(middle[rows] / np.exp2(level)[:, None] + shift)
+    cluster = _row_labels(np.c_[group[rows], level, cube])
     clusters = int(cluster.max()) + 1
     weight = area[rows]
     total = np.bincount(cluster, weight, clusters)
@@ -344,23 +395,29 @@ def merge_thin(xyz, area, size, spacing, group):
     first = np.full(clusters, len(rows))
     np.minimum.at(first, cluster[tied], tied)
     rep = rows[first]
+    own = spacing[rep][cluster]
     far = np.linalg.norm(xyz[rows] - middle[rep][cluster][:, None], axis=2).max(axis=1)
+    spread = np.sqrt(1 + MERGE_FLAT)
+    joins = (spacing[rows] >= own / spread) & (spacing[rows] <= own * spread)
+    joins &= far <= MERGE_REACH * own / spread
+    joins[first] = True
+    member, cluster, far = rows[joins], cluster[joins], far[joins]
     reach = np.zeros(clusters)
     np.maximum.at(reach, cluster, far)
     bound = np.full(clusters, np.inf)
-    np.minimum.at(bound, cluster, spacing[rows])
+    np.minimum.at(bound, cluster, spacing[member])
     top = np.zeros(clusters)
-    np.maximum.at(top, cluster, spacing[rows])
+    np.maximum.at(top, cluster, spacing[member])
     members = np.bincount(cluster, minlength=clusters)
     merged = (members > 1) & (reach <= MERGE_REACH * bound) & (top <= (1 + MERGE_FLAT) * bound)
-    keep = np.ones(count, dtype=bool)
-    keep[rows[merged[cluster]]] = False
+    gone = member[merged[cluster]]
+    keep[gone] = False
     keep[rep[merged]] = True
-    new_area, new_reach = area.copy(), own.copy()
-    new_area[rep[merged]] = total[merged]
+    new_area[rep[merged]] = np.bincount(cluster, area[member], clusters)[merged]
     new_reach[rep[merged]] = reach[merged]
-    chosen = np.flatnonzero(keep)
-    return chosen, new_area[chosen], new_reach[chosen]
+    left = np.ones(len(keep), dtype=bool)
+    left[gone] = False
+    return rows[left[rows]]
 
 
 def _row_labels(key: np.ndarray) -> np.ndarray:
@@ -377,13 +434,23 @@ DECIDED_RTOL = 1e-9
 """Margin of :func:`_decided` (relative): a piece this close to a bound is asked for."""
 
 
-def _decided(size, parent, reach) -> tuple[np.ndarray, np.ndarray]:
-    """(kept, split): pieces whose spacing s is known to be at least ``size`` (kept) or below
-    it (split) from s ≥ parent − reach and s ≤ parent + reach (``reach``: the spacing's slope
-    times the distance from the point where it is ``parent``)."""
-    kept = size <= (parent - reach) * (1 - DECIDED_RTOL)
-    split = size > (parent + reach) * (1 + DECIDED_RTOL)
-    return kept, split
+def _decided(size, owner, middle, parent_middle, parent, slopes, floor):
+    """(kept, split, bound): pieces whose spacing s is known to be at least ``size`` (kept) or
+    below it (split) without asking, and a lower bound of s at each piece. With ``slopes``:
+    s ≥ parent − reach and s ≤ parent + reach (reach: the face's slope times the distance from
+    the point where s is ``parent``); with ``floor``: s ≥ the face's floor, so a piece no
+    longer than it is kept."""
+    bound = np.full(len(size), -np.inf)
+    split = np.zeros(len(size), dtype=bool)
+    if slopes is not None:
+        reach = slopes[owner] * np.linalg.norm(middle - parent_middle, axis=1)
+        bound = (parent - reach) * (1 - DECIDED_RTOL)
+        split = size > (parent + reach) * (1 + DECIDED_RTOL)
+    kept = size <= bound
+    if floor is not None:
+        kept |= size <= floor[owner]
+        bound = np.maximum(bound, floor[owner])
+    return kept, split & ~kept, bound
 
 
 def _too_many(max_sites: int) -> InputError:

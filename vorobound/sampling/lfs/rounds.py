@@ -234,6 +234,7 @@ def _cut(state: RoundState, field: Envelope | None) -> tuple[FaceSites, EdgeSite
         face_spacing,
         slope=slope,
         groups=patches.face_patch,
+        floor=None if field is None else state.face_floor,
     )
     return on_faces, edge_sites(points, patches.feature_edges, edge_spacing)
 
