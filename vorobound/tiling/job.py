@@ -60,7 +60,7 @@ from ..progress import Progress
 from ..sampling.balls import Balls
 from ..sampling.guides.engines import Engine
 from ..sampling.guides.measure import GuideMeasurements, ModeBound, measure_guides, mode_bounds
-from ..sampling.guides.seeds import COVER_RTOL, classify
+from ..sampling.guides.seeds import COVER_RTOL, classify, row_minima
 from ..sampling.guides.triangles import candidate_triples
 from ..sampling.sampler import conditions
 from . import plan as tiles
@@ -267,8 +267,7 @@ def check_part(
         # Local order is the global order (ids increase), so the smallest local index is the
         # smallest ball index: its owner counts the triangle.
         if not job.is_whole:
-            first = np.minimum(np.minimum(triples[:, 0], triples[:, 1]), triples[:, 2])
-            triples = triples[core[first]]
+            triples = triples[core[row_minima(triples)]]
     with clock("seeds"):
         seeded = classify(balls, triples, progress, top=s.top)
         has = seeded.has_seeds
@@ -382,10 +381,7 @@ def _seed_reach(seeded, has: np.ndarray, balls: Balls, job: TileJob) -> float:
     seeds, triples = seeded.seeds, seeded.triples
     if not has.all():
         seeds, triples = seeds[has], triples[has]
-    weights = balls.weights
-    w_min = np.minimum(
-        np.minimum(weights[triples[:, 0]], weights[triples[:, 1]]), weights[triples[:, 2]]
-    )
+    w_min = row_minima(balls.weights[triples])
     gap = np.maximum(
         tiles.box_distance(seeds[:, 0], job.lo, job.hi),
         tiles.box_distance(seeds[:, 1], job.lo, job.hi),

@@ -99,7 +99,7 @@ def seed_pairs(balls: Balls, triples: np.ndarray) -> tuple[WeightedTriangles, np
     normal = np.cross(centers[:, 1] - centers[:, 0], centers[:, 2] - centers[:, 0])
     with np.errstate(all="ignore"):
         normal /= _row_norm(normal)[:, None]
-        r_min_sq = _column_min(weights)
+        r_min_sq = row_minima(weights)
         depth_sq = -geometry.orthoradius_sq
         exists = geometry.valid & (depth_sq > SEED_RTOL * r_min_sq)
         half = np.sqrt(np.where(exists, depth_sq, np.nan))[:, None] * normal
@@ -147,7 +147,7 @@ def classify(
         at = start + np.flatnonzero(has[start : start + SEED_CHUNK])
         if len(at):
             rows = triples[at]
-            floor = COVER_RTOL * _row_min(balls.weights, rows)
+            floor = COVER_RTOL * row_minima(balls.weights[rows])
             for side in range(2):
                 power = other_power(tree, top, seeds[at, side], rows)
                 uncovered[at, side] = power >= floor
@@ -186,13 +186,7 @@ def other_power(tree, top: float, points: np.ndarray, rows: np.ndarray) -> np.nd
     for column in range(1, rows.shape[1]):
         own |= index == rows[:, column : column + 1]
     power[own] = np.inf
-    return _column_min(power)
-
-
-def _row_min(weights: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """The smallest of ``weights`` over each row of indices ``rows`` (column by column: the
-    same value as a reduction along the row, without its per-row overhead)."""
-    return _column_min(weights[rows])
+    return row_minima(power)
 
 
 def _row_norm(vectors: np.ndarray) -> np.ndarray:
@@ -202,8 +196,9 @@ def _row_norm(vectors: np.ndarray) -> np.ndarray:
     return np.sqrt(square[:, 0] + square[:, 1] + square[:, 2])
 
 
-def _column_min(values: np.ndarray) -> np.ndarray:
-    """Row minima of a 2-D array, column by column (no NaN here: the same as ``min(axis=1)``)."""
+def row_minima(values: np.ndarray) -> np.ndarray:
+    """Row minima of a 2-D array without NaN, column by column: the same values as
+    ``values.min(axis=1)`` without its per-row overhead (a few columns, millions of rows)."""
     out = values[:, 0].copy()
     for column in range(1, values.shape[1]):
         np.minimum(out, values[:, column], out=out)
